@@ -1,0 +1,39 @@
+"""Setup script for the mouse_constraint_ros ament_python package."""
+
+from glob import glob
+
+from setuptools import find_packages, setup
+
+package_name = 'mouse_constraint_ros'
+
+setup(
+    name=package_name,
+    version='0.1.0',
+    packages=find_packages(exclude=['test', 'test.*']),
+    data_files=[
+        ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
+        ('share/' + package_name, ['package.xml']),
+        ('share/' + package_name + '/config', sorted(glob('config/*.yaml'))),
+    ],
+    # The ROS 2 Python packages (rclpy, message packages) are deliberately NOT
+    # listed here: on an apt ROS install they come from the system, and for a
+    # plain venv they are pinned in requirements/ros.txt.
+    install_requires=['setuptools', 'numpy'],
+    extras_require={
+        'test': ['pytest', 'scipy', 'hypothesis'],
+    },
+    zip_safe=True,
+    maintainer='mouse_constraint_ros maintainers',
+    maintainer_email='maintainer@example.com',
+    description=(
+        'A ROS 2 node serving one rigid body dragged by a mouse constraint: subscribes '
+        'to a geometry_msgs/PointStamped target, publishes PoseStamped/TwistStamped.'
+    ),
+    license='Apache-2.0',
+    entry_points={
+        'console_scripts': [
+            'mouse_constraint_node = mouse_constraint_ros.node:main',
+            'mouse_target = mouse_constraint_ros.target_cli:main',
+        ],
+    },
+)
