@@ -1,0 +1,60 @@
+# Developer entry points for mouse_constraint_ros (plain venv route, no apt ROS needed).
+#
+#   make venv   create/update .venv (only when requirements/setup files changed)
+#   make test   run the test suite with pytest
+#   make lint   flake8 (ament_flake8 settings, see .flake8)
+#   make run    run the node with config/params.yaml
+#   make bench  run bench/run_all.py
+#   make clean  remove .venv and build artefacts
+
+SHELL := /bin/bash
+.DEFAULT_GOAL := test
+
+PYTHON ?= python3
+VENV := .venv
+VPY := $(VENV)/bin/python
+STAMP := $(VENV)/.stamp
+REQS := $(wildcard requirements/*.txt)
+PIP := $(VPY) -m pip --disable-pip-version-check -q
+PYTEST_ARGS ?=
+LINT_PATHS := $(wildcard mouse_constraint_ros test bench setup.py)
+
+# If .venv/bin/python is missing or no longer runs (e.g. the base interpreter
+# moved), drop the stamp so the venv is (re)built.
+ifneq ($(shell $(VPY) -c 'print(1)' 2>/dev/null),1)
+$(shell rm -f $(STAMP))
+endif
+
+.PHONY: venv test lint run bench clean
+
+venv: $(STAMP)
+
+# Reinstall only when a requirements file, setup.py or setup.cfg is newer than
+# the stamp. The stamp is touched last, so a failed install is retried next time.
+# --use-pep517 makes `pip install -e .` a PEP 660 editable install, which puts
+# the console scripts in .venv/bin. Without it, pip falls back to legacy
+# `setup.py develop` whenever `wheel` is installed, and that honours setup.cfg's
+# [develop] script_dir (meant for colcon) and puts them in .venv/lib/mouse_constraint_ros.
+$(STAMP): $(REQS) setup.py setup.cfg
+	@test -x $(VPY) || $(PYTHON) -m venv $(VENV)
+	$(PIP) install $(addprefix -r ,$(REQS))
+	$(PIP) install --use-pep517 -e .
+	@test -x $(VENV)/bin/mouse_constraint_node || \
+	  { echo 'error: .venv/bin/mouse_constraint_node was not installed' >&2; exit 1; }
+	@touch $@
+
+test: venv
+	$(VPY) -m pytest test/ -q $(PYTEST_ARGS)
+
+lint: venv
+	$(VPY) -m flake8 --max-line-length 99 $(LINT_PATHS)
+
+run: venv
+	$(VENV)/bin/mouse_constraint_node --ros-args --params-file config/params.yaml
+
+bench: venv
+	$(VPY) bench/run_all.py
+
+clean:
+	rm -rf $(VENV) build install log .pytest_cache .hypothesis *.egg-info
+	find . -name __pycache__ -type d -prune -exec rm -rf {} +
