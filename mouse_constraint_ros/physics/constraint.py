@@ -1,0 +1,165 @@
+"""
+The mouse constraint of the seed note (``shared/seed/mouse-constraint.md``), with its corrections.
+
+A body-fixed anchor, at ``r = R r_local`` from the center of mass, is pulled to the mouse target:
+
+- eq. 1.1: C = x + r - x_mouse;
+- eq. 1.2: dC/dt = J V = v + w x r, so J = [I3, -[r]x] (eq. 1.3 as printed has the angular
+  block's sign flipped: it computes v + r x w, which is not the derivative of C);
+- eq. 1.10: K = J M^-1 J^T = m^-1 I3 + [r]x I_w^-1 [r]x^T (right as printed: the sign of the
+  angular block cancels in the product);
+- eq. 1.5, rigid mode: lambda = K^-1 (-J V - (delta / h) C). The note prints ``+ delta / dt C``,
+  which makes the next error (1 + delta) C instead of (1 - delta) C.
+
+Both modes are one formula here, the net impulse of a substep,
+
+    P = -K^-1 (a J V + b C),    |P| <= h F_max,
+
+with gains (a, b) = (1, delta / h) in rigid mode and the soft-step gains of ``soft_gains`` in
+soft mode. It equals Box2D v3's warm-started mouse-joint solve with one iteration: warm starting
+applies the previous impulse P0, the solve adds -a K^-1 (J V + K P0 + (b / a) C) - (1 - a) P0
+with impulse scale 1 - a, and the sum is the P above whatever P0 was.
+"""
+
+from dataclasses import dataclass
+import math
+from typing import Tuple
+
+import numpy as np
+
+from .rotation import Symmetric3, Vector3
+from .validation import finite_vector, scalar
+
+
+@dataclass(frozen=True)
+class MouseConstraint:
+    """
+    How the anchor is held: where it is on the body and how stiffly it follows the target.
+
+    :param anchor: the anchor in the body frame, from the COM (m).
+    :param baumgarte: rigid mode's Baumgarte factor delta in (0, 1] (seed eq. 1.5).
+    :param frequency_hz: soft mode's natural frequency f (Hz); 0 selects rigid mode.
+    :param damping_ratio: soft mode's damping ratio zeta (1 = critical).
+    :param max_force: bound on the constraint force's norm (N); +inf for unlimited.
+    """
+
+    anchor: Vector3 = (0.0, 0.0, 0.0)
+    baumgarte: float = 0.2
+    frequency_hz: float = 0.0
+    damping_ratio: float = 1.0
+    max_force: float = math.inf
+
+    def __post_init__(self) -> None:
+        """Validate every field; raise ValueError naming the first invalid one."""
+        object.__setattr__(self, 'anchor', finite_vector('anchor', self.anchor))
+        object.__setattr__(self, 'baumgarte',
+                           scalar('baumgarte', self.baumgarte, above=0.0, at_most=1.0))
+        object.__setattr__(self, 'frequency_hz',
+                           scalar('frequency_hz', self.frequency_hz, at_least=0.0))
+        object.__setattr__(self, 'damping_ratio',
+                           scalar('damping_ratio', self.damping_ratio, at_least=0.0))
+        object.__setattr__(self, 'max_force',
+                           scalar('max_force', self.max_force, above=0.0, allow_inf=True))
+
+    @property
+    def rigid(self) -> bool:
+        """Whether this is the seed's rigid (Baumgarte) mode rather than a soft spring."""
+        return self.frequency_hz == 0.0
+
+    def gains(self, h: float) -> Tuple[float, float]:
+        """Return the gains (a, b) of P = -K^-1 (a J V + b C) for a substep of ``h`` seconds."""
+        if self.rigid:
+            return 1.0, self.baumgarte / h
+        return soft_gains(self.frequency_hz, self.damping_ratio, h)
+
+
+def soft_gains(frequency_hz: float, damping_ratio: float, h: float) -> Tuple[float, float]:
+    """
+    Return the gains (a, b) of a spring of frequency f and damping ratio zeta, discretized exactly.
+
+    Catto's soft step (Box2D's b2MakeSoft) uses a = a2 a3 (mass scale) and b = a (omega / a1)
+    (mass scale times bias rate), with omega = 2 pi f, a1 = 2 zeta + h omega, a2 = h omega a1,
+    a3 = 1 / (1 + a2). For the anchor error e of a point mass that step is the linear map
+    e' = e + h v', v' = (1 - a) v - b e, whose determinant is 1 - a and trace 2 - a - h b. It is
+    implicit Euler on the spring, and so adds damping: at f = 5 Hz, h = 1 ms, zeta = 0.1 decays
+    like zeta = 0.116. Here a and b are chosen instead so that the map's eigenvalues are exactly
+    exp(s h) for the roots s of s^2 + 2 zeta omega s + omega^2: determinant exp(-2 zeta omega h) and
+    trace exp(s1 h) + exp(s2 h). The error then rings at f and decays with zeta at any h, the gains
+    agree with b2MakeSoft's to first order in h omega, and the step is as stable (|eigenvalues| <= 1).
+    """
+    omega = 2.0 * math.pi * frequency_hz
+    decay = math.exp(-damping_ratio * omega * h)
+    discriminant = damping_ratio * damping_ratio - 1.0
+    if discriminant < 0.0:
+        trace = 2.0 * decay * math.cos(omega * math.sqrt(-discriminant) * h)
+    else:
+        trace = 2.0 * decay * math.cosh(omega * math.sqrt(discriminant) * h)
+    determinant = decay * decay
+    return 1.0 - determinant, (1.0 + determinant - trace) / h
+
+
+def box2d_soft_gains(frequency_hz: float, damping_ratio: float, h: float) -> Tuple[float, float]:
+    """Return Box2D v3's b2MakeSoft gains (mass scale, mass scale * bias rate), for comparison."""
+    omega = 2.0 * math.pi * frequency_hz
+    a1 = 2.0 * damping_ratio + h * omega
+    a2 = h * omega * a1
+    a3 = 1.0 / (1.0 + a2)
+    return a2 * a3, a2 * a3 * omega / a1
+
+
+def jacobian(r: Vector3) -> np.ndarray:
+    """Return the 3x6 Jacobian J = [I3, -[r]x] of eq. 1.2 (eq. 1.3 with its sign corrected)."""
+    rx, ry, rz = r
+    return np.array([
+        [1.0, 0.0, 0.0, 0.0, rz, -ry],
+        [0.0, 1.0, 0.0, -rz, 0.0, rx],
+        [0.0, 0.0, 1.0, ry, -rx, 0.0],
+    ])
+
+
+def effective_mass(inverse_mass: float, inverse_inertia: Symmetric3, r: Vector3) -> Symmetric3:
+    """
+    Return K = m^-1 I3 + [r]x I_w^-1 [r]x^T (eq. 1.10) as a symmetric 6-tuple.
+
+    :param inverse_mass: m^-1.
+    :param inverse_inertia: the world-frame I_w^-1 as (xx, xy, xz, yy, yz, zz).
+    :param r: the anchor's offset from the COM in the world frame.
+    """
+    rx, ry, rz = r
+    a00, a01, a02, a11, a12, a22 = inverse_inertia
+    # B = [r]x I_w^-1, then K_angular = B [r]x^T.
+    b00 = ry * a02 - rz * a01
+    b01 = ry * a12 - rz * a11
+    b02 = ry * a22 - rz * a12
+    b10 = rz * a00 - rx * a02
+    b11 = rz * a01 - rx * a12
+    b12 = rz * a02 - rx * a22
+    b20 = rx * a01 - ry * a00
+    b21 = rx * a11 - ry * a01
+    return (
+        inverse_mass + ry * b02 - rz * b01,
+        rz * b00 - rx * b02,
+        rx * b01 - ry * b00,
+        inverse_mass + rz * b10 - rx * b12,
+        rx * b11 - ry * b10,
+        inverse_mass + rx * b21 - ry * b20,
+    )
+
+
+def solve_effective_mass(k: Symmetric3, b: Vector3) -> Vector3:
+    """Return x with K x = b for a symmetric positive definite K, by a closed-form Cholesky."""
+    k00, k01, k02, k11, k12, k22 = k
+    l00 = math.sqrt(k00)
+    l10 = k01 / l00
+    l20 = k02 / l00
+    l11 = math.sqrt(k11 - l10 * l10)
+    l21 = (k12 - l20 * l10) / l11
+    l22 = math.sqrt(k22 - l20 * l20 - l21 * l21)
+    # L y = b, then L^T x = y.
+    y0 = b[0] / l00
+    y1 = (b[1] - l10 * y0) / l11
+    y2 = (b[2] - l20 * y0 - l21 * y1) / l22
+    x2 = y2 / l22
+    x1 = (y1 - l21 * x2) / l11
+    x0 = (y0 - l10 * x1 - l20 * x2) / l00
+    return (x0, x1, x2)

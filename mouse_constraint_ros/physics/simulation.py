@@ -1,0 +1,231 @@
+"""
+One rigid body dragged by the mouse constraint: settings, target and the fixed-size step.
+
+A call to ``MouseSimulation.step(dt)`` advances ``dt`` in ``substeps`` equal substeps h. Each
+substep is symplectic Euler, as Box2D and Bounce order it:
+
+1. velocities: gravity, then exponential damping, then the gyroscopic term w x (I w) by one
+   implicit Newton step in the body frame (``body.gyroscopic_step``);
+2. the mouse constraint, when there is a target: the net impulse P = -K^-1 (a J V + b C) with
+   |P| <= h F_max (``constraint`` module, seed eqs. 1.1-1.10), applied as v += P / m and
+   w += I_w^-1 (r x P);
+3. positions: x += h v and the orientation rotated by w h, renormalized.
+
+Everything is plain float arithmetic, deterministic to the bit for the same inputs.
+"""
+
+from dataclasses import dataclass
+import math
+from typing import Optional, Tuple
+
+from .body import gyroscopic_step, RigidBody
+from .constraint import effective_mass, MouseConstraint, solve_effective_mass
+from .rotation import (congruence, integrate_orientation, multiply, multiply_symmetric,
+                       multiply_transposed, rotation_matrix, Vector3)
+from .state import BodyState
+from .validation import finite_vector, scalar
+
+STANDARD_GRAVITY: Vector3 = (0.0, 0.0, -9.80665)
+ZERO: Vector3 = (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class Settings:
+    """
+    Everything the step depends on apart from the state and the target; replaced as a whole.
+
+    :param body: mass and inertia.
+    :param constraint: anchor and how stiffly it follows the target.
+    :param gravity: gravitational acceleration in the world frame (m/s^2).
+    :param linear_damping: rate c (1/s): v decays as exp(-c t) whatever the step size.
+    :param angular_damping: the same for the angular velocity.
+    :param substeps: equal substeps per ``step`` call (>= 1).
+    """
+
+    body: RigidBody
+    constraint: MouseConstraint = MouseConstraint()
+    gravity: Vector3 = STANDARD_GRAVITY
+    linear_damping: float = 0.0
+    angular_damping: float = 0.0
+    substeps: int = 1
+
+    def __post_init__(self) -> None:
+        """Validate every field; raise ValueError naming the first invalid one."""
+        if not isinstance(self.body, RigidBody):
+            raise ValueError(f'body must be a RigidBody, got {self.body!r}')
+        if not isinstance(self.constraint, MouseConstraint):
+            raise ValueError(f'constraint must be a MouseConstraint, got {self.constraint!r}')
+        object.__setattr__(self, 'gravity', finite_vector('gravity', self.gravity))
+        object.__setattr__(self, 'linear_damping',
+                           scalar('linear_damping', self.linear_damping, at_least=0.0))
+        object.__setattr__(self, 'angular_damping',
+                           scalar('angular_damping', self.angular_damping, at_least=0.0))
+        if isinstance(self.substeps, bool) or not isinstance(self.substeps, int) \
+                or self.substeps < 1:
+            raise ValueError(f'substeps must be an integer >= 1, got {self.substeps!r}')
+
+
+class MouseSimulation:
+    """
+    The body, its settings and its target, advanced by ``step``.
+
+    No target means a free body; the target can be set, moved, jumped or cleared between any two
+    steps. Invalid settings or inputs raise ValueError and change nothing.
+    """
+
+    def __init__(self, settings: Settings, initial_state: BodyState = BodyState()) -> None:
+        """Start at ``initial_state`` with no target."""
+        self.settings = settings
+        self._initial_state = initial_state.validated()
+        self._state = self._initial_state
+        self._target: Optional[Vector3] = None
+        self._constraint_force: Vector3 = ZERO
+        self._cache_for: Tuple[Optional[Settings], float] = (None, 0.0)
+        self._cache: Tuple[float, ...] = ()
+
+    @property
+    def settings(self) -> Settings:
+        """Return the settings in force."""
+        return self._settings
+
+    @settings.setter
+    def settings(self, settings: Settings) -> None:
+        if not isinstance(settings, Settings):
+            raise ValueError(f'settings must be a Settings, got {settings!r}')
+        self._settings = settings
+
+    @property
+    def state(self) -> BodyState:
+        """Return the current state."""
+        return self._state
+
+    @property
+    def initial_state(self) -> BodyState:
+        """Return the state that ``reset`` returns to."""
+        return self._initial_state
+
+    @property
+    def target(self) -> Optional[Vector3]:
+        """Return the mouse position x_mouse in the world frame, or None for a free body."""
+        return self._target
+
+    @target.setter
+    def target(self, target: Optional[Vector3]) -> None:
+        self._target = None if target is None else finite_vector('target', target)
+
+    @property
+    def constraint_force(self) -> Vector3:
+        """Return the constraint force P / h of the last substep (N), zero without a target."""
+        return self._constraint_force
+
+    def anchor_position(self) -> Vector3:
+        """Return the anchor's world position x + R r_local."""
+        x, q = self._state.position, self._state.orientation
+        r = multiply(self._settings.constraint.anchor, rotation_matrix(q))
+        return (x[0] + r[0], x[1] + r[1], x[2] + r[2])
+
+    def anchor_error(self) -> Optional[Vector3]:
+        """Return C = x + r - x_mouse (eq. 1.1), or None without a target."""
+        if self._target is None:
+            return None
+        a, t = self.anchor_position(), self._target
+        return (a[0] - t[0], a[1] - t[1], a[2] - t[2])
+
+    def set_state(self, state: BodyState) -> None:
+        """Replace the current state (validated; the orientation is normalized)."""
+        self._state = state.validated()
+
+    def reset(self) -> None:
+        """Return to the initial state and drop the target."""
+        self._state = self._initial_state
+        self._target = None
+        self._constraint_force = ZERO
+
+    def kinetic_energy(self) -> float:
+        """Return the body's kinetic energy (J)."""
+        s = self._state
+        rotation = rotation_matrix(s.orientation)
+        w_body = multiply_transposed(s.angular_velocity, rotation)
+        return self._settings.body.kinetic_energy(s.linear_velocity, w_body)
+
+    def angular_momentum(self) -> Vector3:
+        """Return the angular momentum about the COM in the world frame (kg m^2/s)."""
+        s = self._state
+        rotation = rotation_matrix(s.orientation)
+        w_body = multiply_transposed(s.angular_velocity, rotation)
+        return multiply(multiply_symmetric(w_body, self._settings.body.inertia), rotation)
+
+    def step(self, dt: float) -> BodyState:
+        """Advance ``dt`` seconds in ``settings.substeps`` equal substeps; return the new state."""
+        dt = scalar('dt', dt, above=0.0)
+        settings = self._settings
+        h = dt / settings.substeps
+        cached_settings, cached_h = self._cache_for
+        if cached_settings is not settings or cached_h != h:
+            self._cache = self._coefficients(settings, h)
+            self._cache_for = (settings, h)
+        gx, gy, gz, linear_decay, angular_decay, a, b, max_impulse = self._cache
+        body = settings.body
+        inverse_mass = body.inverse_mass
+        anchor = settings.constraint.anchor
+        target = self._target
+        (px, py, pz), q, (vx, vy, vz), w = self._state
+        impulse = ZERO
+        for _ in range(settings.substeps):
+            rotation = rotation_matrix(q)
+            # 1. Velocities.
+            vx = (vx + gx) * linear_decay
+            vy = (vy + gy) * linear_decay
+            vz = (vz + gz) * linear_decay
+            w_body = gyroscopic_step(body.inertia, multiply_transposed(w, rotation), h)
+            wx, wy, wz = multiply(w_body, rotation)
+            wx *= angular_decay
+            wy *= angular_decay
+            wz *= angular_decay
+            # 2. The mouse constraint.
+            if target is not None:
+                inverse_inertia = congruence(rotation, body.inverse_inertia)
+                rx, ry, rz = multiply(anchor, rotation)
+                cx = px + rx - target[0]
+                cy = py + ry - target[1]
+                cz = pz + rz - target[2]
+                # J V = v + w x r (eq. 1.2).
+                jvx = vx + wy * rz - wz * ry
+                jvy = vy + wz * rx - wx * rz
+                jvz = vz + wx * ry - wy * rx
+                k = effective_mass(inverse_mass, inverse_inertia, (rx, ry, rz))
+                ix, iy, iz = solve_effective_mass(
+                    k, (-a * jvx - b * cx, -a * jvy - b * cy, -a * jvz - b * cz))
+                norm = math.sqrt(ix * ix + iy * iy + iz * iz)
+                if norm > max_impulse:
+                    scale = max_impulse / norm
+                    ix *= scale
+                    iy *= scale
+                    iz *= scale
+                vx += ix * inverse_mass
+                vy += iy * inverse_mass
+                vz += iz * inverse_mass
+                dwx, dwy, dwz = multiply_symmetric(
+                    (ry * iz - rz * iy, rz * ix - rx * iz, rx * iy - ry * ix), inverse_inertia)
+                wx += dwx
+                wy += dwy
+                wz += dwz
+                impulse = (ix, iy, iz)
+            # 3. Positions.
+            px += h * vx
+            py += h * vy
+            pz += h * vz
+            w = (wx, wy, wz)
+            q = integrate_orientation(q, w, h)
+        self._state = BodyState((px, py, pz), q, (vx, vy, vz), w)
+        self._constraint_force = (impulse[0] / h, impulse[1] / h, impulse[2] / h)
+        return self._state
+
+    @staticmethod
+    def _coefficients(settings: Settings, h: float) -> Tuple[float, ...]:
+        """Return what a substep of ``h`` needs from ``settings``, computed once per change."""
+        gx, gy, gz = settings.gravity
+        a, b = settings.constraint.gains(h)
+        return (gx * h, gy * h, gz * h,
+                math.exp(-settings.linear_damping * h), math.exp(-settings.angular_damping * h),
+                a, b, settings.constraint.max_force * h)
