@@ -71,7 +71,7 @@ class RigidBody:
         return congruence(rotation, self.inverse_inertia)
 
     def kinetic_energy(self, linear_velocity: Vector3, angular_velocity_body: Vector3) -> float:
-        """Return 1/2 m v.v + 1/2 w_b . I_b w_b, with ``angular_velocity_body`` in the body frame."""
+        """Return m v.v / 2 + w_b.I_b w_b / 2, with ``angular_velocity_body`` in the body frame."""
         vx, vy, vz = linear_velocity
         lx, ly, lz = multiply_symmetric(angular_velocity_body, self.inertia)
         wx, wy, wz = angular_velocity_body

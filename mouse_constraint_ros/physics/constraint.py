@@ -63,11 +63,11 @@ class MouseConstraint:
 
     @property
     def rigid(self) -> bool:
-        """Whether this is the seed's rigid (Baumgarte) mode rather than a soft spring."""
+        """Return True in the seed's rigid mode (Baumgarte), False for a soft spring."""
         return self.frequency_hz == 0.0
 
     def gains(self, h: float) -> Tuple[float, float]:
-        """Return the gains (a, b) of P = -K^-1 (a J V + b C) for a substep of ``h`` seconds."""
+        """Return the impulse's gains a and b for a substep of ``h`` seconds (module docstring)."""
         if self.rigid:
             return 1.0, self.baumgarte / h
         return soft_gains(self.frequency_hz, self.damping_ratio, h)
@@ -83,9 +83,10 @@ def soft_gains(frequency_hz: float, damping_ratio: float, h: float) -> Tuple[flo
     e' = e + h v', v' = (1 - a) v - b e, whose determinant is 1 - a and trace 2 - a - h b. It is
     implicit Euler on the spring, and so adds damping: at f = 5 Hz, h = 1 ms, zeta = 0.1 decays
     like zeta = 0.116. Here a and b are chosen instead so that the map's eigenvalues are exactly
-    exp(s h) for the roots s of s^2 + 2 zeta omega s + omega^2: determinant exp(-2 zeta omega h) and
-    trace exp(s1 h) + exp(s2 h). The error then rings at f and decays with zeta at any h, the gains
-    agree with b2MakeSoft's to first order in h omega, and the step is as stable (|eigenvalues| <= 1).
+    exp(s h) for the roots s of s^2 + 2 zeta omega s + omega^2: determinant exp(-2 zeta omega h)
+    and trace exp(s1 h) + exp(s2 h). The error then rings at f and decays with zeta at any h, the
+    gains agree with b2MakeSoft's to first order in h omega, and the step is as stable
+    (|eigenvalues| <= 1).
     """
     omega = 2.0 * math.pi * frequency_hz
     decay = math.exp(-damping_ratio * omega * h)

@@ -12,7 +12,7 @@ UNIT_QUATERNION_TOLERANCE = 1e-6
 
 class BodyState(NamedTuple):
     """
-    Center-of-mass position (m), orientation (x, y, z, w), linear (m/s) and angular (rad/s) velocity.
+    COM position (m), orientation (x, y, z, w), linear (m/s) and angular (rad/s) velocity.
 
     Both velocities are expressed in the world frame; the body frame's origin is the COM.
     """
