@@ -133,13 +133,18 @@ def _cases(body: RigidBody, state: BodyState, first_target, quick: bool):
                 mocap=True))
 
 
-def _mujoco_resets(engine) -> int:
-    """Return how often MuJoCo found the simulation unstable and reset it (0 for the others)."""
+def _mujoco_resets(engine) -> str:
+    """Return why MuJoCo reset the simulation, if it did ('' for the other engines)."""
     data = getattr(engine, 'data', None)
     if data is None:
-        return 0
-    mujoco = engine.mujoco
-    return int(data.warning[int(mujoco.mjtWarning.mjWARN_BADQACC)].number)
+        return ''
+    count = int(data.warning[int(engine.mujoco.mjtWarning.mjWARN_BADQACC)].number)
+    if not count:
+        return ''
+    messages = [m.strip() for m in engine.warnings()]
+    when = [m.rsplit('Time =', 1)[1].strip().rstrip('.') for m in messages if 'Time =' in m]
+    return (f'no: MuJoCo found it unstable (NaN/huge acceleration) and reset it {count}x'
+            + (f', at t = {", ".join(when)} s' if when else ''))
 
 
 def run(quick: bool = False) -> dict:
@@ -163,7 +168,7 @@ def run(quick: bool = False) -> dict:
         if not finite:
             stable = 'no: not finite'
         elif resets:
-            stable = f'no: MuJoCo reset the simulation {resets}x (NaN/huge acceleration)'
+            stable = resets
         elif np.max(late) > LOST_M:
             stable = f'no: lost the target (error > {LOST_M:g} m after 1 s)'
         else:

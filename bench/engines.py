@@ -16,7 +16,7 @@ derived from a collision shape), no damping, no sleeping, no collision, the engi
 timestep equal to the tick, and a point-to-point (ball) constraint from the same body point.
 """
 
-from typing import Optional, Sequence, Tuple
+from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -196,6 +196,11 @@ class PyBulletBox:
         self.p.disconnect(physicsClientId=self.client)
 
 
+# MuJoCo's warnings (e.g. a simulation found unstable and reset), captured instead of going to
+# stderr and to a MUJOCO_LOG.TXT in the working directory.
+MUJOCO_WARNINGS: List[str] = []
+
+
 class MuJoCoBox:
     """
     MuJoCo: the box on a free joint and a ``connect`` equality to the world or a mocap body.
@@ -212,6 +217,8 @@ class MuJoCoBox:
                  state: BodyState, target: Vector3, h: float,
                  solref: Tuple[float, float] = (0.02, 1.0), mocap: bool = False) -> None:
         self.mujoco = mujoco
+        mujoco.set_mju_user_warning(MUJOCO_WARNINGS.append)
+        self._first_warning = len(MUJOCO_WARNINGS)
         x, y, z, w = state.orientation
         anchor_world = np.add(state.position, _rotate(state.orientation, anchor))
         if mocap:
@@ -250,6 +257,10 @@ class MuJoCoBox:
 
     def set_target(self, target: Vector3) -> None:
         self.data.mocap_pos[0] = target
+
+    def warnings(self) -> List[str]:
+        """Return MuJoCo's warnings since this model was made."""
+        return MUJOCO_WARNINGS[self._first_warning:]
 
     def read(self) -> np.ndarray:
         qpos, qvel = self.data.qpos, self.data.qvel
