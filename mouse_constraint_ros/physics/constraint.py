@@ -89,13 +89,15 @@ def soft_gains(frequency_hz: float, damping_ratio: float, h: float) -> Tuple[flo
     (|eigenvalues| <= 1).
     """
     omega = 2.0 * math.pi * frequency_hz
-    decay = math.exp(-damping_ratio * omega * h)
+    decay_rate = damping_ratio * omega
     discriminant = damping_ratio * damping_ratio - 1.0
     if discriminant < 0.0:
-        trace = 2.0 * decay * math.cos(omega * math.sqrt(-discriminant) * h)
+        trace = 2.0 * math.exp(-decay_rate * h) * math.cos(omega * math.sqrt(-discriminant) * h)
     else:
-        trace = 2.0 * decay * math.cosh(omega * math.sqrt(discriminant) * h)
-    determinant = decay * decay
+        # Both real roots are <= 0: sum their exponentials rather than use cosh, which overflows.
+        spread = omega * math.sqrt(discriminant)
+        trace = math.exp((spread - decay_rate) * h) + math.exp(-(spread + decay_rate) * h)
+    determinant = math.exp(-2.0 * decay_rate * h)
     return 1.0 - determinant, (1.0 + determinant - trace) / h
 
 
@@ -147,20 +149,28 @@ def effective_mass(inverse_mass: float, inverse_inertia: Symmetric3, r: Vector3)
     )
 
 
-def solve_effective_mass(k: Symmetric3, b: Vector3) -> Vector3:
-    """Return x with K x = b for a symmetric positive definite K, by a closed-form Cholesky."""
+def cholesky(k: Symmetric3) -> Symmetric3:
+    """Return the Cholesky factor L of an SPD K = L L^T as (l00, l10, l20, l11, l21, l22)."""
     k00, k01, k02, k11, k12, k22 = k
     l00 = math.sqrt(k00)
     l10 = k01 / l00
     l20 = k02 / l00
     l11 = math.sqrt(k11 - l10 * l10)
     l21 = (k12 - l20 * l10) / l11
-    l22 = math.sqrt(k22 - l20 * l20 - l21 * l21)
-    # L y = b, then L^T x = y.
+    return (l00, l10, l20, l11, l21, math.sqrt(k22 - l20 * l20 - l21 * l21))
+
+
+def solve_cholesky(factor: Symmetric3, b: Vector3) -> Vector3:
+    """Return x with L L^T x = b for a factor from ``cholesky``."""
+    l00, l10, l20, l11, l21, l22 = factor
     y0 = b[0] / l00
     y1 = (b[1] - l10 * y0) / l11
     y2 = (b[2] - l20 * y0 - l21 * y1) / l22
     x2 = y2 / l22
     x1 = (y1 - l21 * x2) / l11
-    x0 = (y0 - l10 * x1 - l20 * x2) / l00
-    return (x0, x1, x2)
+    return ((y0 - l10 * x1 - l20 * x2) / l00, x1, x2)
+
+
+def solve_effective_mass(k: Symmetric3, b: Vector3) -> Vector3:
+    """Return x with K x = b for a symmetric positive definite K, by a closed-form Cholesky."""
+    return solve_cholesky(cholesky(k), b)

@@ -8,7 +8,8 @@ substep is symplectic Euler, as Box2D and Bounce order it:
    implicit Newton step in the body frame (``body.gyroscopic_step``);
 2. the mouse constraint, when there is a target: the net impulse P = -K^-1 (a J V + b C) with
    |P| <= h F_max (``constraint`` module, seed eqs. 1.1-1.10), applied as v += P / m and
-   w += I_w^-1 (r x P);
+   w += I_w^-1 (r x P); its position part -K^-1 b C may turn the body by at most
+   ``MAX_CORRECTION_TURN`` per substep;
 3. positions: x += h v and the orientation rotated by w h, renormalized.
 
 Everything is plain float arithmetic, deterministic to the bit for the same inputs.
@@ -19,13 +20,23 @@ import math
 from typing import Optional, Tuple
 
 from .body import gyroscopic_step, RigidBody
-from .constraint import effective_mass, MouseConstraint, solve_effective_mass
+from .constraint import cholesky, effective_mass, MouseConstraint, solve_cholesky
 from .rotation import (congruence, integrate_orientation, multiply, multiply_symmetric,
                        multiply_transposed, rotation_matrix, Vector3)
 from .state import BodyState
 from .validation import finite_vector, scalar
 
 STANDARD_GRAVITY: Vector3 = (0.0, 0.0, -9.80665)
+# The most a substep's position correction may turn the body (rad). The impulse is solved for
+# the linearized constraint, which holds while the body turns little in a substep; a far target
+# on a long lever arm would otherwise ask for a turn of radians per substep, the linear step
+# would miss, and the missed error would pump energy in. Only corrections of large errors meet
+# the limit; they then close at this turn per substep instead of at delta per substep.
+MAX_CORRECTION_TURN = 0.2
+# Step sizes outside [MIN_STEP, MAX_STEP] seconds are rejected: below, the gains b ~ 1 / h
+# overflow; above, the step is no simulation step.
+MIN_STEP = 1e-9
+MAX_STEP = 1.0
 ZERO: Vector3 = (0.0, 0.0, 0.0)
 
 
@@ -104,6 +115,10 @@ class MouseSimulation:
         """Return the state that ``reset`` returns to."""
         return self._initial_state
 
+    @initial_state.setter
+    def initial_state(self, state: BodyState) -> None:
+        self._initial_state = state.validated()
+
     @property
     def target(self) -> Optional[Vector3]:
         """Return the mouse position x_mouse in the world frame, or None for a free body."""
@@ -157,9 +172,12 @@ class MouseSimulation:
 
     def step(self, dt: float) -> BodyState:
         """Advance ``dt`` seconds in ``settings.substeps`` equal substeps; return the new state."""
-        dt = scalar('dt', dt, above=0.0)
+        dt = scalar('dt', dt, above=0.0, at_most=MAX_STEP)
         settings = self._settings
         h = dt / settings.substeps
+        if h < MIN_STEP:
+            raise ValueError(f'dt / substeps must be >= {MIN_STEP} s, got {dt!r} / '
+                             f'{settings.substeps}')
         cached_settings, cached_h = self._cache_for
         if cached_settings is not settings or cached_h != h:
             self._cache = self._coefficients(settings, h)
@@ -193,9 +211,21 @@ class MouseSimulation:
                 jvx = vx + wy * rz - wz * ry
                 jvy = vy + wz * rx - wx * rz
                 jvz = vz + wx * ry - wy * rx
-                k = effective_mass(inverse_mass, inverse_inertia, (rx, ry, rz))
-                ix, iy, iz = solve_effective_mass(
-                    k, (-a * jvx - b * cx, -a * jvy - b * cy, -a * jvz - b * cz))
+                factor = cholesky(effective_mass(inverse_mass, inverse_inertia, (rx, ry, rz)))
+                # The position correction -K^-1 b C, limited in the turn it asks of a substep.
+                bx, by, bz = solve_cholesky(factor, (-b * cx, -b * cy, -b * cz))
+                tx, ty, tz = multiply_symmetric(
+                    (ry * bz - rz * by, rz * bx - rx * bz, rx * by - ry * bx), inverse_inertia)
+                turn = h * math.sqrt(tx * tx + ty * ty + tz * tz)
+                if turn > MAX_CORRECTION_TURN:
+                    scale = MAX_CORRECTION_TURN / turn
+                    bx *= scale
+                    by *= scale
+                    bz *= scale
+                ix, iy, iz = solve_cholesky(factor, (-a * jvx, -a * jvy, -a * jvz))
+                ix += bx
+                iy += by
+                iz += bz
                 norm = math.sqrt(ix * ix + iy * iy + iz * iz)
                 if norm > max_impulse:
                     scale = max_impulse / norm
