@@ -1,0 +1,114 @@
+"""
+The node's parameters as plain data, and the core objects they make (no ROS here).
+
+``PARAMETERS`` is the one table of names, defaults, units and ranges: the node declares it,
+``config/params.yaml`` lists it (a test checks they match), and ``configuration_from`` turns a
+set of values into validated core objects, raising ValueError with the reason otherwise.
+"""
+
+import math
+from typing import Any, Mapping, NamedTuple, Optional, Tuple
+
+from .physics import BodyState, MouseConstraint, RigidBody, Settings
+from .physics.rotation import multiply, rotation_matrix, Vector3
+from .physics.validation import finite_vector, scalar
+
+
+class Parameter(NamedTuple):
+    """One parameter: its default, what it means, and its range (for numbers) if any."""
+
+    name: str
+    default: Any
+    description: str
+    bounds: Optional[Tuple[float, float]] = None
+
+
+PARAMETERS = (
+    Parameter('rate_hz', 1000.0, 'Physics and publishing rate (Hz); dt = 1 / rate_hz.',
+              (1.0, 10000.0)),
+    Parameter('substeps', 1, 'Equal solver substeps per tick.', (1, 1000)),
+    Parameter('frame_id', 'world',
+              'Frame of targets (empty frame_id is taken as this) and of pose and twist.'),
+    Parameter('mass', 2.0, 'Body mass (kg), > 0.', (0.0, math.inf)),
+    Parameter('box_size', [0.4, 0.2, 0.1],
+              'Edge lengths of the body box (m); gives the inertia when inertia is all zeros.'),
+    Parameter('inertia', [0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+              'Inertia about the COM, body frame, URDF order ixx ixy ixz iyy iyz izz (kg m^2); '
+              'all zeros: a solid box of box_size and mass.'),
+    Parameter('anchor', [0.2, 0.1, 0.05], 'Dragged point in the body frame, from the COM (m).'),
+    Parameter('initial_position', [0.0, 0.0, 1.0],
+              'COM position at start and after ~/reset (m, frame_id).'),
+    Parameter('initial_orientation', [0.0, 0.0, 0.0, 1.0],
+              'Orientation at start and after ~/reset, unit quaternion x y z w.'),
+    Parameter('hold_initial_anchor', True,
+              'At start and after ~/reset, hold the anchor where it starts until a target '
+              'arrives; false: start as a free body.'),
+    Parameter('gravity', [0.0, 0.0, -9.80665], 'Gravitational acceleration (m/s^2, frame_id).'),
+    Parameter('baumgarte', 0.2, 'Rigid mode: fraction of the anchor error removed per substep.',
+              (0.0, 1.0)),
+    Parameter('frequency_hz', 0.0, 'Soft mode: natural frequency of the anchor (Hz); 0 = rigid.',
+              (0.0, math.inf)),
+    Parameter('damping_ratio', 1.0, 'Soft mode: damping ratio (1 = critical).', (0.0, math.inf)),
+    Parameter('max_force', math.inf, 'Bound on the constraint force (N); .inf = unlimited.',
+              (0.0, math.inf)),
+    Parameter('linear_damping', 0.0, 'Linear velocity decay rate (1/s).', (0.0, math.inf)),
+    Parameter('angular_damping', 0.0, 'Angular velocity decay rate (1/s).', (0.0, math.inf)),
+    Parameter('target_timeout', 0.0,
+              'Release the body when no target arrived for this long (s); 0 = hold forever.',
+              (0.0, math.inf)),
+)
+
+DEFAULTS = {p.name: p.default for p in PARAMETERS}
+
+
+class Configuration(NamedTuple):
+    """What the node runs with, built from its parameters and valid as a whole."""
+
+    settings: Settings
+    initial_state: BodyState
+    rate_hz: float
+    frame_id: str
+    box_size: Vector3
+    hold_initial_anchor: bool
+    target_timeout: float
+
+    def initial_anchor(self) -> Vector3:
+        """Return the anchor's world position in the initial state."""
+        state = self.initial_state
+        r = multiply(self.settings.constraint.anchor, rotation_matrix(state.orientation))
+        return (state.position[0] + r[0], state.position[1] + r[1], state.position[2] + r[2])
+
+
+def configuration_from(values: Mapping[str, Any]) -> Configuration:
+    """Return the configuration for parameter ``values``; raise ValueError naming what is wrong."""
+    box_size = finite_vector('box_size', values['box_size'])
+    if min(box_size) <= 0.0:
+        raise ValueError(f'box_size must be > 0, got {box_size!r}')
+    inertia = finite_vector('inertia', values['inertia'], 6)
+    body = (RigidBody.solid_box(values['mass'], box_size) if not any(inertia)
+            else RigidBody(values['mass'], inertia))
+    substeps = values['substeps']
+    constraint = MouseConstraint(
+        anchor=values['anchor'], baumgarte=values['baumgarte'],
+        frequency_hz=values['frequency_hz'], damping_ratio=values['damping_ratio'],
+        max_force=values['max_force'])
+    settings = Settings(body, constraint, gravity=values['gravity'],
+                        linear_damping=values['linear_damping'],
+                        angular_damping=values['angular_damping'], substeps=substeps)
+    initial_state = BodyState(values['initial_position'],
+                              values['initial_orientation']).validated()
+    frame_id = values['frame_id']
+    if not isinstance(frame_id, str) or not frame_id:
+        raise ValueError(f'frame_id must be a non-empty string, got {frame_id!r}')
+    hold = values['hold_initial_anchor']
+    if not isinstance(hold, bool):
+        raise ValueError(f'hold_initial_anchor must be true or false, got {hold!r}')
+    return Configuration(
+        settings=settings,
+        initial_state=initial_state,
+        rate_hz=scalar('rate_hz', values['rate_hz'], above=0.0),
+        frame_id=frame_id,
+        box_size=box_size,
+        hold_initial_anchor=hold,
+        target_timeout=scalar('target_timeout', values['target_timeout'], at_least=0.0),
+    )

@@ -1,0 +1,75 @@
+"""
+The fixed-rate tick grid: which physics steps are due at a clock reading, and their stamps.
+
+Tick n is due at t0 + n dt with dt = 1 / rate_hz exactly: the period is kept as an integer
+fraction of nanoseconds, so stamps never drift however long the node runs. When the caller comes
+late it is told to run every missed tick (catch-up), up to a bound; beyond the bound the missed
+ticks are dropped, so simulated time falls behind the clock instead of the node falling further
+behind. A clock that jumps backwards (a /clock replay restarting) restarts the grid at the new
+time rather than waiting for the old one to come back.
+"""
+
+from fractions import Fraction
+from typing import NamedTuple, Optional
+
+from .conversions import NANOSECONDS_PER_SECOND
+
+
+class DueTicks(NamedTuple):
+    """The ticks to run now: ``first`` to ``first + count - 1``, after ``dropped`` skipped ones."""
+
+    first: int
+    count: int
+    dropped: int
+    restarted: bool
+
+
+class TickGrid:
+    """
+    The grid t0 + n / rate_hz in integer nanoseconds, started at the first clock reading.
+
+    :param rate_hz: ticks per second (> 0).
+    :param max_catch_up: the most ticks one call may ask for; older ones are dropped.
+    """
+
+    def __init__(self, rate_hz: float, max_catch_up: int) -> None:
+        """Create a grid that starts at the first ``due`` call."""
+        period = Fraction(NANOSECONDS_PER_SECOND) / Fraction(rate_hz)
+        self._numerator, self._denominator = period.numerator, period.denominator
+        self.rate_hz = float(rate_hz)
+        self.max_catch_up = max(1, int(max_catch_up))
+        self._origin: Optional[int] = None
+        self._next = 0
+
+    @property
+    def started(self) -> bool:
+        """Return whether the grid has its origin t0."""
+        return self._origin is not None
+
+    @property
+    def origin(self) -> Optional[int]:
+        """Return t0 in nanoseconds, or None before the first reading."""
+        return self._origin
+
+    def stamp(self, tick: int) -> int:
+        """Return the time of ``tick`` in nanoseconds, t0 + floor(tick dt)."""
+        return self._origin + tick * self._numerator // self._denominator
+
+    def restart(self, now: int) -> None:
+        """Put tick 0 at ``now``; it is due at once."""
+        self._origin = now
+        self._next = 0
+
+    def due(self, now: int) -> DueTicks:
+        """Return the ticks due at clock reading ``now`` (ns) and mark them as run."""
+        restarted = self._origin is not None and now < self.stamp(max(0, self._next - 1))
+        if self._origin is None or restarted:
+            self.restart(now)
+        last_due = (now - self._origin) * self._denominator // self._numerator
+        count = last_due - self._next + 1
+        if count <= 0:
+            return DueTicks(self._next, 0, 0, restarted)
+        dropped = max(0, count - self.max_catch_up)
+        first = self._next + dropped
+        self._next = last_due + 1
+        return DueTicks(first, count - dropped, dropped, restarted)
