@@ -25,7 +25,13 @@ ifneq ($(shell $(VPY) -c 'print(1)' 2>/dev/null),1)
 $(shell rm -f $(STAMP))
 endif
 
-.PHONY: venv test lint run bench clean
+.PHONY: venv test lint run bench bench-venv clean
+
+# Peer engines for the benchmarks only (PyBullet, MuJoCo): installed into .venv by `make bench`,
+# never by `make venv`, `make test` or CI (requirements/bench/ is outside the wildcard above).
+BENCH_REQS := requirements/bench/peers.txt
+BENCH_STAMP := $(VENV)/.bench-stamp
+BENCH_ARGS ?=
 
 venv: $(STAMP)
 
@@ -52,8 +58,14 @@ lint: venv
 run: venv
 	$(VENV)/bin/mouse_constraint_node --ros-args --params-file config/params.yaml
 
-bench: venv
-	$(VPY) bench/run_all.py
+bench-venv: $(BENCH_STAMP)
+
+$(BENCH_STAMP): $(STAMP) $(BENCH_REQS)
+	$(PIP) install -r $(BENCH_REQS)
+	@touch $@
+
+bench: bench-venv
+	$(VPY) bench/run_all.py $(BENCH_ARGS)
 
 clean:
 	rm -rf $(VENV) build install log .pytest_cache .hypothesis *.egg-info
