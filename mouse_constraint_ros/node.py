@@ -73,6 +73,7 @@ class MouseConstraintNode(Node):
         self._hold_initial_anchor()
         self.late_ticks = 0
         self.dropped_ticks = 0
+        self.clock_restarts = 0
 
         self._pose = PoseStamped()
         self._twist = TwistStamped()
@@ -154,6 +155,7 @@ class MouseConstraintNode(Node):
         now = self.get_clock().now().nanoseconds
         due = self._grid.due(now)
         if due.restarted:
+            self.clock_restarts += 1
             self.get_logger().warning('clock jumped backwards: restarting the tick grid at '
                                       f'{now * 1e-9:.9f} s without catching up')
         if due.dropped:

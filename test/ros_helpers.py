@@ -1,0 +1,60 @@
+"""Helpers for tests that run nodes in-process: contexts, spinning, and collecting messages."""
+
+import time
+from typing import Callable, List
+
+import rclpy
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+
+
+class RosHarness:
+    """
+    One rclpy context with an executor, torn down after the test.
+
+    :param nodes: nodes added with ``add``; the executor spins all of them.
+    """
+
+    def __init__(self) -> None:
+        """Initialize a new context and an executor on it."""
+        self.context = rclpy.Context()
+        rclpy.init(context=self.context)
+        self.executor = SingleThreadedExecutor(context=self.context)
+        self.nodes: List[Node] = []
+        self.probe = self.add(Node('test_probe', context=self.context))
+
+    def add(self, node: Node) -> Node:
+        """Spin ``node`` with the others; return it."""
+        self.nodes.append(node)
+        self.executor.add_node(node)
+        return node
+
+    def spin_for(self, seconds: float) -> None:
+        """Spin all nodes for ``seconds`` of wall time."""
+        deadline = time.monotonic() + seconds
+        while time.monotonic() < deadline:
+            self.executor.spin_once(timeout_sec=min(0.01, max(0.0, deadline - time.monotonic())))
+
+    def spin_until(self, condition: Callable[[], bool], timeout: float = 10.0) -> bool:
+        """Spin until ``condition()`` holds or ``timeout`` seconds pass; return whether it held."""
+        deadline = time.monotonic() + timeout
+        while not condition():
+            if time.monotonic() > deadline:
+                return False
+            self.executor.spin_once(timeout_sec=0.01)
+        return True
+
+    def collect(self, message_type, topic: str, depth: int = 1000) -> list:
+        """Subscribe the probe to ``topic``; return the list that received messages fill."""
+        received: list = []
+        qos = QoSProfile(depth=depth, reliability=ReliabilityPolicy.RELIABLE)
+        self.probe.create_subscription(message_type, topic, received.append, qos)
+        return received
+
+    def shutdown(self) -> None:
+        """Destroy the nodes and shut the context down."""
+        self.executor.shutdown()
+        for node in self.nodes:
+            node.destroy_node()
+        rclpy.try_shutdown(context=self.context)

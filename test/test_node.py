@@ -1,0 +1,282 @@
+"""The node in-process: rate and stamps, targets, bad input, parameters, services, timeout."""
+
+import math
+
+from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
+import numpy as np
+import pytest
+from rcl_interfaces.msg import Parameter as ParameterMessage, ParameterType, ParameterValue
+from rcl_interfaces.srv import SetParameters
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from scipy.spatial.transform import Rotation
+from std_srvs.srv import Trigger
+
+from mouse_constraint_ros.conversions import point_message, state_from_messages
+from mouse_constraint_ros.node import MouseConstraintNode
+
+ANCHOR = np.array([0.2, 0.1, 0.05])
+
+
+def start_node(ros, **overrides) -> MouseConstraintNode:
+    """Start the node in ``ros``'s context with parameter ``overrides``."""
+    node = MouseConstraintNode(context=ros.context, parameter_overrides=[
+        Parameter(name, value=value) for name, value in overrides.items()])
+    return ros.add(node)
+
+
+def anchor_of(pose: PoseStamped) -> np.ndarray:
+    """Return the world position of the default anchor for a published pose."""
+    p, q = pose.pose.position, pose.pose.orientation
+    return np.array([p.x, p.y, p.z]) + Rotation.from_quat([q.x, q.y, q.z, q.w]).apply(ANCHOR)
+
+
+def publish_target(ros, publisher, point, frame_id='world') -> None:
+    """Publish one target and let it arrive."""
+    publisher.publish(point_message(point, frame_id, 0))
+    ros.spin_for(0.05)
+
+
+def target_publisher(ros):
+    """Return a publisher on ``target`` that matches the node, once matched."""
+    publisher = ros.probe.create_publisher(PointStamped, 'target', 10)
+    assert ros.spin_until(lambda: publisher.get_subscription_count() > 0)
+    return publisher
+
+
+def stamp_ns(message) -> int:
+    """Return a message's header stamp in nanoseconds."""
+    return message.header.stamp.sec * 1_000_000_000 + message.header.stamp.nanosec
+
+
+def call(ros, node: Node, service_type, name: str, request):
+    """Call a service of ``node`` from the probe and return the response."""
+    client = ros.probe.create_client(service_type, name)
+    assert client.wait_for_service(timeout_sec=5.0)
+    future = client.call_async(request)
+    assert ros.spin_until(future.done)
+    return future.result()
+
+
+def test_messages_arrive_at_the_rate_with_grid_stamps(ros):
+    """Pose and twist come every tick, stamped t0 + n / rate_hz, pose and twist alike."""
+    start_node(ros, rate_hz=200.0)
+    poses = ros.collect(PoseStamped, 'pose')
+    twists = ros.collect(TwistStamped, 'twist')
+    assert ros.spin_until(lambda: len(poses) > 0)
+    ros.spin_for(2.0)
+    stamps = np.array([stamp_ns(m) for m in poses])
+    # Every message and no gap: consecutive stamps exactly one period apart.
+    np.testing.assert_array_equal(np.diff(stamps), 5_000_000)
+    assert len(poses) == pytest.approx(400, rel=0.1)
+    assert [stamp_ns(m) for m in twists[:len(poses)]] == list(stamps[:len(twists)])
+    assert {m.header.frame_id for m in poses + twists} == {'world'}
+
+
+def test_pose_and_twist_agree(ros):
+    """Finite differences of the pose equal the twist (world frame) of the later tick."""
+    node = start_node(ros, rate_hz=500.0,
+                      initial_orientation=[0.0, 0.0, 0.3826834323650898, 0.9238795325112867])
+    poses = ros.collect(PoseStamped, 'pose')
+    twists = ros.collect(TwistStamped, 'twist')
+    ros.spin_for(1.0)
+    count = min(len(poses), len(twists))
+    assert count > 100
+    dt = 1.0 / 500.0
+    states = [state_from_messages(p, t) for p, t in zip(poses[:count], twists[:count])]
+    speeds = []
+    for before, after in zip(states, states[1:]):
+        velocity = (np.array(after.position) - np.array(before.position)) / dt
+        np.testing.assert_allclose(velocity, after.linear_velocity, atol=1e-9)
+        turn = (Rotation.from_quat(after.orientation) *
+                Rotation.from_quat(before.orientation).inv()).as_rotvec() / dt
+        np.testing.assert_allclose(turn, after.angular_velocity, atol=1e-6)
+        speeds.append(np.linalg.norm(after.angular_velocity))
+    assert max(speeds) > 0.5  # it really swings
+    assert node.simulation.settings.substeps == 1
+
+
+def test_a_target_is_reached_and_held(ros):
+    """
+    The anchor goes to a published target and stays there while the body swings.
+
+    A jump of the target sets the body swinging and spinning about the anchor; damping lets that
+    die down, as a user dragging a body would set it (a spinning body's anchor drifts by
+    O(h^2 |w|^2 |r| / delta), see README).
+    """
+    start_node(ros, rate_hz=500.0, linear_damping=2.0, angular_damping=2.0)
+    poses = ros.collect(PoseStamped, 'pose')
+    publisher = target_publisher(ros)
+    target = (0.4, -0.3, 1.2)
+    publish_target(ros, publisher, target)
+    ros.spin_for(3.5)
+    errors = [np.linalg.norm(anchor_of(p) - target) for p in poses[-100:]]
+    assert max(errors) < 1e-4
+    # And the body moved there: its anchor is far from where it started.
+    assert np.linalg.norm(anchor_of(poses[-1]) - anchor_of(poses[0])) > 0.3
+
+
+@pytest.mark.parametrize('point, frame_id', [
+    ((math.nan, 0.0, 1.0), 'world'),
+    ((0.0, math.inf, 1.0), 'world'),
+    ((0.0, 0.0, -math.inf), 'world'),
+    ((0.5, 0.5, 0.5), 'map'),
+])
+def test_bad_targets_are_ignored(ros, point, frame_id):
+    """Non-finite points and foreign frames change nothing; outputs stay finite."""
+    node = start_node(ros, rate_hz=200.0)
+    poses = ros.collect(PoseStamped, 'pose')
+    publisher = target_publisher(ros)
+    held = node.simulation.target
+    publish_target(ros, publisher, point, frame_id)
+    ros.spin_for(0.3)
+    assert node.simulation.target == held
+    assert all(np.isfinite(anchor_of(p)).all() for p in poses)
+    # An empty frame_id is taken as frame_id.
+    publish_target(ros, publisher, (0.1, 0.2, 0.3), '')
+    assert node.simulation.target == (0.1, 0.2, 0.3)
+
+
+def test_parameter_updates_apply_and_invalid_ones_are_rejected(ros):
+    """Valid values reach the simulation at once; invalid ones fail with a reason."""
+    node = start_node(ros, rate_hz=200.0)
+    result = node.set_parameters([Parameter('mass', value=3.0),
+                                  Parameter('frequency_hz', value=4.0)])
+    assert all(r.successful for r in result)
+    assert node.simulation.settings.body.mass == 3.0
+    assert node.simulation.settings.constraint.frequency_hz == 4.0
+    before = node.simulation.settings
+    rejected = {
+        'mass': (-1.0, 'mass'),
+        'inertia': ([1.0, 0.0, 0.0, 1.0, 0.0, 3.0], 'triangle'),
+        'initial_orientation': ([0.0, 0.0, 0.0, 2.0], 'unit quaternion'),
+        'baumgarte': (math.nan, 'baumgarte'),
+        'anchor': ([0.0, 0.0], 'anchor'),
+        'substeps': (0, 'substeps'),
+        'frame_id': ('', 'frame_id'),
+    }
+    for name, (value, reason) in rejected.items():
+        [result] = node.set_parameters([Parameter(name, value=value)])
+        assert not result.successful, name
+        assert reason in result.reason, (name, result.reason)
+    assert node.simulation.settings is before
+    assert node.get_parameter('mass').value == 3.0
+
+
+def test_parameter_service_like_ros2_param_set(ros):
+    """The same through the SetParameters service that `ros2 param set` calls."""
+    node = start_node(ros, rate_hz=200.0)
+    request = SetParameters.Request(parameters=[
+        ParameterMessage(name='gravity', value=ParameterValue(
+            type=ParameterType.PARAMETER_DOUBLE_ARRAY, double_array_value=[0.0, 0.0, -1.0])),
+        ParameterMessage(name='max_force', value=ParameterValue(
+            type=ParameterType.PARAMETER_DOUBLE, double_value=-5.0)),
+    ])
+    response = call(ros, node, SetParameters, '/mouse_constraint/set_parameters', request)
+    assert [r.successful for r in response.results] == [True, False]
+    assert 'max_force' in response.results[1].reason
+    assert node.simulation.settings.gravity == (0.0, 0.0, -1.0)
+
+
+def test_rate_can_change_at_run_time(ros):
+    """A new rate_hz restarts the grid at the new period."""
+    node = start_node(ros, rate_hz=100.0)
+    poses = ros.collect(PoseStamped, 'pose')
+    ros.spin_for(0.3)
+    assert node.set_parameters([Parameter('rate_hz', value=400.0)])[0].successful
+    count = len(poses)
+    ros.spin_for(1.0)
+    stamps = np.array([stamp_ns(m) for m in poses[count + 1:]])
+    np.testing.assert_array_equal(np.diff(stamps), 2_500_000)
+
+
+def test_reset_and_release_services(ros):
+    """~/release frees the body (it falls); ~/reset restores the initial state and the hold."""
+    node = start_node(ros, rate_hz=200.0)
+    publisher = target_publisher(ros)
+    publish_target(ros, publisher, (1.0, 1.0, 1.0))
+    response = call(ros, node, Trigger, '/mouse_constraint/release', Trigger.Request())
+    assert response.success and node.simulation.target is None
+    ros.spin_for(0.3)
+    assert node.simulation.state.linear_velocity[2] < -1.0
+    response = call(ros, node, Trigger, '/mouse_constraint/reset', Trigger.Request())
+    assert response.success
+    assert node.simulation.target == pytest.approx(
+        tuple(np.array([0.0, 0.0, 1.0]) + ANCHOR))
+    assert node.simulation.state.position == pytest.approx((0.0, 0.0, 1.0), abs=0.05)
+
+
+def test_target_timeout_releases_the_body(ros):
+    """With target_timeout > 0 the body is released when targets stop coming."""
+    node = start_node(ros, rate_hz=200.0, target_timeout=0.3)
+    publisher = target_publisher(ros)
+    publish_target(ros, publisher, (0.2, 0.0, 1.0))
+    assert node.simulation.target == (0.2, 0.0, 1.0)
+    ros.spin_for(0.15)
+    assert node.simulation.target is not None
+    assert ros.spin_until(lambda: node.simulation.target is None, timeout=1.0)
+
+
+def test_no_hold_starts_a_free_body(ros):
+    """hold_initial_anchor false: no target until one is published."""
+    node = start_node(ros, rate_hz=200.0, hold_initial_anchor=False)
+    assert node.simulation.target is None
+
+
+def test_sim_time_driven_by_clock(ros):
+    """With use_sim_time the ticks follow /clock: grid stamps, catch-up, and a jump back."""
+    from rosgraph_msgs.msg import Clock
+    node = start_node(ros, rate_hz=100.0, use_sim_time=True)
+    poses = ros.collect(PoseStamped, 'pose')
+    clock = ros.probe.create_publisher(Clock, '/clock', 10)
+    assert ros.spin_until(lambda: clock.get_subscription_count() > 0)
+
+    def advance_to(ns: int) -> None:
+        message = Clock()
+        message.clock.sec, message.clock.nanosec = divmod(ns, 1_000_000_000)
+        clock.publish(message)
+        ros.spin_until(lambda: node.get_clock().now().nanoseconds == ns, timeout=2.0)
+        ros.spin_for(0.03)
+
+    start = 1_000_000_000_000
+    for k in range(50):
+        advance_to(start + k * 10_000_000)
+    stamps = np.array([stamp_ns(m) for m in poses])
+    assert len(stamps) >= 45
+    np.testing.assert_array_equal(np.diff(stamps), 10_000_000)
+    assert (stamps - start) .min() >= 0 and stamps.max() <= start + 49 * 10_000_000
+    # A late clock: the missed ticks are all run, on the grid.
+    count = len(poses)
+    advance_to(start + 57 * 10_000_000)
+    stamps = np.array([stamp_ns(m) for m in poses])
+    assert len(stamps) - count == 8
+    np.testing.assert_array_equal(np.diff(stamps), 10_000_000)
+    # Later than the catch-up bound (0.1 s = 10 ticks): the older ticks are dropped.
+    count = len(poses)
+    advance_to(start + 100 * 10_000_000)
+    stamps = np.array([stamp_ns(m) for m in poses[count:]])
+    assert len(stamps) == 10 and node.dropped_ticks == 33
+    np.testing.assert_array_equal(stamps, start + np.arange(91, 101) * 10_000_000)
+    # The clock jumps back (a replay restarts): no burst, the grid restarts there.
+    count = len(poses)
+    advance_to(start)
+    advance_to(start + 10_000_000)
+    new = [stamp_ns(m) for m in poses[count:]]
+    # rclpy may or may not fire the timer on the backward jump itself; either way one tick each.
+    assert new in ([start, start + 10_000_000], [start + 10_000_000])
+    assert node.clock_restarts == 1
+
+
+def test_yaml_lists_exactly_the_declared_parameters(ros):
+    """config/params.yaml and the node's declarations are the same set, with matching types."""
+    from pathlib import Path
+    import yaml
+    path = Path(__file__).resolve().parent.parent / 'config' / 'params.yaml'
+    values = yaml.safe_load(path.read_text())['/**']['ros__parameters']
+    node = start_node(ros)
+    rclpy_own = {'use_sim_time', 'start_type_description_service'}
+    declared = set(node._parameters) - rclpy_own
+    assert set(values) == declared
+    for name, value in values.items():
+        assert type(value) is type(node.get_parameter(name).value) or (
+            isinstance(value, list) and isinstance(node.get_parameter(name).value, list)), name
