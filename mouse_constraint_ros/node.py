@@ -18,11 +18,13 @@ from rclpy.experimental import EventsExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.signals import SignalHandlerOptions
 from std_srvs.srv import Trigger
 
 from .configuration import configuration_from, PARAMETERS
 from .conversions import fill_pose, fill_twist, point_from_message, set_stamp
 from .physics import MouseSimulation
+from .signals import StopRequest
 from .tick_grid import TickGrid
 
 NODE_NAME = 'mouse_constraint'
@@ -148,10 +150,6 @@ class MouseConstraintNode(Node):
         self._last_target_ns = self.get_clock().now().nanoseconds
 
     def _on_timer(self) -> None:
-        if not self.context.ok():
-            # Shut down (e.g. SIGTERM) while the executor still runs: publish nothing more.
-            self._timer.cancel()
-            return
         now = self.get_clock().now().nanoseconds
         due = self._grid.due(now)
         if due.restarted:
@@ -219,17 +217,18 @@ class MouseConstraintNode(Node):
 
 def main(args: Optional[List[str]] = None) -> int:
     """Run the node until Ctrl-C or SIGTERM; exit 0 then, 1 for invalid parameters."""
-    rclpy.init(args=args)
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     node = None
     try:
-        node = MouseConstraintNode()
-        executor = EventsExecutor(context=node.context)
-        executor.add_node(node)
-        # Not executor.spin(): in this rclpy (7.1.6) the EventsExecutor's spin() busy-waits at
-        # a full core and does not return on SIGTERM; spin_once with a timeout does neither.
-        while node.context.ok():
-            executor.spin_once(timeout_sec=0.1)
-    except (KeyboardInterrupt, ExternalShutdownException):
+        with StopRequest() as stop:
+            node = MouseConstraintNode()
+            executor = EventsExecutor(context=node.context)
+            executor.add_node(node)
+            # Not executor.spin(): in this rclpy (7.1.6) the EventsExecutor's spin() busy-waits
+            # at a full core; spin_once with a timeout does not, and lets us see the stop flag.
+            while not stop and node.context.ok():
+                executor.spin_once(timeout_sec=0.1)
+    except ExternalShutdownException:
         pass
     except ValueError as error:
         rclpy.logging.get_logger(NODE_NAME).fatal(f'invalid parameters: {error}')

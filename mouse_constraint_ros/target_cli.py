@@ -17,10 +17,12 @@ import rclpy
 from rclpy.duration import Duration
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
+from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
 from .conversions import point_message
 from .node import TARGET_QOS
+from .signals import StopRequest
 
 
 def parse_arguments(argv: List[str]) -> argparse.Namespace:
@@ -94,7 +96,7 @@ def main(args: Optional[List[str]] = None) -> int:
     """Publish one target or a moving one; return 0 on success, 1 when nobody listened."""
     argv = sys.argv if args is None else args
     options = parse_arguments(remove_ros_args(argv)[1:])
-    rclpy.init(args=argv)
+    rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
     node = TargetPublisher()
     executor = SingleThreadedExecutor(context=node.context)
     executor.add_node(node)
@@ -125,11 +127,13 @@ def main(args: Optional[List[str]] = None) -> int:
 
         node.create_timer(1.0 / options.rate, tick)
         tick()
-        while node.context.ok() and time.monotonic() - start < options.duration:
-            executor.spin_once(timeout_sec=0.1)
+        with StopRequest() as stop:
+            while not stop and time.monotonic() - start < options.duration:
+                executor.spin_once(timeout_sec=0.1)
         return 0
     except (KeyboardInterrupt, ExternalShutdownException):
-        return 0
+        # Ctrl-C is how a moving target ends; a one-shot target it interrupts.
+        return 0 if options.circle else 130
     finally:
         node.destroy_node()
         rclpy.try_shutdown()
