@@ -53,6 +53,10 @@ PARAMETERS = (
               (0.0, math.inf)),
     Parameter('linear_damping', 0.0, 'Linear velocity decay rate (1/s).', (0.0, math.inf)),
     Parameter('angular_damping', 0.0, 'Angular velocity decay rate (1/s).', (0.0, math.inf)),
+    Parameter('workspace_radius', 10000.0,
+              'Targets farther than this from the origin of frame_id are ignored, like '
+              'non-finite ones (m): beyond it a drag would wreck the precision of the state.',
+              (0.0, 1e12)),
     Parameter('target_timeout', 0.0,
               'Release the body when no target arrived for this long (s); 0 = hold forever.',
               (0.0, math.inf)),
@@ -70,6 +74,7 @@ class Configuration(NamedTuple):
     frame_id: str
     box_size: Vector3
     hold_initial_anchor: bool
+    workspace_radius: float
     target_timeout: float
 
     def initial_anchor(self) -> Vector3:
@@ -110,5 +115,6 @@ def configuration_from(values: Mapping[str, Any]) -> Configuration:
         frame_id=frame_id,
         box_size=box_size,
         hold_initial_anchor=hold,
+        workspace_radius=scalar('workspace_radius', values['workspace_radius'], above=0.0),
         target_timeout=scalar('target_timeout', values['target_timeout'], at_least=0.0),
     )

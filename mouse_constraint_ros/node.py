@@ -145,6 +145,11 @@ class MouseConstraintNode(Node):
         if not all(math.isfinite(c) for c in point):
             self._warn(f'ignoring non-finite target {point}')
             return
+        if math.hypot(*point) > self._config.workspace_radius:
+            self._warn(f'ignoring target {point}: farther than workspace_radius '
+                       f'{self._config.workspace_radius:g} m from the origin of '
+                       f'{self._config.frame_id!r}')
+            return
         self._simulation.target = point
         self._user_target = True
         self._last_target_ns = self.get_clock().now().nanoseconds

@@ -120,10 +120,12 @@ def test_a_target_is_reached_and_held(ros):
     ((math.nan, 0.0, 1.0), 'world'),
     ((0.0, math.inf, 1.0), 'world'),
     ((0.0, 0.0, -math.inf), 'world'),
+    ((1e300, 0.0, 0.0), 'world'),
+    ((0.0, 7.1e3, 7.1e3), 'world'),
     ((0.5, 0.5, 0.5), 'map'),
 ])
 def test_bad_targets_are_ignored(ros, point, frame_id):
-    """Non-finite points and foreign frames change nothing; outputs stay finite."""
+    """Non-finite or too far points and foreign frames change nothing; outputs stay finite."""
     node = start_node(ros, rate_hz=200.0)
     poses = ros.collect(PoseStamped, 'pose')
     publisher = target_publisher(ros)
