@@ -20,7 +20,8 @@ def yaml_literal(value) -> str:
 
 def test_readme_parameter_table_matches_the_declarations():
     """One row per parameter, and the default in the row is the declared one."""
-    rows = dict(re.findall(r'^\| `(\w+)` \| `([^`]*)` \|', README.read_text(), re.MULTILINE))
+    section = README.read_text().split('### Parameters', 1)[1].split('\n## ', 1)[0]
+    rows = dict(re.findall(r'^\| `(\w+)` \| `([^`]*)` \|', section, re.MULTILINE))
     assert set(rows) == {p.name for p in PARAMETERS}
     for parameter in PARAMETERS:
         assert rows[parameter.name] == yaml_literal(parameter.default), parameter.name
