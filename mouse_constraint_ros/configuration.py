@@ -60,6 +60,17 @@ PARAMETERS = (
     Parameter('target_timeout', 0.0,
               'Release the body when no target arrived for this long (s); 0 = hold forever.',
               (0.0, math.inf)),
+    Parameter('marker_rate_hz', 30.0,
+              'Rate of the RViz markers on ~/markers (Hz), on their own timer; 0 = none.',
+              (0.0, 100.0)),
+    Parameter('diagnostics_rate_hz', 1.0,
+              'Rate of /diagnostics (Hz), on its own timer; the achieved tick rate is measured '
+              'over one period. 0 = none.', (0.0, 100.0)),
+    Parameter('diagnostics_anchor_warn', 0.05,
+              'Anchor error (m) from which /diagnostics reports WARN.', (0.0, math.inf)),
+    Parameter('diagnostics_anchor_error', 0.5,
+              'Anchor error (m) from which /diagnostics reports ERROR, >= '
+              'diagnostics_anchor_warn.', (0.0, math.inf)),
 )
 
 DEFAULTS = {p.name: p.default for p in PARAMETERS}
@@ -76,6 +87,10 @@ class Configuration(NamedTuple):
     hold_initial_anchor: bool
     workspace_radius: float
     target_timeout: float
+    marker_rate_hz: float
+    diagnostics_rate_hz: float
+    diagnostics_anchor_warn: float
+    diagnostics_anchor_error: float
 
     def initial_anchor(self) -> Vector3:
         """Return the anchor's world position in the initial state."""
@@ -108,6 +123,9 @@ def configuration_from(values: Mapping[str, Any]) -> Configuration:
     hold = values['hold_initial_anchor']
     if not isinstance(hold, bool):
         raise ValueError(f'hold_initial_anchor must be true or false, got {hold!r}')
+    anchor_warn = scalar('diagnostics_anchor_warn', values['diagnostics_anchor_warn'], above=0.0)
+    anchor_error = scalar('diagnostics_anchor_error', values['diagnostics_anchor_error'],
+                          at_least=anchor_warn)
     return Configuration(
         settings=settings,
         initial_state=initial_state,
@@ -117,4 +135,9 @@ def configuration_from(values: Mapping[str, Any]) -> Configuration:
         hold_initial_anchor=hold,
         workspace_radius=scalar('workspace_radius', values['workspace_radius'], above=0.0),
         target_timeout=scalar('target_timeout', values['target_timeout'], at_least=0.0),
+        marker_rate_hz=scalar('marker_rate_hz', values['marker_rate_hz'], at_least=0.0),
+        diagnostics_rate_hz=scalar('diagnostics_rate_hz', values['diagnostics_rate_hz'],
+                                   at_least=0.0),
+        diagnostics_anchor_warn=anchor_warn,
+        diagnostics_anchor_error=anchor_error,
     )

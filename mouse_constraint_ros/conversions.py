@@ -6,7 +6,7 @@ per-tick path builds no message objects (rclpy serializes on ``publish``, so reu
 """
 
 from builtin_interfaces.msg import Time
-from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
+from geometry_msgs.msg import Point, PointStamped, PoseStamped, TwistStamped
 
 from .physics import BodyState
 from .physics.rotation import Vector3
@@ -58,3 +58,8 @@ def state_from_messages(pose: PoseStamped, twist: TwistStamped) -> BodyState:
     p, q = pose.pose.position, pose.pose.orientation
     v, w = twist.twist.linear, twist.twist.angular
     return BodyState((p.x, p.y, p.z), (q.x, q.y, q.z, q.w), (v.x, v.y, v.z), (w.x, w.y, w.z))
+
+
+def fill_point(message: Point, vector: Vector3) -> None:
+    """Write a 3-vector of floats into a ``geometry_msgs/Point`` (or Vector3: any x, y, z)."""
+    message.x, message.y, message.z = vector

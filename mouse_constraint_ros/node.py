@@ -9,6 +9,7 @@ import math
 import sys
 from typing import Any, List, Optional
 
+from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
 from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescriptor,
                                 SetParametersResult)
@@ -20,9 +21,14 @@ from rclpy.parameter import Parameter
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
 from std_srvs.srv import Trigger
+from visualization_msgs.msg import MarkerArray
 
 from .configuration import configuration_from, PARAMETERS
-from .conversions import fill_pose, fill_twist, point_from_message, set_stamp
+from .conversions import (fill_pose, fill_twist, point_from_message, set_stamp,
+                          stamp_nanoseconds)
+from .diagnostics import (constraint_status, diagnostic_array, INITIAL_ANCHOR, NO_TARGET,
+                          rate_status, Thresholds, TickCounters, TickWindow, USER_TARGET)
+from .markers import marker_array, reference_force
 from .physics import MouseSimulation
 from .signals import StopRequest
 from .tick_grid import TickGrid
@@ -73,6 +79,7 @@ class MouseConstraintNode(Node):
         self._user_target = False
         self._last_target_ns: Optional[int] = None
         self._hold_initial_anchor()
+        self.ticks_run = 0
         self.late_ticks = 0
         self.dropped_ticks = 0
         self.clock_restarts = 0
@@ -87,6 +94,7 @@ class MouseConstraintNode(Node):
         self.create_service(Trigger, '~/release', self._on_release)
         self._timer = None
         self._start_timer()
+        self._setup_monitors()
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.get_logger().info(self._describe())
 
@@ -167,6 +175,7 @@ class MouseConstraintNode(Node):
                        f'({self.dropped_ticks} in all); simulated time falls behind')
         if due.count > 1:
             self.late_ticks += due.count - 1
+        self.ticks_run += due.count
         self._release_if_timed_out(now)
         simulation, dt = self._simulation, self._dt
         for tick in range(due.first, due.first + due.count):
@@ -216,8 +225,67 @@ class MouseConstraintNode(Node):
             self._set_frame(config.frame_id)
         if config.rate_hz != previous.rate_hz:
             self._start_timer()
+        if (config.marker_rate_hz, config.diagnostics_rate_hz) != (
+                previous.marker_rate_hz, previous.diagnostics_rate_hz):
+            self._start_monitor_timers()
         self.get_logger().info('parameters changed: ' + self._describe())
         return SetParametersResult(successful=True)
+
+    # Markers and diagnostics: their own lower-rate timers, nothing on the per-tick path. The
+    # messages are built by the markers and diagnostics modules from the simulation's data.
+
+    def _setup_monitors(self) -> None:
+        self._marker_publisher = self.create_publisher(MarkerArray, '~/markers', 10)
+        self._diagnostics_publisher = self.create_publisher(DiagnosticArray, '/diagnostics', 10)
+        # The first window opens at the first diagnostics call, once the node spins.
+        self._tick_window = TickWindow()
+        self._monitor_timers = []
+        self._start_monitor_timers()
+
+    def _start_monitor_timers(self) -> None:
+        """(Re)create the marker and diagnostics timers at their rates; 0 Hz means none."""
+        for timer in self._monitor_timers:
+            self.destroy_timer(timer)
+        self._monitor_timers = [
+            self.create_timer(1.0 / rate, callback)
+            for rate, callback in ((self._config.marker_rate_hz, self._publish_markers),
+                                   (self._config.diagnostics_rate_hz, self._publish_diagnostics))
+            if rate > 0.0]
+
+    def _tick_counters(self) -> TickCounters:
+        return TickCounters(self.ticks_run, self.late_ticks, self.dropped_ticks,
+                            self.clock_restarts)
+
+    def _publish_markers(self) -> None:
+        """Publish the markers of the latest tick, stamped as its pose."""
+        simulation = self._simulation
+        self._marker_publisher.publish(marker_array(
+            self._config.frame_id, stamp_nanoseconds(self._pose.header.stamp),
+            self._config.box_size, simulation.state, simulation.anchor_position(),
+            simulation.target, simulation.constraint_force, reference_force(simulation.settings)))
+
+    def _publish_diagnostics(self) -> None:
+        """Publish the rate status over the window since the last call and the constraint's."""
+        now = self.get_clock().now().nanoseconds
+        config, simulation = self._config, self._simulation
+        counters = self._tick_counters()
+        window = self._tick_window.sample(now, counters, config.rate_hz)
+        thresholds = Thresholds(anchor_warn=config.diagnostics_anchor_warn,
+                                anchor_error=config.diagnostics_anchor_error)
+        error = simulation.anchor_error()
+        if self._user_target:
+            kind, age = USER_TARGET, max(0.0, (now - self._last_target_ns) * 1e-9)
+        else:
+            kind, age = (NO_TARGET if simulation.target is None else INITIAL_ANCHOR), None
+        name, hardware_id = self.get_name(), self.get_fully_qualified_name()
+        self._diagnostics_publisher.publish(diagnostic_array(now, [
+            rate_status(f'{name}: rate', hardware_id, config.rate_hz, window, counters,
+                        thresholds),
+            constraint_status(f'{name}: constraint', hardware_id, kind, simulation.target,
+                              None if error is None else math.hypot(*error),
+                              simulation.constraint_force, config.settings.constraint.max_force,
+                              age, config.target_timeout, thresholds),
+        ]))
 
 
 def main(args: Optional[List[str]] = None) -> int:

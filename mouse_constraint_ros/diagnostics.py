@@ -1,0 +1,223 @@
+"""
+The node's ``/diagnostics``: a tick-rate status and a constraint status (no rclpy here).
+
+The node samples its tick counters into a ``TickWindow`` at the diagnostics rate; the window's
+differences give the achieved rate (ticks actually run per second of the node's clock, not the
+timer's period), late and dropped ticks. ``rate_status`` and ``constraint_status`` grade them
+against ``Thresholds``:
+
+=================================  =================  ===================  ==============
+check                              OK                 WARN                 ERROR
+=================================  =================  ===================  ==============
+achieved / requested rate (*)      >= 0.99            < 0.99               < 0.9
+ticks run late (in catch-up)       <= 25 % of them    > 25 %
+clock jumped backwards             no                 yes, in the window
+anchor error (m)                   < anchor_warn      >= anchor_warn       >= anchor_error
+constraint force (N)               < max_force        >= 0.999 max_force
+target age, if target_timeout > 0  < timeout / 2      >= timeout / 2
+=================================  =================  ===================  ==============
+
+(*) allowing one tick of jitter at the window's edges: (ticks + 1) / (seconds * rate_hz).
+
+``anchor_warn`` and ``anchor_error`` come from the node's parameters (``diagnostics_anchor_warn``,
+``diagnostics_anchor_error``); a non-finite anchor error is an ERROR. The anchor error, force and
+target age are those of the latest tick; the rate, late and dropped ticks are over the window.
+"""
+
+import math
+from typing import List, NamedTuple, Optional, Sequence
+
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+
+from .conversions import set_stamp
+from .physics.rotation import Vector3
+
+OK, WARN, ERROR = DiagnosticStatus.OK, DiagnosticStatus.WARN, DiagnosticStatus.ERROR
+
+# Kinds of target, as the constraint status names them.
+USER_TARGET = 'user target'
+INITIAL_ANCHOR = 'holding the initial anchor'
+NO_TARGET = 'none (free body)'
+
+
+class Thresholds(NamedTuple):
+    """
+    Where the levels change; see the module's table.
+
+    :param rate_warn: achieved / requested rate below which the rate is WARN.
+    :param rate_error: the same for ERROR.
+    :param late_warn: share of the window's ticks run late above which the rate is WARN.
+    :param anchor_warn: anchor error (m) from which the constraint is WARN.
+    :param anchor_error: anchor error (m) from which the constraint is ERROR.
+    :param force_saturated: share of max_force from which the force counts as at its bound.
+    :param target_age_warn: share of target_timeout from which an old target is WARN.
+    """
+
+    rate_warn: float = 0.99
+    rate_error: float = 0.9
+    late_warn: float = 0.25
+    anchor_warn: float = 0.05
+    anchor_error: float = 0.5
+    force_saturated: float = 0.999
+    target_age_warn: float = 0.5
+
+
+class TickCounters(NamedTuple):
+    """The node's running totals: ticks run, run late (in catch-up), dropped; clock restarts."""
+
+    ticks: int
+    late: int
+    dropped: int
+    clock_restarts: int
+
+
+class Window(NamedTuple):
+    """What happened between two samples: ``seconds`` of the node's clock and counter deltas."""
+
+    seconds: float
+    ticks: int
+    late: int
+    dropped: int
+    clock_restarts: int
+
+
+# The keys of the window's fields in the rate status, in ``Window`` order.
+WINDOW_KEYS = ('window (s)', 'ticks run', 'late ticks', 'dropped ticks', 'clock restarts')
+
+
+class TickWindow:
+    """The node's tick counters between consecutive samples, at one requested rate."""
+
+    def __init__(self) -> None:
+        """Create a window that starts at the first sample."""
+        self._previous = None
+
+    def sample(self, now_ns: int, counters: TickCounters, rate_hz: float) -> Optional[Window]:
+        """
+        Close the window at ``now_ns`` and start the next one; return the closed one.
+
+        :param now_ns: the node's clock (ns).
+        :param counters: the node's totals now.
+        :param rate_hz: the requested rate now.
+        :returns: None for the first sample, or when the rate changed, the clock did not advance
+            or reads zero (sim time before the first /clock): there is no window to judge then.
+        """
+        previous, self._previous = self._previous, (now_ns, counters, rate_hz)
+        if previous is None or now_ns <= 0:
+            return None
+        then, before, previous_rate = previous
+        if previous_rate != rate_hz or now_ns <= then or then <= 0:
+            return None
+        return Window((now_ns - then) * 1e-9, *(a - b for a, b in zip(counters, before)))
+
+
+def _value(number: Optional[float], digits: int = 6) -> str:
+    return 'n/a' if number is None else f'{number:.{digits}g}'
+
+
+def _status(name: str, hardware_id: str, level: bytes, problems: List[str], fine: str,
+            values: Sequence[KeyValue]) -> DiagnosticStatus:
+    return DiagnosticStatus(level=level, name=name, hardware_id=hardware_id,
+                            message='; '.join(problems) if problems else fine,
+                            values=list(values))
+
+
+def rate_status(name: str, hardware_id: str, rate_hz: float, window: Optional[Window],
+                totals: TickCounters, thresholds: Thresholds = Thresholds()) -> DiagnosticStatus:
+    """
+    Return the tick-rate status: requested vs achieved rate, late and dropped ticks.
+
+    :param name: the status name, ``<node>: rate``.
+    :param hardware_id: the status's hardware_id.
+    :param rate_hz: the requested rate (the ``rate_hz`` parameter).
+    :param window: the last window, or None when there is none yet (OK, "measuring").
+    :param totals: the counters since the node started.
+    :param thresholds: where the levels change.
+    """
+    level, problems = OK, []
+    achieved = None
+    if window is None:
+        fine = 'measuring'
+    else:
+        achieved = window.ticks / window.seconds
+        fine = f'{achieved:.1f} of {rate_hz:g} Hz'
+        expected = window.seconds * rate_hz
+        share = min(1.0, (window.ticks + 1) / expected)
+        if share < thresholds.rate_warn:
+            level = ERROR if share < thresholds.rate_error else WARN
+            problems.append(f'achieved {achieved:.1f} of {rate_hz:g} Hz'
+                            + (f' ({window.dropped} ticks dropped)' if window.dropped else ''))
+        if window.ticks and window.late > thresholds.late_warn * window.ticks:
+            level = max(level, WARN)
+            problems.append(f'{100.0 * window.late / window.ticks:.0f} % of ticks ran late')
+        if window.clock_restarts:
+            level = max(level, WARN)
+            problems.append('clock jumped backwards')
+    values = [KeyValue(key='requested rate (Hz)', value=_value(rate_hz)),
+              KeyValue(key='achieved rate (Hz)', value=_value(achieved))]
+    values += [KeyValue(key=key, value=_value(None if window is None else window[index]))
+               for index, key in enumerate(WINDOW_KEYS)]
+    values += [
+        KeyValue(key='late ticks since start', value=str(totals.late)),
+        KeyValue(key='dropped ticks since start', value=str(totals.dropped)),
+        KeyValue(key='clock restarts since start', value=str(totals.clock_restarts)),
+    ]
+    return _status(name, hardware_id, level, problems, fine, values)
+
+
+def constraint_status(name: str, hardware_id: str, target_kind: str, target: Optional[Vector3],
+                      anchor_error: Optional[float], force: Vector3, max_force: float,
+                      target_age: Optional[float], target_timeout: float,
+                      thresholds: Thresholds = Thresholds()) -> DiagnosticStatus:
+    """
+    Return the constraint status: anchor error, constraint force, target and its age.
+
+    :param name: the status name, ``<node>: constraint``.
+    :param hardware_id: the status's hardware_id.
+    :param target_kind: ``USER_TARGET``, ``INITIAL_ANCHOR`` or ``NO_TARGET``.
+    :param target: the target (m), or None.
+    :param anchor_error: the anchor's distance from the target (m), or None without one.
+    :param force: the constraint force (N).
+    :param max_force: the force bound (N, may be inf).
+    :param target_age: seconds since the last user target, or None.
+    :param target_timeout: the node's ``target_timeout`` (s, 0 = never).
+    :param thresholds: where the levels change.
+    """
+    level, problems = OK, []
+    magnitude = math.hypot(*force)
+    if anchor_error is not None:
+        if not math.isfinite(anchor_error) or anchor_error >= thresholds.anchor_error:
+            level = ERROR
+        elif anchor_error >= thresholds.anchor_warn:
+            level = WARN
+        if level != OK:
+            problems.append(f'anchor {anchor_error:.3g} m from the target')
+    if (target is not None and math.isfinite(max_force)
+            and magnitude >= thresholds.force_saturated * max_force):
+        level = max(level, WARN)
+        problems.append(f'force at max_force {max_force:g} N')
+    if (target_age is not None and target_timeout > 0.0
+            and target_age >= thresholds.target_age_warn * target_timeout):
+        level = max(level, WARN)
+        problems.append(f'no target for {target_age:.2f} s (released at {target_timeout:g} s)')
+    fine = target_kind
+    if anchor_error is not None:
+        fine += f', anchor within {thresholds.anchor_warn:g} m'
+    values = [
+        KeyValue(key='target', value=target_kind),
+        KeyValue(key='target position (m)',
+                 value='n/a' if target is None else ' '.join(_value(c) for c in target)),
+        KeyValue(key='target age (s)', value=_value(target_age, 4)),
+        KeyValue(key='anchor error (m)', value=_value(anchor_error)),
+        KeyValue(key='constraint force (N)', value=_value(magnitude)),
+        KeyValue(key='max force (N)', value=_value(max_force)),
+        KeyValue(key='target timeout (s)', value=_value(target_timeout)),
+    ]
+    return _status(name, hardware_id, level, problems, fine, values)
+
+
+def diagnostic_array(stamp_ns: int, statuses: Sequence[DiagnosticStatus]) -> DiagnosticArray:
+    """Return a ``diagnostic_msgs/DiagnosticArray`` of ``statuses`` stamped ``stamp_ns``."""
+    array = DiagnosticArray(status=list(statuses))
+    set_stamp(array.header.stamp, stamp_ns)
+    return array

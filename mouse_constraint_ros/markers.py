@@ -1,0 +1,129 @@
+"""
+RViz markers of the body, its anchor, the target and the constraint line (no rclpy here).
+
+``marker_array`` turns the core's data into one ``visualization_msgs/MarkerArray``:
+
+============  =========  =========================================================================
+namespace     type       what
+============  =========  =========================================================================
+body          CUBE       the body: a box of ``box_size`` at the COM pose
+anchor        SPHERE     the anchor (dragged point) in the world
+target        SPHERE     the target; deleted while the body is free
+constraint    LINE_LIST  anchor to target, green (no force) - yellow - red (``reference_force``)
+============  =========  =========================================================================
+
+The spheres' diameter is ``SPHERE_FRACTION`` of the box's longest edge, the line's width a third
+of that, so the markers scale with the body.
+"""
+
+import math
+from typing import Optional, Sequence, Tuple
+
+from geometry_msgs.msg import Point
+from std_msgs.msg import ColorRGBA
+from visualization_msgs.msg import Marker, MarkerArray
+
+from .conversions import fill_point, fill_pose, set_stamp
+from .physics import BodyState, Settings, STANDARD_GRAVITY
+from .physics.rotation import Vector3
+
+# Sphere diameter as a fraction of the box's longest edge; the line is a third as wide.
+SPHERE_FRACTION = 0.1
+LINE_FRACTION = SPHERE_FRACTION / 3.0
+# Without max_force the line is red at this many times the body's weight (m g0): yellow when the
+# constraint carries the weight of a body at rest.
+WEIGHTS_FOR_RED = 2.0
+
+BODY_COLOR = (0.35, 0.55, 0.85, 0.8)
+ANCHOR_COLOR = (1.0, 0.55, 0.0, 1.0)
+TARGET_COLOR = (0.85, 0.1, 0.85, 1.0)
+
+
+def reference_force(settings: Settings) -> float:
+    """
+    Return the force (N) at which the constraint line turns red.
+
+    :param settings: the simulation's settings: ``max_force`` when finite, otherwise
+        ``WEIGHTS_FOR_RED`` times the body's weight under standard gravity.
+    """
+    max_force = settings.constraint.max_force
+    if math.isfinite(max_force) and max_force > 0.0:
+        return max_force
+    return WEIGHTS_FOR_RED * settings.body.mass * abs(STANDARD_GRAVITY[2])
+
+
+def force_color(force: float, reference: float) -> Tuple[float, float, float, float]:
+    """
+    Return the RGBA colour of a force: green at 0, yellow at half ``reference``, red from it on.
+
+    :param force: the constraint force's magnitude (N).
+    :param reference: the force (N, > 0) that is shown fully red.
+    """
+    share = force / reference if reference > 0.0 else 1.0
+    share = min(1.0, max(0.0, share)) if math.isfinite(share) else 1.0
+    return (min(1.0, 2.0 * share), min(1.0, 2.0 * (1.0 - share)), 0.0, 1.0)
+
+
+def _color(rgba: Sequence[float]) -> ColorRGBA:
+    r, g, b, a = rgba
+    return ColorRGBA(r=r, g=g, b=b, a=a)
+
+
+def _marker(namespace: str, kind: int, frame_id: str, stamp_ns: int) -> Marker:
+    marker = Marker(ns=namespace, id=0, type=kind, action=Marker.ADD)
+    marker.header.frame_id = frame_id
+    set_stamp(marker.header.stamp, stamp_ns)
+    marker.pose.orientation.w = 1.0
+    return marker
+
+
+def _sphere(namespace: str, frame_id: str, stamp_ns: int, center: Vector3, diameter: float,
+            rgba: Sequence[float]) -> Marker:
+    marker = _marker(namespace, Marker.SPHERE, frame_id, stamp_ns)
+    fill_point(marker.pose.position, center)
+    marker.scale.x = marker.scale.y = marker.scale.z = diameter
+    marker.color = _color(rgba)
+    return marker
+
+
+def _deleted(namespace: str, frame_id: str, stamp_ns: int) -> Marker:
+    marker = _marker(namespace, Marker.SPHERE, frame_id, stamp_ns)
+    marker.action = Marker.DELETE
+    return marker
+
+
+def marker_array(frame_id: str, stamp_ns: int, box_size: Vector3, state: BodyState,
+                 anchor: Vector3, target: Optional[Vector3], force: Vector3,
+                 reference: float) -> MarkerArray:
+    """
+    Return the markers of one moment of the simulation.
+
+    :param frame_id: the frame of everything (the node's ``frame_id``).
+    :param stamp_ns: the stamp (ns), that of the tick the state belongs to.
+    :param box_size: the body box's edge lengths (m).
+    :param state: the body's state; its pose places the box.
+    :param anchor: the anchor's world position (m).
+    :param target: the target (m), or None for a free body (target and line are deleted).
+    :param force: the constraint force (N) that colours the line.
+    :param reference: the force (N) at which the line is red, see ``reference_force``.
+    """
+    body = _marker('body', Marker.CUBE, frame_id, stamp_ns)
+    fill_pose(body, state)
+    fill_point(body.scale, box_size)
+    body.color = _color(BODY_COLOR)
+    diameter = SPHERE_FRACTION * max(box_size)
+    markers = [body, _sphere('anchor', frame_id, stamp_ns, anchor, diameter, ANCHOR_COLOR)]
+    if target is None:
+        markers += [_deleted('target', frame_id, stamp_ns),
+                    _deleted('constraint', frame_id, stamp_ns)]
+    else:
+        markers.append(_sphere('target', frame_id, stamp_ns, target, diameter, TARGET_COLOR))
+        line = _marker('constraint', Marker.LINE_LIST, frame_id, stamp_ns)
+        start, end = Point(), Point()
+        fill_point(start, anchor)
+        fill_point(end, target)
+        line.points = [start, end]
+        line.scale.x = LINE_FRACTION * max(box_size)
+        line.color = _color(force_color(math.hypot(*force), reference))
+        markers.append(line)
+    return MarkerArray(markers=markers)
