@@ -1,0 +1,157 @@
+"""/diagnostics: the tick window, the levels of both statuses, and the node's messages."""
+
+import math
+
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
+import pytest
+from rclpy.parameter import Parameter
+
+from mouse_constraint_ros.conversions import stamp_nanoseconds
+from mouse_constraint_ros.diagnostics import (constraint_status, diagnostic_array,
+                                              INITIAL_ANCHOR, NO_TARGET, rate_status,
+                                              Thresholds, TickCounters, TickWindow, USER_TARGET,
+                                              Window)
+from mouse_constraint_ros.node import MouseConstraintNode
+
+OK, WARN, ERROR = DiagnosticStatus.OK, DiagnosticStatus.WARN, DiagnosticStatus.ERROR
+TOTALS = TickCounters(1000, 3, 0, 0)
+
+
+def values(status: DiagnosticStatus) -> dict:
+    """Return a status's key-value pairs as a dict."""
+    return {kv.key: kv.value for kv in status.values}
+
+
+def test_tick_window_takes_differences_between_samples():
+    """Deltas of the counters over the node's clock; no window at first, on a new rate or clock."""
+    window = TickWindow()
+    assert window.sample(5_000_000_000, TickCounters(10, 1, 0, 0), 100.0) is None
+    assert window.sample(6_000_000_000, TickCounters(110, 4, 2, 1), 100.0) == Window(
+        1.0, 100, 3, 2, 1)
+    assert window.sample(7_000_000_000, TickCounters(150, 4, 2, 1), 50.0) is None
+    assert window.sample(6_500_000_000, TickCounters(170, 4, 2, 2), 50.0) is None
+    assert window.sample(0, TickCounters(170, 4, 2, 2), 50.0) is None
+    assert window.sample(500_000_000, TickCounters(195, 4, 2, 2), 50.0) is None
+    assert window.sample(1_000_000_000, TickCounters(220, 4, 2, 2), 50.0).ticks == 25
+
+
+@pytest.mark.parametrize('ticks, late, restarts, level, message', [
+    (1000, 0, 0, OK, '1000.0 of 1000 Hz'),
+    (990, 0, 0, OK, '990.0 of 1000 Hz'),
+    (980, 0, 0, WARN, 'achieved 980.0 of 1000 Hz'),
+    (899, 0, 0, WARN, 'achieved 899.0 of 1000 Hz'),
+    (898, 0, 0, ERROR, 'achieved 898.0 of 1000 Hz'),
+    (1000, 250, 0, OK, '1000.0 of 1000 Hz'),
+    (1000, 251, 0, WARN, '25 % of ticks ran late'),
+    (1000, 0, 1, WARN, 'clock jumped backwards'),
+])
+def test_rate_levels(ticks, late, restarts, level, message):
+    """Achieved vs requested rate, late ticks and clock restarts by the documented thresholds."""
+    status = rate_status('n: rate', '/n', 1000.0, Window(1.0, ticks, late, 0, restarts), TOTALS)
+    assert (status.level, status.message) == (level, message)
+    assert status.name == 'n: rate' and status.hardware_id == '/n'
+    assert values(status)['requested rate (Hz)'] == '1000'
+    assert float(values(status)['achieved rate (Hz)']) == ticks
+
+
+def test_rate_allows_one_tick_of_jitter_and_reports_drops():
+    """At a low rate one tick less is not a shortfall; dropped ticks are named."""
+    assert rate_status('n', '', 2.0, Window(1.0, 1, 0, 0, 0), TOTALS).level == OK
+    status = rate_status('n', '', 100.0, Window(1.0, 50, 0, 50, 0), TickCounters(90, 0, 60, 0))
+    assert status.level == ERROR
+    assert status.message == 'achieved 50.0 of 100 Hz (50 ticks dropped)'
+    assert values(status)['dropped ticks'] == '50'
+    assert values(status)['dropped ticks since start'] == '60'
+
+
+def test_rate_without_a_window_is_measuring():
+    """No window yet: OK, 'measuring', the window's values n/a."""
+    status = rate_status('n', '', 100.0, None, TOTALS)
+    assert (status.level, status.message) == (OK, 'measuring')
+    assert values(status)['achieved rate (Hz)'] == values(status)['ticks run'] == 'n/a'
+    assert values(status)['late ticks since start'] == '3'
+
+
+@pytest.mark.parametrize('error, level', [
+    (0.0, OK), (0.0499, OK), (0.05, WARN), (0.4999, WARN), (0.5, ERROR), (3.0, ERROR),
+    (math.nan, ERROR), (math.inf, ERROR),
+])
+def test_anchor_error_levels(error, level):
+    """The anchor error grades OK / WARN / ERROR at anchor_warn and anchor_error."""
+    status = constraint_status('n: constraint', '/n', USER_TARGET, (0.0, 0.0, 1.0), error,
+                               (0.0, 0.0, 19.6), math.inf, 0.2, 0.0)
+    assert status.level == level
+    assert values(status)['anchor error (m)'] == f'{error:.6g}'
+    if level != OK:
+        assert 'from the target' in status.message
+
+
+def test_anchor_thresholds_come_from_the_parameters():
+    """Thresholds(anchor_warn, anchor_error) move the levels."""
+    thresholds = Thresholds(anchor_warn=0.001, anchor_error=0.01)
+    levels = [constraint_status('n', '', USER_TARGET, (0.0, 0.0, 0.0), error, (0.0, 0.0, 0.0),
+                                math.inf, 0.0, 0.0, thresholds).level
+              for error in (0.0005, 0.005, 0.05)]
+    assert levels == [OK, WARN, ERROR]
+
+
+def test_saturated_force_and_old_target_warn():
+    """A force at max_force warns; so does a target older than half of target_timeout."""
+    at_bound = constraint_status('n', '', USER_TARGET, (0.0, 0.0, 1.0), 0.01, (0.0, 6.0, 8.0),
+                                 10.0, 0.1, 0.0)
+    assert (at_bound.level, at_bound.message) == (WARN, 'force at max_force 10 N')
+    below = constraint_status('n', '', USER_TARGET, (0.0, 0.0, 1.0), 0.01, (0.0, 6.0, 7.9),
+                              10.0, 0.1, 0.0)
+    assert below.level == OK
+    old = constraint_status('n', '', USER_TARGET, (0.0, 0.0, 1.0), 0.01, (0.0, 0.0, 1.0),
+                            math.inf, 0.6, 1.0)
+    assert old.level == WARN and old.message.startswith('no target for 0.60 s')
+    assert values(old)['target age (s)'] == '0.6'
+    assert constraint_status('n', '', USER_TARGET, (0.0, 0.0, 1.0), 0.01, (0.0, 0.0, 1.0),
+                             math.inf, 60.0, 0.0).level == OK
+
+
+def test_free_body_is_ok_with_values_not_applicable():
+    """No target: OK, its position, age and anchor error n/a."""
+    status = constraint_status('n', '', NO_TARGET, None, None, (0.0, 0.0, 0.0), 5.0, None, 1.0)
+    assert (status.level, status.message) == (OK, NO_TARGET)
+    assert values(status)['target position (m)'] == values(status)['anchor error (m)'] == 'n/a'
+
+
+def test_array_is_stamped():
+    """diagnostic_array stamps the header and keeps the statuses in order."""
+    first, second = DiagnosticStatus(name='a'), DiagnosticStatus(name='b')
+    array = diagnostic_array(12_345_000_000_007, [first, second])
+    assert stamp_nanoseconds(array.header.stamp) == 12_345_000_000_007
+    assert [s.name for s in array.status] == ['a', 'b']
+
+
+def test_node_reports_rate_and_constraint(ros):
+    """The node's /diagnostics: both statuses at the diagnostics rate, then a falling body."""
+    node = ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
+        Parameter('rate_hz', value=200.0), Parameter('diagnostics_rate_hz', value=10.0),
+        Parameter('marker_rate_hz', value=0.0)]))
+    arrays = ros.collect(DiagnosticArray, '/diagnostics')
+    assert ros.spin_until(lambda: len(arrays) >= 5, timeout=5.0)
+    rate, constraint = arrays[-1].status
+    assert rate.name == 'mouse_constraint: rate'
+    assert constraint.name == 'mouse_constraint: constraint'
+    assert rate.hardware_id == constraint.hardware_id == '/mouse_constraint'
+    assert values(rate)['requested rate (Hz)'] == '200'
+    assert float(values(rate)['achieved rate (Hz)']) == pytest.approx(200.0, rel=0.15)
+    assert float(values(rate)['window (s)']) == pytest.approx(0.1, rel=0.3)
+    assert rate.level != ERROR
+    assert constraint.level == OK and values(constraint)['target'] == INITIAL_ANCHOR
+    assert float(values(constraint)['anchor error (m)']) < 0.01
+    stamps = [stamp_nanoseconds(a.header.stamp) for a in arrays]
+    assert stamps == sorted(stamps) and stamps[0] > 0
+    # A max_force below the weight (2 kg * 9.8 m/s^2): the force saturates, the body falls away.
+    assert node.set_parameters([Parameter('max_force', value=5.0)])[0].successful
+    count = len(arrays)
+    assert ros.spin_until(lambda: arrays[-1].status[1].level == ERROR, timeout=5.0)
+    constraint = arrays[-1].status[1]
+    assert 'force at max_force 5 N' in constraint.message
+    assert float(values(constraint)['constraint force (N)']) == pytest.approx(5.0)
+    # On its way to anchor_error (0.5 m) it spends ~0.25 s between 0.05 m and 0.5 m: WARN.
+    levels = [a.status[1].level for a in arrays[count:]]
+    assert WARN in levels

@@ -1,0 +1,135 @@
+"""RViz markers: what ``marker_array`` builds, and the node's ``~/markers`` at its own rate."""
+
+import math
+
+from geometry_msgs.msg import PointStamped, PoseStamped
+import numpy as np
+import pytest
+from rclpy.parameter import Parameter
+from visualization_msgs.msg import Marker, MarkerArray
+
+from mouse_constraint_ros.conversions import point_message, stamp_nanoseconds
+from mouse_constraint_ros.markers import (force_color, marker_array, reference_force,
+                                          SPHERE_FRACTION)
+from mouse_constraint_ros.node import MouseConstraintNode
+from mouse_constraint_ros.physics import (BodyState, MouseConstraint, RigidBody, Settings,
+                                          STANDARD_GRAVITY)
+
+BOX = (0.3, 0.2, 0.1)
+STATE = BodyState((0.1, 0.2, 0.9), (0.0, 0.0, math.sin(0.3), math.cos(0.3)), (1.0, 0.0, 0.0),
+                  (0.0, 0.0, 2.0))
+
+
+def by_namespace(array: MarkerArray) -> dict:
+    """Return the markers of ``array`` keyed by namespace (one marker each)."""
+    markers = {m.ns: m for m in array.markers}
+    assert len(markers) == len(array.markers) == 4
+    return markers
+
+
+def xyz(vector) -> tuple:
+    """Return the x, y, z of a Point or Vector3 message."""
+    return (vector.x, vector.y, vector.z)
+
+
+def test_markers_show_body_anchor_target_and_a_force_coloured_line():
+    """The box at the pose with box_size, spheres at anchor and target, the line between."""
+    anchor, target = (0.3, 0.25, 0.95), (0.5, 0.25, 1.0)
+    array = marker_array('map', 1_500_000_123, BOX, STATE, anchor, target, (0.0, 0.0, 19.6), 39.2)
+    markers = by_namespace(array)
+    for marker in array.markers:
+        assert marker.header.frame_id == 'map'
+        assert stamp_nanoseconds(marker.header.stamp) == 1_500_000_123
+        assert marker.action == Marker.ADD and marker.color.a > 0.0
+    body = markers['body']
+    assert body.type == Marker.CUBE
+    assert xyz(body.scale) == BOX
+    assert xyz(body.pose.position) == STATE.position
+    o = body.pose.orientation
+    assert (o.x, o.y, o.z, o.w) == STATE.orientation
+    diameter = SPHERE_FRACTION * 0.3
+    for name, center in (('anchor', anchor), ('target', target)):
+        sphere = markers[name]
+        assert sphere.type == Marker.SPHERE
+        assert xyz(sphere.pose.position) == center
+        assert xyz(sphere.scale) == pytest.approx((diameter,) * 3)
+        assert sphere.pose.orientation.w == 1.0
+    line = markers['constraint']
+    assert line.type == Marker.LINE_LIST
+    assert [xyz(p) for p in line.points] == [anchor, target]
+    assert 0.0 < line.scale.x < diameter
+    # Half the reference force: yellow.
+    assert (line.color.r, line.color.g, line.color.b) == pytest.approx((1.0, 1.0, 0.0))
+
+
+def test_a_free_body_deletes_target_and_line():
+    """Without a target the body and anchor stay; target and line markers are deleted."""
+    markers = by_namespace(marker_array('world', 0, BOX, STATE, (0.0, 0.0, 1.0), None,
+                                        (0.0, 0.0, 0.0), 10.0))
+    assert markers['body'].action == markers['anchor'].action == Marker.ADD
+    assert markers['target'].action == markers['constraint'].action == Marker.DELETE
+
+
+@pytest.mark.parametrize('force, rgb', [
+    (0.0, (0.0, 1.0, 0.0)),
+    (2.5, (0.5, 1.0, 0.0)),
+    (5.0, (1.0, 1.0, 0.0)),
+    (7.5, (1.0, 0.5, 0.0)),
+    (10.0, (1.0, 0.0, 0.0)),
+    (1e9, (1.0, 0.0, 0.0)),
+    (math.inf, (1.0, 0.0, 0.0)),
+    (math.nan, (1.0, 0.0, 0.0)),
+])
+def test_force_colour_runs_green_yellow_red(force, rgb):
+    """Green at no force, yellow at half the reference, red from the reference on."""
+    assert force_color(force, 10.0) == pytest.approx((*rgb, 1.0))
+
+
+def test_reference_force_is_max_force_or_twice_the_weight():
+    """A finite max_force is the red end; unlimited, twice the weight under standard gravity."""
+    body = RigidBody.solid_box(2.0, BOX)
+    assert reference_force(Settings(body, MouseConstraint(max_force=15.0))) == 15.0
+    assert reference_force(Settings(body, gravity=(0.0, 0.0, 0.0))) == pytest.approx(
+        2.0 * 2.0 * -STANDARD_GRAVITY[2])
+
+
+def test_node_publishes_markers_at_their_rate_in_its_frame(ros):
+    """~/markers at marker_rate_hz, in frame_id, stamped like a pose; the drawn box is the body."""
+    node = ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
+        Parameter('rate_hz', value=200.0), Parameter('marker_rate_hz', value=20.0),
+        Parameter('frame_id', value='map'), Parameter('box_size', value=list(BOX)),
+        Parameter('mass', value=3.0)]))
+    # The box drawn is the box whose inertia the body has (inertia all zeros: a solid box).
+    assert node.simulation.settings.body == RigidBody.solid_box(3.0, BOX)
+    arrays = ros.collect(MarkerArray, '/mouse_constraint/markers')
+    poses = ros.collect(PoseStamped, 'pose', depth=10000)
+    publisher = ros.probe.create_publisher(PointStamped, 'target', 10)
+    assert ros.spin_until(lambda: publisher.get_subscription_count() > 0 and arrays)
+    target = (0.3, 0.1, 1.1)
+    publisher.publish(point_message(target, 'map', 0))
+    assert ros.spin_until(lambda: node.simulation.target == target)
+    count = len(arrays)
+    ros.spin_for(1.0)
+    assert 10 <= len(arrays) - count <= 25
+    stamps = {stamp_nanoseconds(p.header.stamp): p for p in poses}
+    markers = by_namespace(arrays[-1])
+    assert {m.header.frame_id for m in arrays[-1].markers} == {'map'}
+    body = markers['body']
+    pose = stamps[stamp_nanoseconds(body.header.stamp)]
+    assert xyz(body.pose.position) == xyz(pose.pose.position)
+    assert xyz(body.scale) == BOX
+    assert xyz(markers['target'].pose.position) == target
+    assert [xyz(p) for p in markers['constraint'].points][1] == target
+    np.testing.assert_allclose(xyz(markers['anchor'].pose.position), target, atol=0.05)
+
+
+def test_marker_rate_zero_publishes_none_until_set(ros):
+    """marker_rate_hz 0 turns the markers off; setting it at run time turns them on."""
+    node = ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
+        Parameter('rate_hz', value=100.0), Parameter('marker_rate_hz', value=0.0)]))
+    arrays = ros.collect(MarkerArray, '/mouse_constraint/markers')
+    ros.spin_for(0.5)
+    assert arrays == []
+    assert node.set_parameters([Parameter('marker_rate_hz', value=50.0)])[0].successful
+    assert ros.spin_until(lambda: len(arrays) > 5, timeout=5.0)
+    assert not node.set_parameters([Parameter('marker_rate_hz', value=-1.0)])[0].successful
