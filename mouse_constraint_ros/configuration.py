@@ -26,7 +26,7 @@ class Parameter(NamedTuple):
 PARAMETERS = (
     Parameter('rate_hz', 1000.0, 'Physics and publishing rate (Hz); dt = 1 / rate_hz.',
               (1.0, 10000.0)),
-    Parameter('substeps', 1, 'Equal solver substeps per tick.', (1, 1000)),
+    Parameter('substeps', 2, 'Equal solver substeps per tick.', (1, 1000)),
     Parameter('frame_id', 'world',
               'Frame of targets (empty frame_id is taken as this) and of pose and twist.'),
     Parameter('mass', 2.0, 'Body mass (kg), > 0.', (0.0, math.inf)),

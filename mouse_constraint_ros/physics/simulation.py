@@ -91,6 +91,8 @@ class MouseSimulation:
         self._state = self._initial_state
         self._target: Optional[Vector3] = None
         self._constraint_force: Vector3 = ZERO
+        # False until the velocities of a given state have been moved back half a substep.
+        self._staggered = False
         self._cache_for: Tuple[Optional[Settings], float] = (None, 0.0)
         self._cache: Tuple[float, ...] = ()
 
@@ -149,10 +151,12 @@ class MouseSimulation:
     def set_state(self, state: BodyState) -> None:
         """Replace the current state (validated; the orientation is normalized)."""
         self._state = state.validated()
+        self._staggered = False
 
     def reset(self) -> None:
         """Return to the initial state and drop the target."""
         self._state = self._initial_state
+        self._staggered = False
         self._target = None
         self._constraint_force = ZERO
 
@@ -182,80 +186,116 @@ class MouseSimulation:
         if cached_settings is not settings or cached_h != h:
             self._cache = self._coefficients(settings, h)
             self._cache_for = (settings, h)
-        gx, gy, gz, linear_decay, angular_decay, a, b, max_impulse = self._cache
-        body = settings.body
-        inverse_mass = body.inverse_mass
-        anchor = settings.constraint.anchor
-        target = self._target
-        (px, py, pz), q, (vx, vy, vz), w = self._state
+        if not self._staggered:
+            self._stagger(h)
+        coefficients = self._cache
+        (px, py, pz), q, v, w = self._state
         impulse = ZERO
+        velocities = self._velocities
         for _ in range(settings.substeps):
-            rotation = rotation_matrix(q)
-            # 1. Velocities.
-            vx = (vx + gx) * linear_decay
-            vy = (vy + gy) * linear_decay
-            vz = (vz + gz) * linear_decay
-            w_body = gyroscopic_step(body.inertia, multiply_transposed(w, rotation), h)
-            wx, wy, wz = multiply(w_body, rotation)
-            wx *= angular_decay
-            wy *= angular_decay
-            wz *= angular_decay
-            # 2. The mouse constraint.
-            if target is not None:
-                inverse_inertia = congruence(rotation, body.inverse_inertia)
-                rx, ry, rz = multiply(anchor, rotation)
-                cx = px + rx - target[0]
-                cy = py + ry - target[1]
-                cz = pz + rz - target[2]
-                # J V = v + w x r (eq. 1.2).
-                jvx = vx + wy * rz - wz * ry
-                jvy = vy + wz * rx - wx * rz
-                jvz = vz + wx * ry - wy * rx
-                factor = cholesky(effective_mass(inverse_mass, inverse_inertia, (rx, ry, rz)))
-                # The position correction -K^-1 b C, limited in the turn it asks of a substep.
-                bx, by, bz = solve_cholesky(factor, (-b * cx, -b * cy, -b * cz))
-                tx, ty, tz = multiply_symmetric(
-                    (ry * bz - rz * by, rz * bx - rx * bz, rx * by - ry * bx), inverse_inertia)
-                turn = h * math.sqrt(tx * tx + ty * ty + tz * tz)
-                if turn > MAX_CORRECTION_TURN:
-                    scale = MAX_CORRECTION_TURN / turn
-                    bx *= scale
-                    by *= scale
-                    bz *= scale
-                ix, iy, iz = solve_cholesky(factor, (-a * jvx, -a * jvy, -a * jvz))
-                ix += bx
-                iy += by
-                iz += bz
-                norm = math.sqrt(ix * ix + iy * iy + iz * iz)
-                if norm > max_impulse:
-                    scale = max_impulse / norm
-                    ix *= scale
-                    iy *= scale
-                    iz *= scale
-                vx += ix * inverse_mass
-                vy += iy * inverse_mass
-                vz += iz * inverse_mass
-                dwx, dwy, dwz = multiply_symmetric(
-                    (ry * iz - rz * iy, rz * ix - rx * iz, rx * iy - ry * ix), inverse_inertia)
-                wx += dwx
-                wy += dwy
-                wz += dwz
-                impulse = (ix, iy, iz)
-            # 3. Positions.
-            px += h * vx
-            py += h * vy
-            pz += h * vz
-            w = (wx, wy, wz)
+            v, w, impulse = velocities(px, py, pz, q, v, w, h, coefficients)
+            px += h * v[0]
+            py += h * v[1]
+            pz += h * v[2]
             q = integrate_orientation(q, w, h)
-        self._state = BodyState((px, py, pz), q, (vx, vy, vz), w)
+        self._state = BodyState((px, py, pz), q, v, w)
         self._constraint_force = (impulse[0] / h, impulse[1] / h, impulse[2] / h)
         return self._state
 
+    def _stagger(self, h: float) -> None:
+        """
+        Move the velocities of a state given at time t back to t - h / 2, once, before stepping.
+
+        Symplectic Euler is the leapfrog scheme with velocities at half steps: x(t + h) =
+        x(t) + h v(t + h / 2). A state given with v(t), such as a body released at rest, starts
+        it half a step out of phase, an O(h) error for the whole motion (0.042 mm RMS for the
+        corner pendulum at 1 kHz); starting from v(t - h / 2) makes it O(h^2) (0.0014 mm). The
+        velocity stage is run backwards over h / 2 for that: gravity, damping, the gyroscopic
+        term (the midpoint rule is time-symmetric, so the energy is kept) and the constraint's
+        reaction, with soft mode's spring; rigid mode's Baumgarte correction is numerical and
+        is left out. The published velocities are then the half-step ones, which are exactly
+        the finite differences of the published poses.
+        """
+        (px, py, pz), q, v, w = self._state
+        v, w, _ = self._velocities(px, py, pz, q, v, w, -0.5 * h,
+                                   self._coefficients(self._settings, -0.5 * h, start=True))
+        self._state = BodyState((px, py, pz), q, v, w)
+        self._staggered = True
+
+    def _velocities(self, px: float, py: float, pz: float, q, v: Vector3, w: Vector3, h: float,
+                    coefficients: Tuple[float, ...]):
+        """Return the velocities after a substep's velocity stage, and the constraint impulse."""
+        gx, gy, gz, linear_decay, angular_decay, a, b, max_impulse = coefficients
+        body = self._settings.body
+        target = self._target
+        rotation = rotation_matrix(q)
+        vx = (v[0] + gx) * linear_decay
+        vy = (v[1] + gy) * linear_decay
+        vz = (v[2] + gz) * linear_decay
+        w_body = gyroscopic_step(body.inertia, multiply_transposed(w, rotation), h)
+        wx, wy, wz = multiply(w_body, rotation)
+        wx *= angular_decay
+        wy *= angular_decay
+        wz *= angular_decay
+        if target is None:
+            return (vx, vy, vz), (wx, wy, wz), ZERO
+        inverse_mass = body.inverse_mass
+        inverse_inertia = congruence(rotation, body.inverse_inertia)
+        rx, ry, rz = multiply(self._settings.constraint.anchor, rotation)
+        cx = px + rx - target[0]
+        cy = py + ry - target[1]
+        cz = pz + rz - target[2]
+        # J V = v + w x r (eq. 1.2).
+        jvx = vx + wy * rz - wz * ry
+        jvy = vy + wz * rx - wx * rz
+        jvz = vz + wx * ry - wy * rx
+        factor = cholesky(effective_mass(inverse_mass, inverse_inertia, (rx, ry, rz)))
+        # The position correction -K^-1 b C, limited in the turn it asks of a substep.
+        bx, by, bz = solve_cholesky(factor, (-b * cx, -b * cy, -b * cz))
+        tx, ty, tz = multiply_symmetric(
+            (ry * bz - rz * by, rz * bx - rx * bz, rx * by - ry * bx), inverse_inertia)
+        turn = abs(h) * math.sqrt(tx * tx + ty * ty + tz * tz)
+        if turn > MAX_CORRECTION_TURN:
+            scale = MAX_CORRECTION_TURN / turn
+            bx *= scale
+            by *= scale
+            bz *= scale
+        ix, iy, iz = solve_cholesky(factor, (-a * jvx, -a * jvy, -a * jvz))
+        ix += bx
+        iy += by
+        iz += bz
+        norm = math.sqrt(ix * ix + iy * iy + iz * iz)
+        if norm > max_impulse:
+            scale = max_impulse / norm
+            ix *= scale
+            iy *= scale
+            iz *= scale
+        dwx, dwy, dwz = multiply_symmetric(
+            (ry * iz - rz * iy, rz * ix - rx * iz, rx * iy - ry * ix), inverse_inertia)
+        return ((vx + ix * inverse_mass, vy + iy * inverse_mass, vz + iz * inverse_mass),
+                (wx + dwx, wy + dwy, wz + dwz), (ix, iy, iz))
+
     @staticmethod
-    def _coefficients(settings: Settings, h: float) -> Tuple[float, ...]:
-        """Return what a substep of ``h`` needs from ``settings``, computed once per change."""
+    def _coefficients(settings: Settings, h: float, start: bool = False) -> Tuple[float, ...]:
+        """
+        Return what a substep of ``h`` needs from ``settings``, computed once per change.
+
+        :param h: the substep; negative for the backward half step of ``_stagger``.
+        :param start: for ``_stagger``: the physical part of the constraint only (no Baumgarte
+            correction; the spring's own acceleration).
+        """
         gx, gy, gz = settings.gravity
-        a, b = settings.constraint.gains(h)
+        constraint = settings.constraint
+        if not start:
+            a, b = constraint.gains(h)
+        elif constraint.rigid:
+            a, b = 1.0, 0.0
+        else:
+            # The spring-damper's own acceleration -omega^2 C - 2 zeta omega dC/dt, applied
+            # over h (< 0): a first-order kick, as running a stiff damped spring backwards
+            # exactly would amplify it exponentially.
+            omega = 2.0 * math.pi * constraint.frequency_hz
+            a, b = 2.0 * constraint.damping_ratio * omega * h, omega * omega * h
         return (gx * h, gy * h, gz * h,
                 math.exp(-settings.linear_damping * h), math.exp(-settings.angular_damping * h),
-                a, b, settings.constraint.max_force * h)
+                a, b, settings.constraint.max_force * abs(h))
