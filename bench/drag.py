@@ -92,9 +92,17 @@ def _cases(body: RigidBody, state: BodyState, first_target, quick: bool):
     """Yield (name, settings text, lag prediction or None, factory) for every row."""
     anchor = common.CORNER
 
-    def ours(substeps=1, **constraint):
+    def ours(substeps=1, angular_damping=0.0, **constraint):
         return lambda: engines.ours(body, MouseConstraint(anchor=anchor, **constraint),
-                                    NO_GRAVITY, state, first_target, TICK, substeps)
+                                    NO_GRAVITY, state, first_target, TICK, substeps,
+                                    angular_damping)
+
+    # The settings README recommends for dragging: the whole error closed each substep, and
+    # angular damping for the spin a drag (and the jump) winds up.
+    for substeps in (1, 2):
+        yield ('ours rigid, recommended for dragging',
+               f'baumgarte 1, angular damping 5/s, substeps {substeps}', None,
+               ours(substeps, angular_damping=5.0, baumgarte=1.0))
 
     rigid_substeps = (1, 2, 4, 8, 16) if not quick else (1, 8)
     for substeps in rigid_substeps:

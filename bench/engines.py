@@ -118,9 +118,12 @@ class Ours:
 
 
 def ours(body: RigidBody, constraint: MouseConstraint, gravity: Vector3, state: BodyState,
-         target: Optional[Vector3], h: float, substeps: int = 1) -> Ours:
+         target: Optional[Vector3], h: float, substeps: int = 1,
+         angular_damping: float = 0.0) -> Ours:
     """Return our simulation of ``body`` held by ``constraint``, ticking ``h`` seconds."""
-    return Ours(Settings(body, constraint, gravity=gravity, substeps=substeps), state, target, h)
+    settings = Settings(body, constraint, gravity=gravity, substeps=substeps,
+                        angular_damping=angular_damping)
+    return Ours(settings, state, target, h)
 
 
 class PyBulletBox:
