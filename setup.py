@@ -34,6 +34,7 @@ setup(
         'console_scripts': [
             'mouse_constraint_node = mouse_constraint_ros.node:main',
             'mouse_target = mouse_constraint_ros.target_cli:main',
+            'mouse_record = mouse_constraint_ros.recorder:main',
         ],
     },
 )

@@ -1,0 +1,323 @@
+"""
+``mouse_record``: the CSV holds what was published, the PNG is a real image, the MCAP reads back.
+
+One recording (the installed executable against the node in this process, the anchor read from
+the node's parameter) serves the file tests; the rest are pure functions and the failure paths.
+"""
+
+import csv
+import io
+import math
+from pathlib import Path
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+from geometry_msgs.msg import (PointStamped, PoseStamped, PoseWithCovarianceStamped,
+                               TwistStamped)
+from mcap.reader import make_reader
+from mcap_ros2.decoder import DecoderFactory
+import numpy as np
+from PIL import Image
+import pytest
+from rclpy.parameter import Parameter
+from rclpy.serialization import deserialize_message, serialize_message
+from ros_helpers import RosHarness
+from scipy.spatial.transform import Rotation
+from visualization_msgs.msg import Marker
+import yaml
+
+from mouse_constraint_ros.conversions import point_message, stamp_nanoseconds
+from mouse_constraint_ros.node import MouseConstraintNode
+from mouse_constraint_ros.recorder import (COLUMNS, FIGURE_DPI, FIGURE_INCHES,
+                                           message_definition, parse_arguments, Progress,
+                                           progress_bar, Received, schema_name, tick_rows)
+
+BIN = Path(sys.executable).parent
+ANCHOR = (0.1, -0.05, 0.02)
+RATE = 200.0
+DURATION = 1.0
+
+
+def xyz(vector) -> tuple:
+    """Return the x, y, z of a message field."""
+    return (vector.x, vector.y, vector.z)
+
+
+def target_at(k: int) -> tuple:
+    """Return the k-th target the test publishes: a slow circle around (0, 0, 1)."""
+    return (0.2 * math.cos(0.3 * k), 0.2 * math.sin(0.3 * k), 1.0)
+
+
+@pytest.fixture(scope='module')
+def harness():
+    """Yield a context with the node (anchor ANCHOR) spinning in this process; shut it down."""
+    ros = RosHarness()
+    ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
+        Parameter('rate_hz', value=RATE), Parameter('anchor', value=list(ANCHOR)),
+        Parameter('marker_rate_hz', value=0.0), Parameter('diagnostics_rate_hz', value=0.0),
+        Parameter('linear_damping', value=2.0), Parameter('angular_damping', value=2.0)]))
+    yield ros
+    ros.shutdown()
+
+
+def run_recorder(ros, arguments, publisher=None, signal_after=None, timeout=40.0):
+    """
+    Run ``mouse_record`` while the node spins, publishing a target every 0.05 s if asked.
+
+    :param signal_after: send SIGINT this many seconds after the progress bar starts.
+    :returns: the exit status, stderr and the targets published.
+    """
+    process = subprocess.Popen([str(BIN / 'mouse_record'), *arguments], stdout=subprocess.DEVNULL,
+                               stderr=subprocess.PIPE, text=True)
+    lines = []
+    reader = threading.Thread(target=lambda: lines.extend(process.stderr), daemon=True)
+    reader.start()
+    published, started, deadline = [], None, time.monotonic() + timeout
+    try:
+        while process.poll() is None:
+            assert time.monotonic() < deadline, 'mouse_record did not finish'
+            ros.spin_for(0.05)
+            if publisher is not None:
+                target = target_at(len(published))
+                publisher.publish(point_message(target, 'world', 0))
+                published.append(target)
+            if signal_after is None:
+                continue
+            if started is None and any(line.startswith('recording') for line in lines):
+                started = time.monotonic()
+            if started is not None and time.monotonic() - started > signal_after:
+                process.send_signal(signal.SIGINT)
+                signal_after = None
+    finally:
+        if process.poll() is None:
+            process.kill()
+        process.wait()
+        reader.join(timeout=5.0)
+    return process.returncode, ''.join(lines), published
+
+
+@pytest.fixture(scope='module')
+def recording(harness, tmp_path_factory):
+    """Record DURATION s with --mcap, the anchor from the node; return what was sent and kept."""
+    ros = harness
+    poses = ros.collect(PoseStamped, 'pose', depth=100000)
+    twists = ros.collect(TwistStamped, 'twist', depth=100000)
+    publisher = ros.probe.create_publisher(PointStamped, 'target', 10)
+    assert ros.spin_until(lambda: publisher.get_subscription_count() > 0 and poses)
+    prefix = tmp_path_factory.mktemp('recording') / 'sub' / 'run'
+    status, stderr, targets = run_recorder(
+        ros, ['--duration', str(DURATION), '--output', str(prefix), '--mcap', '--timeout', '20'],
+        publisher)
+    return {'status': status, 'stderr': stderr, 'prefix': prefix, 'targets': targets,
+            'poses': {stamp_nanoseconds(p.header.stamp): p for p in poses},
+            'twists': {stamp_nanoseconds(t.header.stamp): t for t in twists}}
+
+
+def read_csv(path: Path) -> list:
+    """Return the CSV's rows as dicts, numbers parsed, '' as None."""
+    with open(path, newline='') as stream:
+        reader = csv.DictReader(stream)
+        assert tuple(reader.fieldnames) == COLUMNS
+        return [{k: (None if v == '' else int(v) if k == 'stamp_ns' else float(v))
+                 for k, v in row.items()} for row in reader]
+
+
+def test_recorder_exits_cleanly_and_reports(recording):
+    """Exit 0, a progress bar, the anchor from the node's parameter, the files it wrote."""
+    assert recording['status'] == 0, recording['stderr']
+    stderr = recording['stderr']
+    assert 'recording [' in stderr and '##############################]' in stderr
+    assert f'anchor {ANCHOR} m (body frame) from mouse_constraint' in stderr
+    assert 'wrote' in stderr and 'Traceback' not in stderr
+
+
+def test_csv_matches_what_was_published(recording):
+    """Each row is a published pose and twist of one stamp, bit for bit, plus derived columns."""
+    rows = read_csv(recording['prefix'].with_suffix('.csv'))
+    poses, twists = recording['poses'], recording['twists']
+    assert len(rows) == pytest.approx(DURATION * RATE, rel=0.25)
+    stamps = np.array([row['stamp_ns'] for row in rows])
+    assert np.all(np.diff(stamps) > 0)
+    # The first pose may have waited in the queue a little: the stamps span about DURATION.
+    assert (stamps[-1] - stamps[0]) * 1e-9 == pytest.approx(DURATION, abs=0.25)
+    np.testing.assert_allclose([row['time'] for row in rows], (stamps - stamps[0]) * 1e-9)
+    targets = set(recording['targets'])
+    with_target = 0
+    for row in rows:
+        pose, twist = poses[row['stamp_ns']], twists[row['stamp_ns']]
+        q = pose.pose.orientation
+        assert (row['x'], row['y'], row['z']) == xyz(pose.pose.position)
+        assert (row['qx'], row['qy'], row['qz'], row['qw']) == (q.x, q.y, q.z, q.w)
+        assert (row['vx'], row['vy'], row['vz']) == xyz(twist.twist.linear)
+        assert (row['wx'], row['wy'], row['wz']) == xyz(twist.twist.angular)
+        anchor = np.array(xyz(pose.pose.position)) + Rotation.from_quat(
+            [q.x, q.y, q.z, q.w]).apply(ANCHOR)
+        np.testing.assert_allclose((row['anchor_x'], row['anchor_y'], row['anchor_z']), anchor,
+                                   atol=1e-12)
+        assert row['speed'] == pytest.approx(np.linalg.norm(xyz(twist.twist.linear)))
+        assert row['angular_speed'] == pytest.approx(np.linalg.norm(xyz(twist.twist.angular)))
+        if row['target_x'] is not None:
+            with_target += 1
+            target = (row['target_x'], row['target_y'], row['target_z'])
+            assert target in targets
+            assert row['anchor_error'] == pytest.approx(np.linalg.norm(anchor - target))
+    assert with_target > 0.8 * len(rows)
+
+
+def test_png_is_a_valid_image_of_the_expected_size(recording):
+    """The figure is a PNG of FIGURE_INCHES at FIGURE_DPI with something drawn on it."""
+    path = recording['prefix'].with_suffix('.png')
+    with Image.open(path) as image:
+        image.verify()
+    with Image.open(path) as image:
+        assert image.format == 'PNG'
+        assert image.size == (FIGURE_INCHES[0] * FIGURE_DPI, FIGURE_INCHES[1] * FIGURE_DPI)
+        pixels = np.asarray(image.convert('RGB')).astype(np.uint32)
+    colours = np.unique((pixels[..., 0] << 16) | (pixels[..., 1] << 8) | pixels[..., 2])
+    assert len(colours) > 50
+
+
+def test_mcap_reads_back_with_the_mcap_library(recording):
+    """ros2 profile, cdr on ros2msg schemas, the resolved topics; messages decode as published."""
+    with open(recording['prefix'].with_suffix('.mcap'), 'rb') as stream:
+        reader = make_reader(stream, decoder_factories=[DecoderFactory()])
+        assert reader.get_header().profile == 'ros2'
+        summary = reader.get_summary()
+        channels = {c.topic: c for c in summary.channels.values()}
+        assert set(channels) == {'/target', '/pose', '/twist'}
+        for topic, message_type in (('/target', PointStamped), ('/pose', PoseStamped),
+                                    ('/twist', TwistStamped)):
+            channel = channels[topic]
+            schema = summary.schemas[channel.schema_id]
+            assert (channel.message_encoding, schema.encoding) == ('cdr', 'ros2msg')
+            assert schema.name == schema_name(message_type)
+            [offer] = yaml.safe_load(channel.metadata['offered_qos_profiles'])
+            assert offer['reliability'] == 'reliable' and offer['durability'] == 'volatile'
+        decoded = {topic: [] for topic in channels}
+        for _, channel, message, ros_message in reader.iter_decoded_messages():
+            decoded[channel.topic].append((message, ros_message))
+    poses = recording['poses']
+    assert len(decoded['/pose']) >= DURATION * RATE * 0.9
+    for message, pose in decoded['/pose']:
+        stamp = pose.header.stamp.sec * 1_000_000_000 + pose.header.stamp.nanosec
+        published = poses[stamp]
+        assert xyz(pose.pose.position) == xyz(published.pose.position)
+        assert pose.header.frame_id == 'world'
+        # The raw bytes are the CDR rclpy itself reads.
+        assert deserialize_message(message.data, PoseStamped) == published
+    targets = set(recording['targets'])
+    assert decoded['/target'] and all(xyz(t.point) in targets for _, t in decoded['/target'])
+    assert len(decoded['/twist']) >= DURATION * RATE * 0.9
+
+
+@pytest.mark.parametrize('message', [
+    PoseWithCovarianceStamped(),
+    Marker(ns='n', id=3, points=[point_message((1.0, 2.0, 3.0), '', 0).point] * 2,
+           text='hello', frame_locked=True),
+])
+def test_message_definition_decodes_arrays_and_sequences(message):
+    """Schemas built from the message classes decode fixed arrays, sequences, nested types."""
+    if isinstance(message, PoseWithCovarianceStamped):
+        message.pose.covariance = [float(i) for i in range(36)]
+    message.header.frame_id = 'map'
+    text = message_definition(type(message))
+    factory = DecoderFactory()
+    from mcap.records import Schema
+    schema = Schema(id=1, name=schema_name(type(message)), encoding='ros2msg',
+                    data=text.encode())
+    decoded = factory.decoder_for('cdr', schema)(serialize_message(message))
+    assert decoded.header.frame_id == 'map'
+    if isinstance(message, Marker):
+        assert [xyz(p) for p in decoded.points] == [(1.0, 2.0, 3.0)] * 2
+        assert (decoded.text, decoded.id, decoded.frame_locked) == ('hello', 3, True)
+    else:
+        assert list(decoded.pose.covariance) == [float(i) for i in range(36)]
+
+
+def test_tick_rows_join_pose_and_twist_and_hold_the_latest_target():
+    """Rows need a pose and a twist of one stamp; the target is the latest before the pose."""
+    def pose(ns):
+        message = PoseStamped()
+        message.header.stamp.sec, message.header.stamp.nanosec = divmod(ns, 1_000_000_000)
+        message.pose.orientation.w = 1.0
+        message.pose.position.z = 1.0
+        return Received('pose', ns, serialize_message(message))
+
+    def twist(ns, vx=3.0):
+        message = TwistStamped()
+        message.header.stamp.sec, message.header.stamp.nanosec = divmod(ns, 1_000_000_000)
+        message.twist.linear.x = vx
+        message.twist.linear.y = 4.0
+        return Received('twist', ns, serialize_message(message))
+
+    def target(point):
+        return Received('target', 0, serialize_message(point_message(point, 'world', 0)))
+
+    received = [pose(10), twist(10), target((1.0, 0.0, 1.0)), pose(20), twist(20), pose(30),
+                target((0.0, 0.0, 1.0)), twist(30), twist(40)]
+    rows = tick_rows(received, (1.0, 0.0, 0.0))
+    assert [row.stamp_ns for row in rows] == [10, 20, 30]
+    assert [row.time for row in rows] == [0.0, 1e-8, 2e-8]
+    assert [row.target for row in rows] == [None, (1.0, 0.0, 1.0), (1.0, 0.0, 1.0)]
+    assert rows[0].anchor == (1.0, 0.0, 1.0)
+    assert rows[0].anchor_error is None and rows[1].anchor_error == 0.0
+    assert rows[0].speed == 5.0
+    assert rows[0].fields()[-6:] == ['', '', '', '', 5.0, 0.0]
+
+
+def test_progress_bar_and_lines_off_a_terminal():
+    """The bar fills with the time; off a terminal it prints one line per tenth, then the end."""
+    assert progress_bar(3.0, 10.0, {'pose': 7}, width=10) == \
+        'recording [###.......]   3.0/10 s  pose 7'
+    stream = io.StringIO()
+    progress = Progress(1.0, stream)
+    for k in range(21):
+        progress.update(k * 0.05, {'pose': k})
+    progress.update(1.0, {'pose': 20}, final=True)
+    lines = stream.getvalue().splitlines()
+    assert len(lines) == 12 and lines[-1] == lines[-2]
+
+
+@pytest.mark.parametrize('arguments', [
+    ['--duration', '0'], ['--duration', 'inf'], ['--anchor', '0', 'nan', '0'], ['--anchor', '1'],
+    ['--timeout', '-1'], ['extra'],
+])
+def test_bad_arguments_are_usage_errors(arguments, capsys):
+    """Invalid durations, anchors and timeouts exit 2 with the usage."""
+    with pytest.raises(SystemExit) as exit_info:
+        parse_arguments(arguments)
+    assert exit_info.value.code == 2
+    assert 'usage: mouse_record' in capsys.readouterr().err
+
+
+def test_default_output_is_timestamped():
+    """Without --output the prefix is mouse_record_<date>_<time> in the working directory."""
+    options = parse_arguments([])
+    assert options.output.name.startswith('mouse_record_') and not options.mcap
+    assert options.duration == 10.0 and options.anchor is None
+
+
+def test_without_the_node_it_says_what_to_check(tmp_path):
+    """No parameter service: exit 1 naming it and --anchor, nothing written."""
+    result = subprocess.run([str(BIN / 'mouse_record'), '--timeout', '0.5', '--node',
+                             'nobody_here', '-o', str(tmp_path / 'x')],
+                            capture_output=True, text=True, timeout=30)
+    assert result.returncode == 1
+    assert 'no parameter service nobody_here/get_parameters' in result.stderr
+    assert '--anchor X Y Z' in result.stderr and 'Traceback' not in result.stderr
+    assert not list(tmp_path.iterdir())
+
+
+def test_ctrl_c_ends_the_recording_early_and_keeps_it(harness, tmp_path):
+    """SIGINT while recording: exit 0, the files hold what came so far."""
+    prefix = tmp_path / 'early'
+    status, stderr, _ = run_recorder(harness, ['--duration', '60', '--anchor', *map(str, ANCHOR),
+                                               '--output', str(prefix)], signal_after=0.3)
+    assert status == 0, stderr
+    assert 'Traceback' not in stderr
+    rows = read_csv(prefix.with_suffix('.csv'))
+    assert 0.2 * RATE < len(rows) < 10 * RATE
+    assert prefix.with_suffix('.png').is_file() and not prefix.with_suffix('.mcap').exists()
