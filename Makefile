@@ -5,6 +5,7 @@
 #   make lint   flake8 (ament_flake8 settings, see .flake8)
 #   make run    run the node with config/params.yaml
 #   make bench  run bench/run_all.py
+#   make demo   run the node, drive a circle and a jump, record: demo/figure.png
 #   make clean  remove .venv and build artefacts
 
 SHELL := /bin/bash
@@ -25,7 +26,7 @@ ifneq ($(shell $(VPY) -c 'print(1)' 2>/dev/null),1)
 $(shell rm -f $(STAMP))
 endif
 
-.PHONY: venv test lint run bench bench-venv clean
+.PHONY: venv test lint run bench bench-venv demo clean
 
 # Peer engines for the benchmarks only (PyBullet, MuJoCo): installed into .venv by `make bench`,
 # never by `make venv`, `make test` or CI (requirements/bench/ is outside the wildcard above).
@@ -66,6 +67,10 @@ $(BENCH_STAMP): $(STAMP) $(BENCH_REQS)
 
 bench: bench-venv
 	$(VPY) bench/run_all.py $(BENCH_ARGS)
+
+# The node, mouse_target (a circle, then a jump) and mouse_record; see demo/run_demo.sh.
+demo: venv
+	demo/run_demo.sh
 
 clean:
 	rm -rf $(VENV) build install log .pytest_cache .hypothesis *.egg-info
