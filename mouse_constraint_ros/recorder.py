@@ -158,7 +158,8 @@ class Recorder(Node):
             now = self.get_clock().now().nanoseconds
             self.received.append(Received(key, now, data))
             self.counts[key] += 1
-            if key == 'pose' and self.first_pose_ns is None:
+            # With use_sim_time the clock reads 0 until /clock arrives: start once it runs.
+            if key == 'pose' and self.first_pose_ns is None and now > 0:
                 self.first_pose_ns = now
             if key not in self.offered_qos:
                 self.offered_qos[key] = offered_qos_yaml(
