@@ -1,0 +1,462 @@
+"""
+Tools for the hardening tests and ``bench/flood.py``.
+
+A target flooder, a pose recorder, and the node as a process.
+
+Run as a script it is one of two helper processes:
+
+- ``flood``: publish targets on ``target`` at a fixed rate (20 000/s by default) for a duration,
+  moving around a horizontal circle whose phase follows the system clock, optionally with a
+  hostile message (NaN, inf, 1e300, a foreign frame, a point beyond the workspace, absurd
+  stamps) every Nth message; print a JSON summary on stdout at the end.
+- ``watch``: record ``pose`` for a duration and print a JSON summary (the two-host test runs it
+  in the other network namespace).
+
+Imported, it gives the in-process side: ``PoseRecorder``, ``NodeProcess`` (the installed
+``mouse_constraint_node`` with its own ROS arguments, its log in a file), ``/proc`` readings,
+and ``run_flood``, the measurement both the test and the benchmark make.
+"""
+
+import argparse
+import json
+import math
+import os
+from pathlib import Path
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from typing import Dict, List, Optional, Sequence
+
+import numpy as np
+
+BIN = Path(sys.executable).parent
+HERE = Path(__file__).resolve()
+NODE_EXECUTABLE = BIN / 'mouse_constraint_node'
+TARGET_EXECUTABLE = BIN / 'mouse_target'
+ANCHOR = (0.2, 0.1, 0.05)
+NS = 1_000_000_000
+# Circle of the flood's targets (centre, radius m, period s).
+CENTER = (0.0, 0.0, 1.0)
+RADIUS = 0.3
+PERIOD = 2.0
+# Points of the circle table the flooder picks from (a 0.1 degree step).
+CIRCLE_POINTS = 3600
+PAGE_SIZE = os.sysconf('SC_PAGE_SIZE')
+CLOCK_TICKS = os.sysconf('SC_CLK_TCK')
+
+
+def circle_point(t_ns: int, center: Sequence[float] = CENTER, radius: float = RADIUS,
+                 period: float = PERIOD) -> tuple:
+    """Return the flood's target at system time ``t_ns``: the phase is the clock's."""
+    angle = 2.0 * math.pi * ((t_ns % int(period * NS)) / (period * NS))
+    return (center[0] + radius * math.cos(angle), center[1] + radius * math.sin(angle),
+            center[2])
+
+
+def hostile_messages(workspace_radius: float) -> List[tuple]:
+    """
+    Return the hostile (point, frame_id, stamp) cycle of ``flood``.
+
+    A point of None is the circle's current point, a stamp of None the current time. All are
+    ignored by a node with ``workspace_radius`` and frame ``world``, except the circle points
+    with absurd stamps (2^31 - 1 s, -2^31 s, 0), which the node takes at receipt like any
+    other target: it ignores the stamp.
+    """
+    return [
+        ((math.nan, 0.0, 1.0), 'world', None),
+        ((0.0, math.inf, 1.0), 'world', None),
+        ((0.0, 0.0, -math.inf), 'world', None),
+        ((1e300, -1e300, 1e300), 'world', None),
+        ((workspace_radius * 1.5, 0.0, 1.0), 'world', None),
+        (None, 'map', None),
+        (None, '/world', None),
+        (None, 'world', (2 ** 31 - 1, NS - 1)),
+        (None, 'world', (-2 ** 31, 0)),
+        (None, 'world', (0, 0)),
+    ]
+
+
+def _serialized(message_type, point: Sequence[float], frame_id: str, stamp: tuple) -> bytes:
+    from rclpy.serialization import serialize_message
+    message = message_type()
+    message.header.frame_id = frame_id
+    message.header.stamp.sec, message.header.stamp.nanosec = stamp
+    message.point.x, message.point.y, message.point.z = (float(c) for c in point)
+    return serialize_message(message)
+
+
+def flood_main(argv: Sequence[str]) -> int:
+    """Publish the flood (see the module docstring); print its summary as JSON."""
+    parser = argparse.ArgumentParser(prog='hardening_tools.py flood')
+    parser.add_argument('--rate', type=float, default=20000.0, help='messages per second')
+    parser.add_argument('--duration', type=float, default=10.0, help='seconds')
+    parser.add_argument('--hostile-every', type=int, default=0,
+                        help='replace every Nth message by a hostile one (0: none)')
+    parser.add_argument('--workspace-radius', type=float, default=100.0)
+    parser.add_argument('--constant', nargs=3, type=float, default=None,
+                        help='publish this point every time instead of the circle')
+    parser.add_argument('--timeout', type=float, default=15.0,
+                        help='seconds to wait for the subscriber')
+    options = parser.parse_args(argv)
+
+    from geometry_msgs.msg import PointStamped
+    import rclpy
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.node import Node
+
+    from mouse_constraint_ros.node import TARGET_QOS
+
+    rclpy.init()
+    node = Node('target_flood')
+    publisher = node.create_publisher(PointStamped, 'target', TARGET_QOS)
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)
+    deadline = time.monotonic() + options.timeout
+    while publisher.get_subscription_count() == 0:
+        if time.monotonic() > deadline:
+            print(json.dumps({'error': 'no subscriber'}), flush=True)
+            return 1
+        executor.spin_once(timeout_sec=0.05)
+    # Messages are serialized beforehand and published as bytes: rclpy's publish of a message
+    # object costs about twice as much, too much for 20 000/s on a shared 2-core machine. The
+    # circle is a table of CIRCLE_POINTS points, picked by the clock's phase; a hostile message
+    # without a point of its own is the circle's current point in a foreign frame or with an
+    # absurd stamp.
+    now_stamp = divmod(time.time_ns(), NS)
+    points = ([tuple(options.constant)] if options.constant is not None else
+              [circle_point(k * PERIOD * NS // CIRCLE_POINTS) for k in range(CIRCLE_POINTS)])
+
+    def table(frame_id: str, stamp: Optional[tuple]) -> List[bytes]:
+        return [_serialized(PointStamped, point, frame_id, stamp or now_stamp)
+                for point in points]
+
+    valid = table('world', None)
+    hostile = []  # (serialized message or table, whether the node takes it)
+    for point, frame_id, stamp in hostile_messages(options.workspace_radius):
+        if point is None:
+            hostile.append((table(frame_id, stamp), frame_id == 'world'))
+        else:
+            hostile.append(([_serialized(PointStamped, point, frame_id, stamp or now_stamp)],
+                            False))
+    period_ns = int(PERIOD * NS)
+    sent = hostile_sent = 0
+    last_valid = None
+    start_ns = time.time_ns()
+    start = time.monotonic()
+    end = start + options.duration
+    while True:
+        now = time.monotonic()
+        if now >= end:
+            break
+        due = int((now - start) * options.rate)
+        if sent >= due:
+            time.sleep(0.0002)
+            continue
+        for _ in range(min(due - sent, 1000)):
+            sent += 1
+            index = (time.time_ns() % period_ns) * len(points) // period_ns
+            messages, taken = valid, True
+            if options.hostile_every and sent % options.hostile_every == 0:
+                messages, taken = hostile[hostile_sent % len(hostile)]
+                hostile_sent += 1
+            message = messages[index % len(messages)]
+            publisher.publish(message)
+            if taken:
+                last_valid = points[index]
+    end_ns = time.time_ns()
+    elapsed = time.monotonic() - start
+    print(json.dumps({'sent': sent, 'hostile': hostile_sent, 'start_ns': start_ns,
+                      'end_ns': end_ns, 'rate': sent / elapsed,
+                      'last_valid': last_valid}),
+          flush=True)
+    node.destroy_node()
+    rclpy.try_shutdown()
+    return 0
+
+
+def watch_main(argv: Sequence[str]) -> int:
+    """Record ``pose`` for a while; print how many came, the last one and the anchor's path."""
+    parser = argparse.ArgumentParser(prog='hardening_tools.py watch')
+    parser.add_argument('--duration', type=float, default=5.0)
+    parser.add_argument('--first-timeout', type=float, default=20.0,
+                        help='seconds to wait for the first pose')
+    options = parser.parse_args(argv)
+
+    from geometry_msgs.msg import PoseStamped
+    import rclpy
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.node import Node
+    from rclpy.qos import QoSProfile, ReliabilityPolicy
+
+    rclpy.init()
+    node = Node('pose_watch')
+    poses: list = []
+    node.create_subscription(PoseStamped, 'pose', poses.append,
+                             QoSProfile(depth=10000, reliability=ReliabilityPolicy.RELIABLE))
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)
+    deadline = time.monotonic() + options.first_timeout
+    while not poses and time.monotonic() < deadline:
+        executor.spin_once(timeout_sec=0.05)
+    first_ns = time.time_ns()
+    end = time.monotonic() + options.duration
+    while poses and time.monotonic() < end:
+        executor.spin_once(timeout_sec=0.05)
+    anchors = [list(anchor_of(p)) for p in poses]
+    print(json.dumps({'count': len(poses), 'first_pose_ns': first_ns if poses else None,
+                      'anchors': anchors[::10] + anchors[-1:]}), flush=True)
+    node.destroy_node()
+    rclpy.try_shutdown()
+    return 0
+
+
+def anchor_of(pose, anchor: Sequence[float] = ANCHOR) -> np.ndarray:
+    """Return the world position of ``anchor`` (body frame) for a ``PoseStamped``."""
+    from scipy.spatial.transform import Rotation
+    p, q = pose.pose.position, pose.pose.orientation
+    return np.array([p.x, p.y, p.z]) + Rotation.from_quat([q.x, q.y, q.z, q.w]).apply(anchor)
+
+
+def stamp_ns(message) -> int:
+    """Return a message's header stamp in nanoseconds."""
+    return message.header.stamp.sec * NS + message.header.stamp.nanosec
+
+
+class PoseRecorder:
+    """
+    Record ``pose`` messages with their receipt time, on ``node`` (a probe in the test process).
+
+    ``stamps`` (the header's), ``published`` (the DDS source timestamp: when the node wrote
+    it) and ``received`` (when the callback ran here): int nanoseconds. ``positions`` and
+    ``orientations``: raw floats as tuples, so that bit-for-bit comparisons see exactly what
+    was published.
+    """
+
+    def __init__(self, node, topic: str = 'pose', depth: int = 100000) -> None:
+        """Subscribe ``node`` to ``topic``, RELIABLE, keeping up to ``depth`` unread messages."""
+        from geometry_msgs.msg import PoseStamped
+        from rclpy.qos import QoSProfile, ReliabilityPolicy
+        self.stamps: List[int] = []
+        self.published: List[int] = []
+        self.received: List[int] = []
+        self.positions: List[tuple] = []
+        self.orientations: List[tuple] = []
+        self.subscription = node.create_subscription(
+            PoseStamped, topic, self._on_pose,
+            QoSProfile(depth=depth, reliability=ReliabilityPolicy.RELIABLE))
+
+    def _on_pose(self, message, info) -> None:
+        self.received.append(time.time_ns())
+        self.published.append(info['source_timestamp'])
+        self.stamps.append(stamp_ns(message))
+        p, q = message.pose.position, message.pose.orientation
+        self.positions.append((p.x, p.y, p.z))
+        self.orientations.append((q.x, q.y, q.z, q.w))
+
+    def __len__(self) -> int:
+        """Return how many poses came."""
+        return len(self.stamps)
+
+    def anchors(self, since: int = 0) -> np.ndarray:
+        """Return the world anchor of every pose from index ``since`` on, as an (n, 3) array."""
+        from scipy.spatial.transform import Rotation
+        positions = np.array(self.positions[since:]).reshape(-1, 3)
+        if not len(positions):
+            return positions
+        return positions + Rotation.from_quat(np.array(self.orientations[since:])).apply(ANCHOR)
+
+
+def rss_bytes(pid: int) -> int:
+    """Return the resident set size of process ``pid`` (bytes)."""
+    fields = Path(f'/proc/{pid}/statm').read_text().split()
+    return int(fields[1]) * PAGE_SIZE
+
+
+def run_delay_ns(pid: int) -> int:
+    """Return how long the main thread of ``pid`` has waited for a CPU (ns, from schedstat)."""
+    return int(Path(f'/proc/{pid}/schedstat').read_text().split()[1])
+
+
+def cpu_seconds(pid: int) -> float:
+    """Return the user + system CPU time process ``pid`` has used (s)."""
+    stat = Path(f'/proc/{pid}/stat').read_text()
+    fields = stat[stat.rindex(')') + 2:].split()
+    return (int(fields[11]) + int(fields[12])) / CLOCK_TICKS
+
+
+class NodeProcess:
+    """
+    The installed ``mouse_constraint_node`` as a child process, its log in a temporary file.
+
+    The log goes to a file, not a pipe: a pipe nobody reads fills and then blocks the node's
+    logging (and with it the node). ``stop`` sends SIGINT and returns the exit code.
+    """
+
+    def __init__(self, *ros_arguments: str, prefix: Sequence[str] = (),
+                 environment: Optional[Dict[str, str]] = None) -> None:
+        """Start the node with ``--ros-args ros_arguments``, run under ``prefix`` if given."""
+        self.log_file = tempfile.NamedTemporaryFile(prefix='mouse_constraint_', suffix='.log')
+        self.process = subprocess.Popen(
+            [*prefix, str(NODE_EXECUTABLE), '--ros-args', *ros_arguments],
+            stdout=self.log_file, stderr=subprocess.STDOUT, env=environment)
+
+    @property
+    def pid(self) -> int:
+        """Return the node's process id."""
+        return self.process.pid
+
+    def log(self) -> str:
+        """Return what the node logged so far."""
+        return Path(self.log_file.name).read_text(errors='replace')
+
+    def stop(self, timeout: float = 10.0) -> Optional[int]:
+        """Send SIGINT, wait, kill if needed; return the exit code."""
+        if self.process.poll() is None:
+            self.process.send_signal(signal.SIGINT)
+            try:
+                self.process.wait(timeout=timeout)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.wait()
+        return self.process.returncode
+
+    def close(self) -> None:
+        """Stop the node and remove its log."""
+        self.stop()
+        self.log_file.close()
+
+
+def flood_command(*arguments: str) -> List[str]:
+    """Return the command line of the flooder process."""
+    return [sys.executable, str(HERE), 'flood', *arguments]
+
+
+def run_flood(ros, seconds: float, rate: float = 20000.0, hostile_every: int = 0,
+              node_rate: float = 1000.0) -> dict:
+    """
+    Flood a node process with targets from a flooder process; return what was measured.
+
+    ``ros`` is a ``RosHarness`` (the observer). The node runs at ``node_rate`` without gravity,
+    with some damping, and workspace_radius 100 m. The result: the flooder's summary
+    (``flood``); the node's output rate over the flood counted by grid stamp and by DDS source
+    timestamp (when the node wrote the message), the ticks missing from the stamps, and how
+    late the node wrote them (``late_ms_*``: source timestamp - stamp, which the observer's own
+    delays do not enter); its RSS (after start, after the first second of the flood, at the
+    end), CPU share and how long its main thread waited for a CPU (``node_run_delay_ms``, over
+    the flood: a machine too busy to run it); how far behind the targets the anchor runs
+    (``lag_s``: per flood second, the median lag of the anchor's angle on the circle behind
+    the target's phase at the pose stamp) and how far it is from the last target after it.
+    """
+    node = NodeProcess('-p', f'rate_hz:={node_rate!r}', '-p', 'gravity:=[0.0, 0.0, 0.0]',
+                       '-p', 'linear_damping:=2.0', '-p', 'angular_damping:=2.0',
+                       '-p', 'workspace_radius:=100.0')
+    flooder = None
+    try:
+        poses = PoseRecorder(ros.probe)
+        if not ros.spin_until(lambda: len(poses) > 200, timeout=20.0):
+            raise RuntimeError('no pose from the node:\n' + node.log())
+        ros.spin_for(0.5)
+        rss_start = rss_bytes(node.pid)
+        delay_start = run_delay_ns(node.pid)
+        flooder = subprocess.Popen(
+            flood_command('--rate', repr(rate), '--duration', repr(seconds),
+                          '--hostile-every', str(hostile_every)),
+            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        samples = []  # (time ns, node rss, node cpu s, flooder cpu s, observer cpu s)
+
+        def sample() -> None:
+            try:
+                flooder_cpu = cpu_seconds(flooder.pid)
+            except (OSError, IndexError):  # It has just exited.
+                flooder_cpu = samples[-1][3] if samples else 0.0
+            samples.append((time.time_ns(), rss_bytes(node.pid), cpu_seconds(node.pid),
+                            flooder_cpu, time.process_time()))
+
+        next_sample = 0.0
+        while flooder.poll() is None:
+            ros.spin_for(0.05)
+            if time.monotonic() >= next_sample:
+                sample()
+                next_sample = time.monotonic() + 0.25
+        sample()
+        delay_end = run_delay_ns(node.pid)
+        stdout, stderr = flooder.communicate()
+        lines = [line for line in stdout.splitlines() if line.startswith('{')]
+        if flooder.returncode != 0 or not lines:
+            raise RuntimeError(f'flooder failed ({flooder.returncode}): {stdout}\n{stderr}')
+        flood = json.loads(lines[-1])
+        ros.spin_for(0.5)
+        after_poses = len(poses)
+        ros.spin_for(0.3)
+        alive = node.process.poll() is None
+    finally:
+        if flooder is not None and flooder.poll() is None:
+            flooder.kill()
+            flooder.wait()
+        exit_code = node.stop()
+        log = node.log()
+        node.close()
+    start_ns, end_ns = flood['start_ns'], flood['end_ns']
+    stamps = np.array(poses.stamps, dtype=np.int64)
+    published = np.array(poses.published, dtype=np.int64)
+    received = np.array(poses.received, dtype=np.int64)
+    span = (end_ns - start_ns) / NS
+    in_flood = (stamps >= start_ns) & (stamps < end_ns)
+    written = (published >= start_ns) & (published < end_ns)
+    # Lag of the anchor behind the target: the anchor's angle on the circle against the
+    # target's phase at the pose's stamp.
+    anchors = poses.anchors()
+    angle = np.arctan2(anchors[:, 1] - CENTER[1], anchors[:, 0] - CENTER[0])
+    phase = 2.0 * np.pi * ((stamps % int(PERIOD * NS)) / (PERIOD * NS))
+    lag = np.angle(np.exp(1j * (phase - angle))) / (2.0 * np.pi / PERIOD)
+    lag_per_second = []
+    for k in range(int(span)):
+        window = (stamps >= start_ns + k * NS) & (stamps < start_ns + (k + 1) * NS)
+        lag_per_second.append(float(np.median(lag[window])) if window.any() else math.nan)
+    flood_samples = [s for s in samples if s[0] >= start_ns + NS]
+
+    def cpu_share(column: int) -> float:
+        return ((samples[-1][column] - samples[0][column])
+                / ((samples[-1][0] - samples[0][0]) / NS))
+
+    last_valid = np.array(flood['last_valid'])
+    final_error = float(np.linalg.norm(anchors[-1] - last_valid))
+    gaps = np.diff(stamps[in_flood])
+    period_ns = NS / node_rate
+    return {
+        'flood': flood,
+        'node_rate_hz': node_rate,
+        'flood_seconds': span,
+        'stamp_rate_hz': int(in_flood.sum()) / span,
+        'publish_rate_hz': int(written.sum()) / span,
+        'missing_ticks': int(np.sum(np.round(gaps / period_ns) - 1)) if len(gaps) else 0,
+        'late_ms_p99': float(np.percentile((published - stamps)[in_flood], 99) / 1e6),
+        'late_ms_max': float(np.max((published - stamps)[in_flood]) / 1e6),
+        'observer_late_ms_p99': float(np.percentile((received - published)[in_flood], 99)
+                                      / 1e6),
+        'rss_start_mb': rss_start / 2 ** 20,
+        'rss_flood_1s_mb': flood_samples[0][1] / 2 ** 20 if flood_samples else math.nan,
+        'rss_end_mb': samples[-1][1] / 2 ** 20,
+        'rss_max_mb': max(s[1] for s in samples) / 2 ** 20,
+        'node_run_delay_ms': (delay_end - delay_start) / 1e6,
+        'node_cpu_share': cpu_share(2),
+        'flooder_cpu_share': cpu_share(3),
+        'observer_cpu_share': cpu_share(4),
+        'lag_s': lag_per_second,
+        'final_error_m': final_error,
+        'all_finite': bool(np.isfinite(np.array(poses.positions)).all()
+                           and np.isfinite(np.array(poses.orientations)).all()),
+        'outputs_after_flood': len(poses) - after_poses,
+        'node_alive': alive,
+        'node_exit_code': exit_code,
+        'node_log_tail': log[-2000:],
+    }
+
+
+if __name__ == '__main__':
+    commands = {'flood': flood_main, 'watch': watch_main}
+    if len(sys.argv) < 2 or sys.argv[1] not in commands:
+        sys.exit(f'usage: {sys.argv[0]} {{flood,watch}} [options]')
+    sys.exit(commands[sys.argv[1]](sys.argv[2:]))
