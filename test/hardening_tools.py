@@ -387,9 +387,9 @@ def run_flood(ros, seconds: float, rate: float = 20000.0, hostile_every: int = 0
         if flooder.returncode != 0 or not lines:
             raise RuntimeError(f'flooder failed ({flooder.returncode}): {stdout}\n{stderr}')
         flood = json.loads(lines[-1])
-        ros.spin_for(0.5)
-        after_poses = len(poses)
-        ros.spin_for(0.3)
+        # Serving on after the flood: a second of ticks (by stamp, so that neither a late node
+        # nor a late observer cuts it short), long enough for the anchor to settle.
+        ros.spin_until(lambda: poses.stamps[-1] >= flood['end_ns'] + NS, timeout=10.0)
         alive = node.process.poll() is None
     finally:
         if flooder is not None and flooder.poll() is None:
@@ -448,7 +448,7 @@ def run_flood(ros, seconds: float, rate: float = 20000.0, hostile_every: int = 0
         'final_error_m': final_error,
         'all_finite': bool(np.isfinite(np.array(poses.positions)).all()
                            and np.isfinite(np.array(poses.orientations)).all()),
-        'outputs_after_flood': len(poses) - after_poses,
+        'served_after_flood_s': (poses.stamps[-1] - end_ns) / NS,
         'node_alive': alive,
         'node_exit_code': exit_code,
         'node_log_tail': log[-2000:],

@@ -284,8 +284,9 @@ def test_flood_keeps_the_rate_memory_and_the_latest_target(ros):
     per second of the flood, counted by their grid stamps (a dropped tick is a missing stamp;
     the write times are reported, not asserted, as they carry the node's lateness, which is
     the machine's more than the node's). RSS flat after the first flood second (< 4 MB
-    growth), outputs finite, the anchor within 50 ms of the target's phase all through the
-    flood (no backlog of old targets) and on the last valid target after it.
+    growth), outputs finite, the anchor no more than 50 ms behind the target's phase all
+    through the flood (no backlog of old targets), and on the last valid target after it, the
+    node serving on.
     """
     for _ in range(2):
         result = tools.run_flood(ros, FLOOD_SECONDS, FLOOD_RATE, hostile_every=4)
@@ -304,9 +305,11 @@ def test_flood_keeps_the_rate_memory_and_the_latest_target(ros):
     assert rate_held, summary
     assert result['missing_ticks'] <= 0.01 * 1000 * FLOOD_SECONDS, summary
     assert result['rss_end_mb'] - result['rss_flood_1s_mb'] < 4.0, summary
-    assert all(abs(lag) < 0.05 for lag in result['lag_s']), summary
+    # Not behind the targets by more than 50 ms (a backlog would grow this). A late node is
+    # ahead instead, by up to its lateness: it steps late with newer targets.
+    assert all(lag < 0.05 for lag in result['lag_s']), summary
     assert result['final_error_m'] < 1e-6, summary
-    assert result['outputs_after_flood'] > 200, summary
+    assert result['served_after_flood_s'] >= 1.0, summary
     assert result['flood']['hostile'] > 0.2 * result['flood']['sent']
 
 
