@@ -41,11 +41,12 @@ WARN_PERIOD = 2.0
 
 # The target subscription: RELIABLE so that `ros2 topic pub`, RViz's Publish Point tool and
 # `mouse_target` (all RELIABLE) connect and a one-shot target is acknowledged; depth 1 because
-# only the newest target matters. Pose and twist use the default depth-10 RELIABLE profile,
-# which any subscriber, RELIABLE or BEST_EFFORT, can match.
+# only the newest target matters. Pose and twist are RELIABLE, which any subscriber, RELIABLE or
+# BEST_EFFORT, can match, with depth 100 so that a catch-up burst (up to 0.1 s of ticks at
+# 1 kHz) is not overwritten in the writer's history before a reliable reader has it.
 TARGET_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
                         reliability=ReliabilityPolicy.RELIABLE)
-STATE_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
+STATE_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
                        reliability=ReliabilityPolicy.RELIABLE)
 
 
