@@ -14,6 +14,9 @@ import numpy as np
 from .rotation import congruence, Matrix3, multiply_symmetric, Symmetric3, Vector3
 from .validation import finite_vector, scalar
 
+# The smallest principal moment must exceed this fraction of the largest: a moment that is zero
+# but for rounding would pass "> 0" and then divide by zero in the step.
+_CONDITION_LIMIT = 1e-12
 # Relative slack on the triangle inequality, so that a thin plate (I3 = I1 + I2) passes.
 _TRIANGLE_TOLERANCE = 1e-9
 # Newton iterations of the implicit midpoint gyroscopic step: at most this many, and none once
@@ -42,10 +45,11 @@ class RigidBody:
         inertia = finite_vector('inertia', self.inertia, 6)
         matrix = _matrix(inertia)
         moments = np.linalg.eigvalsh(matrix)
-        if not moments[0] > 0.0:
+        if not moments[0] > _CONDITION_LIMIT * moments[2]:
             raise ValueError(
-                f'inertia must be positive definite, got {inertia!r} '
-                f'(principal moments {tuple(moments.tolist())!r})')
+                f'inertia must be positive definite, got {inertia!r} (principal moments '
+                f'{tuple(moments.tolist())!r}; the smallest must exceed {_CONDITION_LIMIT:g} of '
+                'the largest)')
         if moments[0] + moments[1] < moments[2] * (1.0 - _TRIANGLE_TOLERANCE):
             raise ValueError(
                 f'inertia is not physically realizable, got {inertia!r}: principal moments '

@@ -31,6 +31,12 @@ from .rotation import Symmetric3, Vector3
 from .validation import finite_vector, scalar
 
 
+# Upper bounds on the soft-mode settings: far beyond any use (a 1 MHz spring is rigid at any
+# step this runs at), and low enough that the gains stay finite.
+MAX_FREQUENCY_HZ = 1e6
+MAX_DAMPING_RATIO = 1e6
+
+
 @dataclass(frozen=True)
 class MouseConstraint:
     """
@@ -54,10 +60,10 @@ class MouseConstraint:
         object.__setattr__(self, 'anchor', finite_vector('anchor', self.anchor))
         object.__setattr__(self, 'baumgarte',
                            scalar('baumgarte', self.baumgarte, above=0.0, at_most=1.0))
-        object.__setattr__(self, 'frequency_hz',
-                           scalar('frequency_hz', self.frequency_hz, at_least=0.0))
-        object.__setattr__(self, 'damping_ratio',
-                           scalar('damping_ratio', self.damping_ratio, at_least=0.0))
+        object.__setattr__(self, 'frequency_hz', scalar(
+            'frequency_hz', self.frequency_hz, at_least=0.0, at_most=MAX_FREQUENCY_HZ))
+        object.__setattr__(self, 'damping_ratio', scalar(
+            'damping_ratio', self.damping_ratio, at_least=0.0, at_most=MAX_DAMPING_RATIO))
         object.__setattr__(self, 'max_force',
                            scalar('max_force', self.max_force, above=0.0, allow_inf=True))
 

@@ -37,6 +37,10 @@ MAX_CORRECTION_TURN = 0.2
 # overflow; above, the step is no simulation step.
 MIN_STEP = 1e-9
 MAX_STEP = 1.0
+# The leapfrog start kicks a soft spring back by its own acceleration only while the step
+# resolves it (2 zeta omega h and (omega h)^2 below this); a stiffer one is started like rigid
+# mode, since a first-order kick of a spring that settles within a step adds energy.
+STIFF_START = 0.5
 ZERO: Vector3 = (0.0, 0.0, 0.0)
 
 
@@ -286,16 +290,19 @@ class MouseSimulation:
         """
         gx, gy, gz = settings.gravity
         constraint = settings.constraint
+        omega = 2.0 * math.pi * constraint.frequency_hz
+        damping = 2.0 * constraint.damping_ratio * omega * abs(h)
         if not start:
             a, b = constraint.gains(h)
-        elif constraint.rigid:
+        elif constraint.rigid or max(damping, (omega * h) ** 2) > STIFF_START:
+            # Rigid, or a spring too stiff for the step to resolve (it settles within one): the
+            # constraint's reaction alone, which removes the anchor's velocity and adds no energy.
             a, b = 1.0, 0.0
         else:
             # The spring-damper's own acceleration -omega^2 C - 2 zeta omega dC/dt, applied
-            # over h (< 0): a first-order kick, as running a stiff damped spring backwards
-            # exactly would amplify it exponentially.
-            omega = 2.0 * math.pi * constraint.frequency_hz
-            a, b = 2.0 * constraint.damping_ratio * omega * h, omega * omega * h
+            # over h (< 0): a first-order kick, as running a damped spring backwards exactly
+            # would amplify it exponentially.
+            a, b = -damping, omega * omega * h
         return (gx * h, gy * h, gz * h,
                 math.exp(-settings.linear_damping * h), math.exp(-settings.angular_damping * h),
                 a, b, settings.constraint.max_force * abs(h))
