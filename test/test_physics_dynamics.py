@@ -238,3 +238,25 @@ def test_soft_critically_damped_drag_reaches_a_far_target_under_max_force():
         saturated |= np.linalg.norm(sim.constraint_force) > 10.0 * (1.0 - 1e-9)
     assert saturated
     assert error_norm(sim) < 1e-3
+
+
+@pytest.mark.parametrize('frequency_hz, damping_ratio, dt', [
+    (0.0, 1.0, 1 / 30), (50.0, 3.0, 1 / 30), (50.0, 0.1, 1 / 30), (5.0, 1.0, 0.001)])
+def test_the_leapfrog_start_adds_no_energy_at_a_still_target(frequency_hz, damping_ratio, dt):
+    """
+    A moving, spinning body whose anchor sits on the target: the first step removes energy.
+
+    The constraint can only take the anchor's velocity away here (no error to correct, no
+    gravity), and so can the half-substep start (a spring the step cannot resolve is started
+    like rigid mode: a first-order kick of it would add energy).
+    """
+    body = RigidBody.solid_box(1.0, (0.4, 0.2, 0.1))
+    constraint = MouseConstraint(anchor=(0.2, 0.0, 0.0), frequency_hz=frequency_hz,
+                                 damping_ratio=damping_ratio)
+    sim = MouseSimulation(Settings(body, constraint, gravity=NO_GRAVITY),
+                          BodyState(linear_velocity=(0.0, 1.0, 0.0),
+                                    angular_velocity=(1.0, 2.0, 3.0)))
+    sim.target = sim.anchor_position()
+    energy = sim.kinetic_energy()
+    sim.step(dt)
+    assert sim.kinetic_energy() <= energy
