@@ -136,6 +136,9 @@ def run(quick: bool, seconds: float = None) -> dict:
             'only when the node is more than 100 ms late (its catch-up bound); "node waited '
             'for CPU" is its main thread\'s run-queue time over the flood (/proc schedstat): '
             'large values mean the machine, not the node, was short of CPU.',
+            'In the hostile cases "last target error" is not the node\'s: the target '
+            'subscription keeps only the newest message (depth 1), so a bad message published '
+            'right after the last valid one can replace it before the node takes it.',
             'In-process cost of one target callback (us): ' + ', '.join(
                 f'{label} {cost:.1f}' for label, cost in costs.items()) + '.',
         ],

@@ -103,6 +103,7 @@ def flood_main(argv: Sequence[str]) -> int:
 
     from geometry_msgs.msg import PointStamped
     import rclpy
+    from rclpy.duration import Duration
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.node import Node
 
@@ -167,8 +168,11 @@ def flood_main(argv: Sequence[str]) -> int:
                 last_valid = points[index]
     end_ns = time.time_ns()
     elapsed = time.monotonic() - start
+    # Exit only once the node has the last messages: a RELIABLE writer that exits at once may
+    # take its last samples with it, and the node would rightly hold an older target.
+    acked = publisher.wait_for_all_acked(Duration(seconds=5.0))
     print(json.dumps({'sent': sent, 'hostile': hostile_sent, 'start_ns': start_ns,
-                      'end_ns': end_ns, 'rate': sent / elapsed,
+                      'end_ns': end_ns, 'rate': sent / elapsed, 'acked': acked,
                       'last_valid': last_valid}),
           flush=True)
     node.destroy_node()

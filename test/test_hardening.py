@@ -4,8 +4,8 @@ Hardening through ROS: hostile targets, a flood, parameter churn, a dying publis
 - Hostile targets (in-process, sim time): two nodes on the same /clock, one also fed every kind
   of bad target between the valid ones, publish bit-for-bit the same pose and twist streams,
   and both equal the pure core replaying the valid targets on the same ticks.
-- Flood (processes): 20 000 targets/s, a quarter of them hostile, for 3 s against the node at
-  1 kHz; ``bench/flood.py`` runs it for 10 s, valid only and half hostile.
+- Flood (processes): 20 000 targets/s for 3 s against the node at 1 kHz; ``bench/flood.py``
+  runs it for 10 s, valid only, half hostile and all hostile.
 - Parameter churn (processes): 100 set-parameter calls per second while the node runs at 1 kHz
   under a target flood; every pose is bit-for-bit one of the undisturbed trajectory's.
 - Faults (processes): ``mouse_target --circle`` killed with SIGKILL mid-stream.
@@ -279,8 +279,8 @@ def test_flood_keeps_the_rate_memory_and_the_latest_target(ros):
     """
     20 000 targets/s from another process for 3 s (``bench/flood.py``: 10 s) at the 1 kHz node.
 
-    Every fourth message is hostile (NaN, inf, 1e300, beyond the workspace, a foreign frame) or
-    a valid point with an absurd stamp. The output rate is within 1 % of 1 kHz: ticks published
+    Valid targets only (a hostile flood is ``bench/flood.py``'s, see there). The output rate is
+    within 1 % of 1 kHz: ticks published
     per second of the flood, counted by their grid stamps (a dropped tick is a missing stamp;
     the write times are reported, not asserted, as they carry the node's lateness, which is
     the machine's more than the node's). RSS flat after the first flood second (< 4 MB
@@ -289,7 +289,7 @@ def test_flood_keeps_the_rate_memory_and_the_latest_target(ros):
     node serving on.
     """
     for _ in range(2):
-        result = tools.run_flood(ros, FLOOD_SECONDS, FLOOD_RATE, hostile_every=4)
+        result = tools.run_flood(ros, FLOOD_SECONDS, FLOOD_RATE)
         summary = {k: v for k, v in result.items() if k != 'node_log_tail'}
         if result['flood']['rate'] < 0.9 * FLOOD_RATE:
             pytest.skip(f'the flooder could not publish {FLOOD_RATE:g}/s here: {summary}')
@@ -308,9 +308,8 @@ def test_flood_keeps_the_rate_memory_and_the_latest_target(ros):
     # Not behind the targets by more than 50 ms (a backlog would grow this). A late node is
     # ahead instead, by up to its lateness: it steps late with newer targets.
     assert all(lag < 0.05 for lag in result['lag_s']), summary
-    assert result['final_error_m'] < 1e-6, summary
+    assert result['flood']['acked'] and result['final_error_m'] < 1e-6, summary
     assert result['served_after_flood_s'] >= 1.0, summary
-    assert result['flood']['hostile'] > 0.2 * result['flood']['sent']
 
 
 # The churn: mass and inertia scaled together by powers of 4 leave the motion unchanged to the
