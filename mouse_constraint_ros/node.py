@@ -7,7 +7,8 @@ due, ``configuration`` validates parameters and ``conversions`` fills the messag
 
 import math
 import sys
-from typing import Any, List, Optional
+import time
+from typing import Any, Callable, Dict, List, Optional, Tuple
 
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
@@ -79,6 +80,8 @@ class MouseConstraintNode(Node):
         self._simulation = MouseSimulation(self._config.settings, self._config.initial_state)
         self._user_target = False
         self._last_target_ns: Optional[int] = None
+        # Per warning reason: when it was last logged (monotonic s) and how many were not since.
+        self._warnings: Dict[str, Tuple[float, int]] = {}
         self._hold_initial_anchor()
         self.ticks_run = 0
         self.late_ticks = 0
@@ -141,23 +144,39 @@ class MouseConstraintNode(Node):
         self._simulation.target = (self._config.initial_anchor()
                                    if self._config.hold_initial_anchor else None)
 
-    def _warn(self, message: str) -> None:
-        self.get_logger().warning(message, throttle_duration_sec=WARN_PERIOD)
+    def _warn(self, reason: str, message: Callable[[], str]) -> None:
+        """
+        Log ``message()`` at most once per WARN_PERIOD for each ``reason``, counting the rest.
+
+        Throttled here rather than by rclpy's ``throttle_duration_sec``, which inspects the
+        caller's frame on every call (some 100 us: a flood of bad targets then cost the node its
+        rate) and shares one throttle between all the warnings of one call site.
+        """
+        now = time.monotonic()
+        last, suppressed = self._warnings.get(reason, (-math.inf, 0))
+        if now - last < WARN_PERIOD:
+            self._warnings[reason] = (last, suppressed + 1)
+            return
+        more = f' ({suppressed} more since the last one)' if suppressed else ''
+        self.get_logger().warning(message() + more)
+        self._warnings[reason] = (now, 0)
 
     def _on_target(self, message: PointStamped) -> None:
         frame = message.header.frame_id
         if frame and frame != self._config.frame_id:
-            self._warn(f'ignoring target in frame {frame!r}: this node works in '
-                       f'{self._config.frame_id!r} (no tf lookup is made)')
+            self._warn('frame', lambda: (
+                f'ignoring target in frame {frame!r}: this node works in '
+                f'{self._config.frame_id!r} (no tf lookup is made)'))
             return
         point = point_from_message(message)
         if not all(math.isfinite(c) for c in point):
-            self._warn(f'ignoring non-finite target {point}')
+            self._warn('finite', lambda: f'ignoring non-finite target {point}')
             return
         if math.hypot(*point) > self._config.workspace_radius:
-            self._warn(f'ignoring target {point}: farther than workspace_radius '
-                       f'{self._config.workspace_radius:g} m from the origin of '
-                       f'{self._config.frame_id!r}')
+            self._warn('workspace', lambda: (
+                f'ignoring target {point}: farther than workspace_radius '
+                f'{self._config.workspace_radius:g} m from the origin of '
+                f'{self._config.frame_id!r}'))
             return
         self._simulation.target = point
         self._user_target = True
@@ -172,8 +191,9 @@ class MouseConstraintNode(Node):
                                       f'{now * 1e-9:.9f} s without catching up')
         if due.dropped:
             self.dropped_ticks += due.dropped
-            self._warn(f'cannot keep {self._config.rate_hz:g} Hz: dropped {due.dropped} ticks '
-                       f'({self.dropped_ticks} in all); simulated time falls behind')
+            self._warn('rate', lambda: (
+                f'cannot keep {self._config.rate_hz:g} Hz: dropped {due.dropped} ticks '
+                f'({self.dropped_ticks} in all); simulated time falls behind'))
         if due.count > 1:
             self.late_ticks += due.count - 1
         self.ticks_run += due.count

@@ -291,3 +291,30 @@ def test_yaml_lists_exactly_the_declared_parameters(ros):
     for name, value in values.items():
         assert type(value) is type(node.get_parameter(name).value) or (
             isinstance(value, list) and isinstance(node.get_parameter(name).value, list)), name
+
+
+def test_each_warning_reason_has_its_own_throttle(ros, capfd):
+    """A foreign-frame target, then the clock jumps 0.5 s: 'cannot keep' is logged too."""
+    from rosgraph_msgs.msg import Clock
+    node = start_node(ros, use_sim_time=True, rate_hz=100.0)
+    poses = ros.collect(PoseStamped, '/pose')
+    target = ros.probe.create_publisher(PointStamped, '/target', 10)
+    clock = ros.probe.create_publisher(Clock, '/clock', 10)
+    assert ros.spin_until(lambda: clock.get_subscription_count() and
+                          target.get_subscription_count())
+
+    def advance(ns):
+        message = Clock()
+        message.clock.sec, message.clock.nanosec = divmod(ns, 10 ** 9)
+        clock.publish(message)
+        assert ros.spin_until(lambda: node.get_clock().now().nanoseconds == ns)
+        ros.spin_for(0.05)
+
+    advance(10 ** 12)
+    target.publish(point_message((0.1, 0.2, 1.0), 'map', 0))
+    ros.spin_for(0.1)
+    advance(10 ** 12 + 500_000_000)  # 50 ticks due, 10 run, 40 dropped
+    assert node.dropped_ticks == 40
+    err = capfd.readouterr().err
+    assert "ignoring target in frame 'map'" in err
+    assert 'cannot keep 100 Hz: dropped 40 ticks' in err, err
