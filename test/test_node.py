@@ -297,7 +297,6 @@ def test_each_warning_reason_has_its_own_throttle(ros, capfd):
     """A foreign-frame target, then the clock jumps 0.5 s: 'cannot keep' is logged too."""
     from rosgraph_msgs.msg import Clock
     node = start_node(ros, use_sim_time=True, rate_hz=100.0)
-    poses = ros.collect(PoseStamped, '/pose')
     target = ros.probe.create_publisher(PointStamped, '/target', 10)
     clock = ros.probe.create_publisher(Clock, '/clock', 10)
     assert ros.spin_until(lambda: clock.get_subscription_count() and
