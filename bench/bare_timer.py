@@ -1,0 +1,92 @@
+#!/usr/bin/env python3
+"""
+A bare rclpy timer that publishes one PoseStamped per tick: the floor under the node's cost.
+
+``bare_timer.py --rate 1000 --executor single|events|events-until|events-spin [--twist]`` runs
+until SIGINT/SIGTERM. Each tick stamps the message with the clock and publishes it on ``pose``
+(the node's QoS); no physics; with ``--twist`` also a TwistStamped on ``twist``, as the node
+publishes both. The executors:
+
+- ``single``: SingleThreadedExecutor, ``spin_once(timeout_sec=0.1)`` in a loop;
+- ``events``: rclpy.experimental.EventsExecutor, ``spin_once(timeout_sec=0.1)`` in a loop, as
+  ``mouse_constraint_node`` spins;
+- ``events-until``: the same executor, ``spin_until_future_complete(never_done,
+  timeout_sec=0.1)`` in a loop: every event due within the 0.1 s in one call;
+- ``events-spin``: the same executor's ``spin()``, which busy-waits in rclpy 7.1.6 and does
+  not return to Python between callbacks, so this variant ends by the signals' default action.
+"""
+
+import argparse
+import signal
+import sys
+
+from geometry_msgs.msg import PoseStamped, TwistStamped
+import rclpy
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.experimental import EventsExecutor
+from rclpy.node import Node
+from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.signals import SignalHandlerOptions
+from rclpy.task import Future
+
+STATE_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
+                       reliability=ReliabilityPolicy.RELIABLE)
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
+    parser.add_argument('--rate', type=float, default=1000.0)
+    parser.add_argument('--executor', choices=('single', 'events', 'events-until', 'events-spin'),
+                        default='events')
+    parser.add_argument('--twist', action='store_true',
+                        help='also publish a TwistStamped on twist each tick, as the node does')
+    options = parser.parse_args(argv)
+    rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
+    node = Node('bench_bare_timer')
+    publisher = node.create_publisher(PoseStamped, 'pose', STATE_QOS)
+    message = PoseStamped()
+    message.header.frame_id = 'world'
+    twist_publisher = node.create_publisher(TwistStamped, 'twist', STATE_QOS)
+    twist = TwistStamped()
+    twist.header.frame_id = 'world'
+    clock = node.get_clock()
+
+    def tick() -> None:
+        sec, nanosec = divmod(clock.now().nanoseconds, 1_000_000_000)
+        message.header.stamp.sec, message.header.stamp.nanosec = sec, nanosec
+        publisher.publish(message)
+        if options.twist:
+            twist.header.stamp.sec, twist.header.stamp.nanosec = sec, nanosec
+            twist_publisher.publish(twist)
+
+    node.create_timer(1.0 / options.rate, tick)
+    if options.executor == 'single':
+        executor = SingleThreadedExecutor(context=node.context)
+    else:
+        executor = EventsExecutor(context=node.context)
+    executor.add_node(node)
+    stop = []
+    if options.executor == 'events-spin':
+        # spin() never returns to Python between callbacks here, so Python-level signal
+        # handlers never run: SIGINT and SIGTERM keep their default action and end the process.
+        for signum in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(signum, signal.SIG_DFL)
+        executor.spin()
+        return 0
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, lambda _signum, _frame: stop.append(True))
+    never = Future()
+    try:
+        while not stop and node.context.ok():
+            if options.executor == 'events-until':
+                executor.spin_until_future_complete(never, timeout_sec=0.1)
+            else:
+                executor.spin_once(timeout_sec=0.1)
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,298 @@
+#!/usr/bin/env python3
+"""
+The observer process of the node benchmarks: it watches a node from outside, over DDS.
+
+Three modes, each writing an ``.npz`` file for the bench module to analyse afterwards:
+
+- ``rate``: subscribe to ``pose`` (raw: the serialized bytes, nothing deserialized, so that the
+  observer keeps up at 5 kHz); after the first message and a warm-up, record for a window the
+  receive time (CLOCK_REALTIME, the clock the node stamps with) and the header stamp of every
+  message. Prints ``start <ns>`` and ``end <ns>`` on stdout at the window's edges, so that the
+  caller can read the node's /proc counters at the same moments.
+- ``latency``: publish targets (QoS of ``mouse_target``) at random intervals and record every
+  ``pose`` and ``twist`` (raw bytes with receive times) and every target with its publish time.
+  Which pose first reflects which target is found afterwards (``latency.py``).
+- ``exercise``: drive every path of the node for a while (``memory.py``): targets round a
+  circle at a high rate, now and then a bad one (non-finite, foreign frame, beyond the
+  workspace), the ``~/reset`` and ``~/release`` services, a parameter change; subscribe to
+  everything it publishes. Prints ``progress <s>`` every second and writes the counts.
+
+The executor is the EventsExecutor spun with ``spin_once`` (the node's own loop). Both modes
+print ``ready`` once the node's publishers are matched.
+"""
+
+import argparse
+import math
+import random
+import struct
+import sys
+import time
+
+from diagnostic_msgs.msg import DiagnosticArray
+from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
+import numpy as np
+from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue
+from rcl_interfaces.srv import SetParameters
+import rclpy
+from rclpy.experimental import EventsExecutor
+from rclpy.node import Node
+from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.serialization import deserialize_message
+from std_srvs.srv import Trigger
+from visualization_msgs.msg import MarkerArray
+
+# Deep enough that a slow spell of the observer never loses messages on its side.
+RECORD_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000,
+                        reliability=ReliabilityPolicy.RELIABLE)
+# The node's target subscription and mouse_target's publisher: RELIABLE, depth 1.
+TARGET_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
+                        reliability=ReliabilityPolicy.RELIABLE)
+# CDR: a 4-byte encapsulation header, then std_msgs/Header's stamp (int32 sec, uint32 nanosec).
+STAMP = struct.Struct('<iI')
+
+
+def stamp_of(raw: bytes) -> int:
+    """Return the header stamp (ns) of a serialized stamped message (little-endian CDR)."""
+    sec, nanosec = STAMP.unpack_from(raw, 4)
+    return sec * 1_000_000_000 + nanosec
+
+
+def say(text: str) -> None:
+    """Write one line on stdout for the bench process that reads it."""
+    sys.stdout.write(text + '\n')
+    sys.stdout.flush()
+
+
+def wait_until(executor, condition, timeout: float) -> bool:
+    """Spin until ``condition()`` holds or ``timeout`` seconds pass; return whether it held."""
+    deadline = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > deadline:
+            return False
+        executor.spin_once(timeout_sec=0.01)
+    return True
+
+
+def spin_for(executor, seconds: float) -> None:
+    """Spin for ``seconds`` of wall time."""
+    deadline = time.monotonic() + seconds
+    while True:
+        left = deadline - time.monotonic()
+        if left <= 0.0:
+            return
+        executor.spin_once(timeout_sec=min(left, 0.05))
+
+
+def observe_rate(node: Node, executor, options) -> dict:
+    """Record (receive time, stamp) of every pose over the window; return the arrays."""
+    received = []
+    record = received.append
+    qos = RECORD_QOS if not options.best_effort else QoSProfile(
+        history=HistoryPolicy.KEEP_LAST, depth=RECORD_QOS.depth,
+        reliability=ReliabilityPolicy.BEST_EFFORT)
+    subscription = node.create_subscription(
+        PoseStamped, options.topic, lambda raw: record((time.time_ns(), raw)), qos, raw=True)
+    if not wait_until(executor, lambda: subscription.get_publisher_count() > 0, 30.0):
+        raise SystemExit(f'no publisher on {options.topic}')
+    say('ready')
+    # A publisher that matched but never publishes still gets its window, with nothing in it.
+    if wait_until(executor, lambda: received, options.first_timeout):
+        first = deserialize_message(received[0][1], PoseStamped)
+        check = first.header.stamp.sec * 1_000_000_000 + first.header.stamp.nanosec
+        if stamp_of(received[0][1]) != check:
+            raise SystemExit('the raw stamp parser disagrees with deserialize_message')
+    spin_for(executor, options.warmup)
+    received.clear()
+    say(f'start {time.time_ns()}')
+    spin_for(executor, options.seconds)
+    end = time.time_ns()
+    say(f'end {end}')
+    window = list(received)
+    return {
+        'recv_ns': np.array([t for t, _ in window], dtype=np.int64),
+        'stamp_ns': np.array([stamp_of(raw) for _, raw in window], dtype=np.int64),
+        'end_ns': np.int64(end),
+    }
+
+
+def observe_latency(node: Node, executor, options) -> dict:
+    """Publish targets at random intervals, recording them and every pose and twist."""
+    poses, twists = [], []
+    node.create_subscription(PoseStamped, 'pose', lambda raw: poses.append(
+        (time.time_ns(), raw)), RECORD_QOS, raw=True)
+    node.create_subscription(TwistStamped, 'twist', lambda raw: twists.append(
+        (time.time_ns(), raw)), RECORD_QOS, raw=True)
+    publisher = node.create_publisher(PointStamped, 'target', TARGET_QOS)
+    if not wait_until(executor, lambda: publisher.get_subscription_count() > 0 and poses
+                      and twists, 30.0):
+        raise SystemExit('the node did not show up')
+    say('ready')
+    spin_for(executor, options.warmup)
+    generator = random.Random(options.seed)
+    center = np.array(options.center)
+    targets, published = [], []
+    message = PointStamped()
+    message.header.frame_id = options.frame
+    previous = center
+    next_time = time.monotonic() + options.gap_min
+    while len(targets) < options.trials:
+        left = next_time - time.monotonic()
+        if left > 0.0:
+            executor.spin_once(timeout_sec=min(left, 0.05))
+            continue
+        while True:  # A new point at least min_jump away from the last one.
+            point = center + np.array([generator.uniform(-options.spread, options.spread)
+                                       for _ in range(3)])
+            if np.linalg.norm(point - previous) >= options.min_jump:
+                break
+        previous = point
+        message.point.x, message.point.y, message.point.z = (float(c) for c in point)
+        now = time.time_ns()
+        message.header.stamp.sec, message.header.stamp.nanosec = divmod(now, 1_000_000_000)
+        publisher.publish(message)
+        published.append(now)
+        targets.append(point)
+        next_time = time.monotonic() + generator.uniform(options.gap_min, options.gap_max)
+    spin_for(executor, options.gap_max)
+    say(f'end {time.time_ns()}')
+
+    def stacked(records):
+        return (np.array([t for t, _ in records], dtype=np.int64),
+                np.array([np.frombuffer(raw, dtype=np.uint8) for _, raw in records]))
+
+    pose_recv, pose_raw = stacked(poses)
+    twist_recv, twist_raw = stacked(twists)
+    return {
+        'target_pub_ns': np.array(published, dtype=np.int64),
+        'targets': np.array(targets),
+        'pose_recv_ns': pose_recv, 'pose_raw': pose_raw,
+        'twist_recv_ns': twist_recv, 'twist_raw': twist_raw,
+    }
+
+
+def observe_exercise(node: Node, executor, options) -> dict:
+    """Drive the node's paths for ``options.seconds``; return what was sent and received."""
+    counts = {'pose': 0, 'twist': 0, 'markers': 0, 'diagnostics': 0}
+
+    def counter(name):
+        def count(_raw) -> None:
+            counts[name] += 1
+        return count
+
+    for message_type, topic, name in ((PoseStamped, 'pose', 'pose'),
+                                      (TwistStamped, 'twist', 'twist'),
+                                      (MarkerArray, 'mouse_constraint/markers', 'markers'),
+                                      (DiagnosticArray, '/diagnostics', 'diagnostics')):
+        node.create_subscription(message_type, topic, counter(name), RECORD_QOS, raw=True)
+    publisher = node.create_publisher(PointStamped, 'target', TARGET_QOS)
+    reset = node.create_client(Trigger, 'mouse_constraint/reset')
+    release = node.create_client(Trigger, 'mouse_constraint/release')
+    set_parameters = node.create_client(SetParameters, 'mouse_constraint/set_parameters')
+    if not wait_until(executor, lambda: publisher.get_subscription_count() > 0
+                      and reset.service_is_ready() and set_parameters.service_is_ready(), 30.0):
+        raise SystemExit('the node did not show up')
+    say('ready')
+    sent = {'targets': 0, 'bad_targets': 0, 'resets': 0, 'releases': 0, 'parameter_sets': 0}
+    bad = [((math.nan, 0.0, 1.0), options.frame), ((0.0, 0.0, 1.0), 'elsewhere'),
+           ((1e9, 0.0, 0.0), options.frame), ((math.inf, 0.0, 0.0), options.frame)]
+    message = PointStamped()
+    start = time.monotonic()
+    period = 1.0 / options.target_rate
+    next_target = start
+    next_second = start + 1.0
+    while True:
+        now = time.monotonic()
+        elapsed = now - start
+        if elapsed >= options.seconds:
+            break
+        if now >= next_target:
+            next_target += period
+            count = sent['targets'] + sent['bad_targets']
+            if count % options.bad_every == options.bad_every - 1:
+                point, frame = bad[sent['bad_targets'] % len(bad)]
+                sent['bad_targets'] += 1
+            else:
+                angle = 2.0 * math.pi * elapsed / options.period
+                point = (options.center[0] + options.radius * math.cos(angle),
+                         options.center[1] + options.radius * math.sin(angle),
+                         options.center[2])
+                frame = options.frame
+                sent['targets'] += 1
+            message.header.frame_id = frame
+            message.header.stamp.sec, message.header.stamp.nanosec = divmod(
+                time.time_ns(), 1_000_000_000)
+            message.point.x, message.point.y, message.point.z = point
+            publisher.publish(message)
+        if now >= next_second:
+            next_second += 1.0
+            second = int(round(elapsed))
+            if second % 7 == 0:
+                reset.call_async(Trigger.Request())
+                sent['resets'] += 1
+            if second % 11 == 0:
+                release.call_async(Trigger.Request())
+                sent['releases'] += 1
+            if second % 13 == 0:
+                value = ParameterValue(type=ParameterType.PARAMETER_DOUBLE,
+                                       double_value=20.0 if second % 26 else 30.0)
+                set_parameters.call_async(SetParameters.Request(
+                    parameters=[Parameter(name='marker_rate_hz', value=value)]))
+                sent['parameter_sets'] += 1
+            say(f'progress {elapsed:.1f}')
+        executor.spin_once(timeout_sec=max(0.0, min(next_target, next_second)
+                                           - time.monotonic()))
+    spin_for(executor, 0.5)
+    say(f'end {time.time_ns()}')
+    return {**{f'sent_{k}': np.int64(v) for k, v in sent.items()},
+            **{f'received_{k}': np.int64(v) for k, v in counts.items()}}
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
+    parser.add_argument('mode', choices=('rate', 'latency', 'exercise'))
+    parser.add_argument('--out', required=True, help='the .npz file to write')
+    parser.add_argument('--topic', default='pose', help='rate: the topic to watch')
+    parser.add_argument('--best-effort', action='store_true',
+                        help='rate: subscribe BEST_EFFORT (default RELIABLE)')
+    parser.add_argument('--seconds', type=float, default=10.0,
+                        help='rate: the window; exercise: how long (s)')
+    parser.add_argument('--first-timeout', type=float, default=10.0,
+                        help='rate: how long to wait for the first message (s)')
+    parser.add_argument('--warmup', type=float, default=1.0,
+                        help='seconds after the first message before recording')
+    parser.add_argument('--trials', type=int, default=300, help='latency: targets to publish')
+    parser.add_argument('--gap-min', type=float, default=0.02,
+                        help='latency: least time between targets (s)')
+    parser.add_argument('--gap-max', type=float, default=0.04,
+                        help='latency: most time between targets (s)')
+    parser.add_argument('--center', type=float, nargs=3, default=[0.2, 0.1, 1.05],
+                        help='latency, exercise: targets are drawn around this point (m)')
+    parser.add_argument('--target-rate', type=float, default=500.0,
+                        help='exercise: targets per second')
+    parser.add_argument('--bad-every', type=int, default=50,
+                        help='exercise: every n-th target is a bad one')
+    parser.add_argument('--radius', type=float, default=0.1, help='exercise: circle radius (m)')
+    parser.add_argument('--period', type=float, default=2.0, help='exercise: circle period (s)')
+    parser.add_argument('--spread', type=float, default=0.01,
+                        help='latency: half-width of the cube targets are drawn from (m)')
+    parser.add_argument('--min-jump', type=float, default=0.005,
+                        help='latency: least distance between successive targets (m)')
+    parser.add_argument('--frame', default='world')
+    parser.add_argument('--seed', type=int, default=1)
+    options = parser.parse_args(argv)
+    rclpy.init()
+    node = Node('bench_observer')
+    executor = EventsExecutor(context=node.context)
+    executor.add_node(node)
+    try:
+        observe = {'rate': observe_rate, 'latency': observe_latency,
+                   'exercise': observe_exercise}[options.mode]
+        np.savez(options.out, **observe(node, executor, options))
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
