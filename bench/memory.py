@@ -1,0 +1,161 @@
+#!/usr/bin/env python3
+"""
+Part 6, memory: the node's RSS at 1 kHz over a long run, every path exercised.
+
+The node (``mouse_constraint_node``, defaults, 1 kHz) runs for ``--minutes`` while
+``observer.py exercise`` drives every path it has: targets round a 0.1 m circle at 500 Hz, every
+50th of them a bad one (NaN, a foreign frame, beyond the workspace, inf: the
+warning paths), ``~/reset`` every 7 s, ``~/release`` every 11 s, ``marker_rate_hz`` changed every
+13 s (the parameter callback, timers destroyed and made), and subscribers on pose, twist,
+markers and /diagnostics. VmRSS of the node is read every second.
+
+Figures: RSS at 1 minute and at the end (each the median of the samples within 5 s of it), the
+difference, the slope of a straight line fitted to RSS over minute 1 to the end (KiB/min and
+bytes per tick), and the peak. A leak of even one byte per tick would add 0.5 MiB over the
+9 minutes; the no-leak criterion is an end RSS within ``TOLERANCE_KIB`` of the 1-minute one.
+
+In the suite the run is ``SUITE_MINUTES`` long, to keep ``make bench`` well inside its budget
+(15 min for everything); the 10-minute figure comes from ``python bench/memory.py --minutes 10``,
+run on its own: it prints the section as JSON and saves its row in ``memory_long.json`` beside
+this file, which the suite's section then shows as a second row, with its date and commit.
+"""
+
+import argparse
+import datetime
+import json
+from pathlib import Path
+import sys
+import time
+
+import common
+import numpy as np
+import ros_process
+
+RATE_HZ = 1000.0
+MINUTES = 10.0
+SUITE_MINUTES = 5.0
+QUICK_MINUTES = 0.5
+LONG_RUN = Path(__file__).resolve().parent / 'memory_long.json'
+REFERENCE_S = 60.0
+WINDOW_S = 5.0
+# RSS moves in pages and allocator arenas: a no-leak run may differ by a few hundred KiB.
+TOLERANCE_KIB = 512
+
+
+def run(quick: bool = False, minutes: float = None) -> dict:
+    start = time.perf_counter()
+    minutes = minutes if minutes is not None else (QUICK_MINUTES if quick else SUITE_MINUTES)
+    seconds = 60.0 * minutes
+    reference = min(REFERENCE_S, seconds / 2.0)
+    parameters = {'rate_hz': RATE_HZ}
+    times, rss = [], []
+    with ros_process.Started(ros_process.node_command(parameters)) as node:
+        began = time.monotonic()
+
+        def sample(line: str) -> None:
+            if line.startswith(('ready', 'progress', 'end')):
+                times.append(time.monotonic() - began)
+                rss.append(ros_process.rss_kib(node.pid))
+
+        data, samples, _ = ros_process.observe(
+            ['exercise', '--seconds', str(seconds)], [node.pid], on_line=sample,
+            timeout=seconds + 120.0)
+        alive = node.alive()
+        cpu = ros_process.cpu_percent(samples['ready'], samples['end'], node.pid)
+    ready = times[0]
+    t = np.array(times) - ready
+    rss = np.array(rss, dtype=float)
+    end = float(t[-1])
+
+    def around(when: float) -> float:
+        near = np.abs(t - when) <= WINDOW_S
+        return float(np.median(rss[near]))
+
+    at_reference, at_end = around(reference), around(end - WINDOW_S)
+    late = t >= reference
+    slope_kib_per_s = float(np.polyfit(t[late], rss[late], 1)[0]) if late.sum() > 2 else 0.0
+    growth = at_end - at_reference
+    row = {
+        'run': 'this run',
+        'minutes': end / 60.0,
+        'rss_start_mib': float(rss[0]) / 1024.0,
+        'rss_reference_mib': at_reference / 1024.0,
+        'rss_end_mib': at_end / 1024.0,
+        'growth_kib': growth,
+        'slope_kib_per_min': 60.0 * slope_kib_per_s,
+        'bytes_per_tick': 1024.0 * slope_kib_per_s / RATE_HZ,
+        'rss_peak_mib': float(np.max(rss)) / 1024.0,
+        'cpu_pct': cpu,
+        'reference_min': reference / 60.0,
+        'node_alive': alive,
+    }
+    sent = {k[len('sent_'):]: int(v) for k, v in data.items() if k.startswith('sent_')}
+    received = {k[len('received_'):]: int(v) for k, v in data.items()
+                if k.startswith('received_')}
+    rows = [row]
+    notes = [_verdict(row)]
+    if minutes < MINUTES and LONG_RUN.exists():
+        long_row = json.loads(LONG_RUN.read_text())
+        rows.append(long_row)
+        notes.append(f'Second row: {long_row["run"]}. ' + _verdict(long_row))
+    elif minutes < MINUTES:
+        notes.append(f'No {MINUTES:g}-minute run on record ({LONG_RUN.name}): run '
+                     f'`python bench/memory.py --minutes {MINUTES:g}`.')
+    notes += [
+        'Sent to the node: ' + ', '.join(f'{v} {k.replace("_", " ")}' for k, v in sent.items())
+        + '. Received from it: ' + ', '.join(f'{v} {k}' for k, v in received.items()) + '.',
+        'slope: least-squares line through the RSS samples (one per second) from the reference '
+        'minute on; bytes per tick = slope / tick rate.',
+    ]
+    return {
+        'title': f'6. Memory: node RSS at {RATE_HZ:g} Hz over {end / 60.0:.1f} min, every path '
+                 'exercised',
+        'text': ('The node as its own process at defaults (1 kHz); another process sends '
+                 'targets at 500 Hz (every 50th bad), calls ~/reset, ~/release and '
+                 'set_parameters, and subscribes to pose, twist, markers and /diagnostics. '
+                 'VmRSS of the node read every second.'),
+        'columns': [['run', 'run', ''], ['minutes', 'length (min)', '.1f'],
+                    ['rss_start_mib', 'RSS at start (MiB)', '.2f'],
+                    ['rss_reference_mib', 'RSS at 1 min (MiB)', '.2f'],
+                    ['rss_end_mib', 'RSS at end (MiB)', '.2f'],
+                    ['growth_kib', 'end - 1 min (KiB)', '+.0f'],
+                    ['slope_kib_per_min', 'slope (KiB/min)', '+.1f'],
+                    ['bytes_per_tick', 'slope (B/tick)', '+.3f'],
+                    ['rss_peak_mib', 'peak (MiB)', '.2f'], ['cpu_pct', 'CPU (% core)', '.1f']],
+        'rows': rows,
+        'notes': notes,
+        'raw': {'t_s': t.tolist(), 'rss_kib': rss.tolist(), 'sent': sent, 'received': received},
+        'elapsed_s': time.perf_counter() - start,
+    }
+
+
+def _verdict(row: dict) -> str:
+    return (f'Target: RSS after {row["minutes"]:.1f} min equals RSS after '
+            f'{row["reference_min"]:g} min (within {TOLERANCE_KIB} KiB). '
+            f'{row["rss_reference_mib"]:.2f} MiB -> {row["rss_end_mib"]:.2f} MiB '
+            f'({row["growth_kib"]:+.0f} KiB, slope {row["slope_kib_per_min"]:+.1f} KiB/min): '
+            + ('met.' if abs(row['growth_kib']) <= TOLERANCE_KIB else 'missed.'))
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
+    parser.add_argument('--minutes', type=float, default=MINUTES)
+    parser.add_argument('--no-save', action='store_true',
+                        help=f'do not write {LONG_RUN.name} (written for >= {MINUTES:g} min)')
+    options = parser.parse_args(argv)
+    section = run(minutes=options.minutes)
+    section.pop('raw')
+    print(json.dumps(section, indent=1))
+    if options.minutes >= MINUTES and not options.no_save:
+        row = dict(section['rows'][0])
+        machine = common.machine_info()
+        date = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec='seconds')
+        load = machine['load_average_at_start'][0]
+        row['run'] = (f'standalone `memory.py --minutes {options.minutes:g}`, {date}, commit '
+                      f'{machine["commit"]}, load at start {load:.2f}')
+        LONG_RUN.write_text(json.dumps(row, indent=1) + '\n')
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
