@@ -108,8 +108,8 @@ def gyroscopic_step(inertia: Symmetric3, w: Vector3, h: float) -> Vector3:
     energy w.I w / 2 and |I w|, since both are quadratic in w. One backward-Euler step at h, as
     Bullet and Bounce take it, loses energy instead: a box spinning at 6 rad/s near its
     intermediate axis sheds 1.3 % in 10 s at h = 1 ms, and 49 % at 50 rad/s. Where the iteration
-    cannot converge (|w| h of order 1 and beyond), w1 is scaled back to the energy of w0, so the
-    step never gains energy.
+    cannot converge or finds a spurious root (|w| h of order 1 and beyond), w1 is scaled back to
+    the energy of w0, so the step never gains energy, and where it overflows w0 is kept.
     """
     wx, wy, wz = w
     if wx == 0.0 and wy == 0.0 and wz == 0.0:
@@ -160,14 +160,15 @@ def gyroscopic_step(inertia: Symmetric3, w: Vector3, h: float) -> Vector3:
         gx = ixx * ex + ixy * ey + ixz * ez + k * (my * az - mz * ay)
         gy = ixy * ex + iyy * ey + iyz * ez + k * (mz * ax - mx * az)
         gz = ixz * ex + iyz * ey + izz * ez + k * (mx * ay - my * ax)
-    else:
-        # Not converged: keep the step from gaining energy.
-        vx, vy, vz = 2.0 * mx - wx, 2.0 * my - wy, 2.0 * mz - wz
-        energy0 = wx * lx + wy * ly + wz * lz
-        energy1 = (vx * (ixx * vx + ixy * vy + ixz * vz) + vy * (ixy * vx + iyy * vy + iyz * vz)
-                   + vz * (ixz * vx + iyz * vy + izz * vz))
-        if energy1 > energy0:
-            scale = math.sqrt(energy0 / energy1)
-            return (vx * scale, vy * scale, vz * scale)
-        return (vx, vy, vz)
-    return (2.0 * mx - wx, 2.0 * my - wy, 2.0 * mz - wz)
+    # Where |w| h is of order 1 or more the iteration may stop short or at a spurious root: the
+    # step must still not gain energy (nor overflow, or it keeps w0).
+    vx, vy, vz = 2.0 * mx - wx, 2.0 * my - wy, 2.0 * mz - wz
+    energy0 = wx * lx + wy * ly + wz * lz
+    energy1 = (vx * (ixx * vx + ixy * vy + ixz * vz) + vy * (ixy * vx + iyy * vy + iyz * vz)
+               + vz * (ixz * vx + iyz * vy + izz * vz))
+    if not math.isfinite(energy1):
+        return w
+    if energy1 > energy0:
+        scale = math.sqrt(energy0 / energy1)
+        return (vx * scale, vy * scale, vz * scale)
+    return (vx, vy, vz)

@@ -39,7 +39,8 @@ MIN_STEP = 1e-9
 MAX_STEP = 1.0
 # The leapfrog start kicks a soft spring back by its own acceleration only while the step
 # resolves it (2 zeta omega h and (omega h)^2 below this); a stiffer one is started like rigid
-# mode, since a first-order kick of a spring that settles within a step adds energy.
+# mode, since a first-order kick of a spring that settles within a step adds energy. Likewise
+# damping: undone over h / 2 only while its rate times h is below this.
 STIFF_START = 0.5
 ZERO: Vector3 = (0.0, 0.0, 0.0)
 
@@ -303,6 +304,13 @@ class MouseSimulation:
             # over h (< 0): a first-order kick, as running a damped spring backwards exactly
             # would amplify it exponentially.
             a, b = -damping, omega * omega * h
-        return (gx * h, gy * h, gz * h,
-                math.exp(-settings.linear_damping * h), math.exp(-settings.angular_damping * h),
-                a, b, settings.constraint.max_force * abs(h))
+        return (gx * h, gy * h, gz * h, _decay(settings.linear_damping, h, start),
+                _decay(settings.angular_damping, h, start), a, b,
+                settings.constraint.max_force * abs(h))
+
+
+def _decay(rate: float, h: float, start: bool) -> float:
+    """Return the factor exp(-rate h); at the start, 1 for damping the step cannot resolve."""
+    if start and rate * abs(h) > STIFF_START:
+        return 1.0
+    return math.exp(-rate * h)
