@@ -21,6 +21,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
+from rclpy.task import Future
 from std_srvs.srv import Trigger
 from visualization_msgs.msg import MarkerArray
 
@@ -184,6 +185,14 @@ class MouseConstraintNode(Node):
 
     def _on_timer(self) -> None:
         now = self.get_clock().now().nanoseconds
+        if not self._grid.started:
+            # Put t0 where the timer scheduled this first call, not where it ran: each later
+            # call then finds exactly its own tick due, however late (up to a period) it runs,
+            # instead of only when its jitter beats the first call's.
+            left = self._timer.time_until_next_call()
+            period = self._timer.timer_period_ns
+            self._grid.restart(now + left - period if left is not None and 0 <= left <= period
+                               else now)
         due = self._grid.due(now)
         if due.restarted:
             self.clock_restarts += 1
@@ -319,9 +328,12 @@ def main(args: Optional[List[str]] = None) -> int:
             executor = EventsExecutor(context=node.context)
             executor.add_node(node)
             # Not executor.spin(): in this rclpy (7.1.6) the EventsExecutor's spin() busy-waits
-            # at a full core; spin_once with a timeout does not, and lets us see the stop flag.
+            # at a full core and never returns to Python. Spinning on a future that is never
+            # done, 0.1 s at a time, runs every event due in that time in one call (cheaper
+            # than spin_once's return per event) and lets the loop see the stop flag.
+            never = Future()
             while not stop and node.context.ok():
-                executor.spin_once(timeout_sec=0.1)
+                executor.spin_until_future_complete(never, timeout_sec=0.1)
     except ExternalShutdownException:
         pass
     except ValueError as error:
