@@ -152,7 +152,7 @@ def main(argv=None) -> int:
         date = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec='seconds')
         load = machine['load_average_at_start'][0]
         row['run'] = (f'standalone `memory.py --minutes {options.minutes:g}`, {date}, commit '
-                      f'{machine["commit"]}, load at start {load:.2f}')
+                      f'{machine["commit"]}, 1-min load at the end {load:.2f}')
         LONG_RUN.write_text(json.dumps(row, indent=1) + '\n')
     return 0
 
