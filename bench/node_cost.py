@@ -1,17 +1,19 @@
 """
-Part 2, where the node's CPU goes at 1 kHz: its tick taken apart, as is and as proposed.
+Part 2, where the node's CPU goes at 1 kHz: its tick taken apart, before and after 8dfbd58.
 
 ``node_variant.py --report`` runs the package's ``MouseConstraintNode`` in its own process with
 the thread CPU time (``time.thread_time_ns``, so time spent descheduled does not count) of its
 main thread measured around each part of the tick; an observer subscribes to pose as in
-``node_rate``. Two runs: the node as ``node.main`` spins it (``spin_once`` loop) and the node
-with both changes the benchmarks propose (``spin_until_future_complete`` loop, tick grid
-phase-locked to the timer). Figures are per tick, over the whole run; 1 us per tick at 1 kHz is
-0.1 % of a core.
+``node_rate``. Two configurations, in interleaved rounds (before, now, before, now, ...) so
+that a slow spell of the shared machine hits both: the spin loop and tick grid origin as before
+8dfbd58 (``spin_once`` loop, t0 at the first call) and as since (``spin_until_future_complete``
+loop, t0 where the timer scheduled the first call). Figures are medians over the rounds of the
+per-tick figure of each run; 1 us per tick at 1 kHz is 0.1 % of a core.
 """
 
 import json
 from pathlib import Path
+import statistics
 import tempfile
 import time
 
@@ -19,11 +21,12 @@ import node_rate
 import ros_process
 
 RATE_HZ = 1000.0
-SECONDS = 10.0
+SECONDS = 6.0
+ROUNDS = 3
 QUICK_SECONDS = 2.0
 RUNS = (
-    ('as is', ('--loop', 'once')),
-    ('proposed', ('--loop', 'until', '--phase-lock')),
+    ('before', ('--loop', 'once', '--grid', 'first-call')),
+    ('now', ('--loop', 'until', '--grid', 'scheduled')),
 )
 PARTS = (
     ('step', 'MouseSimulation.step (physics, all substeps)'),
@@ -61,48 +64,62 @@ def breakdown(report: dict) -> dict:
 def run(quick: bool = False) -> dict:
     start = time.perf_counter()
     seconds = QUICK_SECONDS if quick else SECONDS
-    results = {}
+    rounds = 1 if quick else ROUNDS
+    results = {name: [] for name, _ in RUNS}
     with tempfile.TemporaryDirectory(prefix='mouse_bench_') as directory:
-        for name, arguments in RUNS:
-            path = Path(directory) / f'{name}.json'
-            command = ros_process.python_command(
-                ros_process.NODE_VARIANT, *arguments, '--report', str(path), '--ros-args', '-p',
-                f'rate_hz:={RATE_HZ!r}')
-            figures = node_rate.measure(command, RATE_HZ, seconds)
-            report = json.loads(path.read_text())
-            results[name] = {'figures': figures, 'report': report, 'parts': breakdown(report)}
+        for round_index in range(rounds):
+            for name, arguments in RUNS:
+                path = Path(directory) / f'{name}-{round_index}.json'
+                command = ros_process.python_command(
+                    ros_process.NODE_VARIANT, *arguments, '--report', str(path), '--ros-args',
+                    '-p', f'rate_hz:={RATE_HZ!r}')
+                figures = node_rate.measure(command, RATE_HZ, seconds)
+                report = json.loads(path.read_text())
+                results[name].append({'figures': figures, 'report': report,
+                                      'parts': breakdown(report)})
+
+    def med(name: str, get) -> float:
+        return statistics.median(get(result) for result in results[name])
+
     rows = []
     for key, meaning in PARTS:
         row = {'part': key, 'meaning': meaning}
         for name, _ in RUNS:
-            row[name.replace(' ', '_')] = results[name]['parts'].get(key)
+            row[name] = med(name, lambda result: result['parts'].get(key, 0.0))
+        row['difference'] = row['now'] - row['before']
         rows.append(row)
-    as_is, proposed = results['as is'], results['proposed']
+
+    def listed(name: str, get, spec: str) -> str:
+        return ', '.join(format(get(result), spec) for result in results[name])
+
+    cpu = {name: listed(name, lambda r: r['figures']['cpu_pct'], '.1f') for name, _ in RUNS}
+    late = {name: listed(name, lambda r: r['report']['late_ticks'], 'd') for name, _ in RUNS}
+    delay = {name: med(name, lambda r: r['figures']['delay_p50_us']) for name, _ in RUNS}
+    delay99 = {name: med(name, lambda r: r['figures']['delay_p99_us']) for name, _ in RUNS}
+    ticks = med('before', lambda r: r['report']['ticks'])
     notes = [
-        f'CPU over the observed window (/proc, as in node_rate): as is '
-        f'{as_is["figures"]["cpu_pct"]:.1f} %, proposed {proposed["figures"]["cpu_pct"]:.1f} %; '
-        f'over the whole run from the report: {as_is["parts"]["process"] / 10:.1f} % and '
-        f'{proposed["parts"]["process"] / 10:.1f} %.',
-        f'Late ticks (ticks run by a timer call after the first it ran): as is '
-        f'{as_is["report"]["late_ticks"]} of {as_is["report"]["ticks"]}, proposed '
-        f'{proposed["report"]["late_ticks"]} of {proposed["report"]["ticks"]}; pose delay p50 '
-        f'{as_is["figures"]["delay_p50_us"]:.0f} us -> {proposed["figures"]["delay_p50_us"]:.0f}'
-        f' us, p99 {as_is["figures"]["delay_p99_us"]:.0f} us -> '
-        f'{proposed["figures"]["delay_p99_us"]:.0f} us.',
+        f'CPU per round over the observed window (/proc, as in node_rate): before {cpu["before"]}'
+        f' %; now {cpu["now"]} %.',
+        f'Late ticks per run (of about {ticks:.0f}; ticks a timer call ran after its first): '
+        f'before {late["before"]}; now {late["now"]}. Pose delay (observer receive - stamp) '
+        f'p50 {delay["before"]:.0f} us -> {delay["now"]:.0f} us, p99 {delay99["before"]:.0f} us'
+        f' -> {delay99["now"]:.0f} us (medians over the rounds).',
         'The timing wrappers cost about 1 us per wrapped call (5 per tick), counted in the '
         'parts. Code run once a millisecond between sleeps runs with cold caches: the step takes '
         "about twice the us it takes in core_cost's tight loop.",
     ]
     return {
-        'title': f'2b. Node CPU per tick at {RATE_HZ:g} Hz: where it goes',
-        'text': (f"Thread CPU time of the node process's main thread per tick, by part, over a "
-                 f'{seconds:g} s observed run plus start-up; us per tick (0.1 % of a core '
-                 'each).'),
+        'title': f'2b. Node CPU per tick at {RATE_HZ:g} Hz: where it goes, before and after '
+                 '8dfbd58',
+        'text': (f"Thread CPU time of the node process's main thread per tick, by part; median "
+                 f'of {rounds} interleaved rounds of {seconds:g} s observed (plus start-up) per '
+                 'configuration; us per tick (0.1 % of a core each).'),
         'columns': [['part', 'part', ''], ['meaning', 'what', ''],
-                    ['as_is', 'as is (us/tick)', '.1f'],
-                    ['proposed', 'proposed (us/tick)', '.1f']],
+                    ['before', 'before: spin_once, t0 first call (us/tick)', '.1f'],
+                    ['now', 'now: spin_until_future_complete, t0 scheduled (us/tick)', '.1f'],
+                    ['difference', 'now - before', '+.1f']],
         'rows': rows,
         'notes': notes,
-        'raw': {name: result['report'] for name, result in results.items()},
+        'raw': {name: [result['report'] for result in runs] for name, runs in results.items()},
         'elapsed_s': time.perf_counter() - start,
     }

@@ -19,9 +19,9 @@ For scale, the same is measured at 1 kHz for ``bare_timer.py``: an rclpy timer t
 a PoseStamped (and with ``--twist`` a TwistStamped) per tick and does nothing else, under the
 SingleThreadedExecutor and the EventsExecutor spun as the node spins (``spin_once`` in a loop),
 with ``spin_until_future_complete`` in a loop, and with the EventsExecutor's own ``spin()``. Its
-stamps are the clock at the callback, so its grid error is the timer's jitter. And for the
-changes proposed for the node, ``node_variant.py``: the package's node class with another spin
-loop and/or its tick grid phase-locked to its timer.
+stamps are the clock at the callback, so its grid error is the timer's jitter. And
+``node_variant.py``: the package's node class with its spin loop and tick grid origin as before
+8dfbd58 and with each of that commit's two changes alone.
 """
 
 import sys
@@ -32,7 +32,7 @@ import ros_process
 
 RATES = (100.0, 500.0, 1000.0, 2000.0, 5000.0)
 SECONDS = 10.0
-# The rows for scale (bare timers) and the node's proposed variants: shorter windows.
+# The rows for scale (bare timers) and the node_variant.py rows: shorter windows.
 SCALE_SECONDS = 5.0
 QUICK_SECONDS = 2.0
 WARMUP = 1.0
@@ -47,11 +47,13 @@ BARE = (
      'EventsExecutor, spin_until_future_complete(0.1) loop; pose + twist', 10.0),
     (('--executor', 'events-spin'), 'EventsExecutor, spin(); pose', 2.0),
 )
-# (node_variant.py arguments, what differs from the node): the changes proposed for node.py.
+# (node_variant.py arguments, what it runs): the node's spin loop and grid origin before and
+# after 8dfbd58 (which took both from this benchmark), taken apart.
 VARIANTS = (
-    (('--loop', 'until'), 'spin_until_future_complete(0.1) loop'),
-    (('--phase-lock',), 'spin_once loop, grid t0 phase-locked to the timer'),
-    (('--loop', 'until', '--phase-lock'), 'both'),
+    (('--loop', 'once', '--grid', 'first-call'),
+     'as before 8dfbd58: spin_once loop, t0 at the first call'),
+    (('--loop', 'until', '--grid', 'first-call'), 'spin_until_future_complete loop only'),
+    (('--loop', 'once', '--grid', 'scheduled'), 'grid t0 phase-locked to the timer only'),
 )
 TARGET_RATE = 1000.0
 TARGET_RATE_TOLERANCE = 0.001
@@ -125,8 +127,7 @@ def run(quick: bool = False) -> dict:
     rows = []
     for rate in (RATES if not quick else (1000.0, 5000.0)):
         row = measure(ros_process.node_command({'rate_hz': rate}), rate, seconds)
-        row.update({'process': 'mouse_constraint_node', 'spin': 'EventsExecutor, spin_once(0.1)'
-                    ' loop (node.main)'})
+        row.update({'process': 'mouse_constraint_node', 'spin': 'as installed (node.main)'})
         rows.append(row)
         _report(row)
     for arguments, description, first_timeout in BARE:
@@ -140,16 +141,17 @@ def run(quick: bool = False) -> dict:
         command = ros_process.python_command(ros_process.NODE_VARIANT, *arguments, '--ros-args',
                                              '-p', f'rate_hz:={SCALE_RATE!r}')
         row = measure(command, SCALE_RATE, scale_seconds)
-        row.update({'process': 'node, proposed', 'spin': description})
+        row.update({'process': 'node_variant.py', 'spin': description})
         rows.append(row)
         _report(row)
     notes = _verdicts(rows)
     notes += [
         'Rows: mouse_constraint_node as installed; bare timer: bare_timer.py, an rclpy timer '
         'that only stamps and publishes (pose, or pose + twist as the node does), the floor '
-        "under any rclpy node at this rate; node, proposed: node_variant.py, the package's "
-        "MouseConstraintNode unchanged but for its spin loop and/or the tick grid's t0 (see "
-        'node_variant.py), the changes this benchmark proposes.',
+        "under any rclpy node at this rate; node_variant.py: the package's MouseConstraintNode "
+        'with its spin loop and tick grid origin chosen by the bench (see node_variant.py). A '
+        'single window per row: CPU differences of a few points between rows are within the '
+        "machine's noise (node_cost repeats its A/B in interleaved rounds).",
         'achieved: poses received in the window / the window (measured in the bench process '
         "between the observer's start and end lines); stamp rate: (poses - 1) / (last stamp - "
         'first stamp).',
@@ -208,19 +210,22 @@ def _verdicts(rows) -> list:
                f'missed by {row["cpu_pct"] - TARGET_CPU:.1f} points '
                f'({row["cpu_pct"] / TARGET_CPU:.2f}x the budget).'))
     floor = [row for row in rows if row['process'] == 'bare timer' and 'twist' in row['spin']
-             and 'spin_once' in row['spin']]
+             and 'until' in row['spin']]
     if floor and TARGET_RATE in node:
         notes.append(
             f'For scale: a bare rclpy timer publishing pose + twist at {SCALE_RATE:g} Hz with the '
-            f'same executor and loop took {floor[0]["cpu_pct"]:.1f} % of a core here, the node '
-            f'{node[TARGET_RATE]["cpu_pct"]:.1f} %: the node adds '
+            f'executor and loop the node uses took {floor[0]["cpu_pct"]:.1f} % of a core here, '
+            f'the node {node[TARGET_RATE]["cpu_pct"]:.1f} %: the node adds '
             f'{node[TARGET_RATE]["cpu_pct"] - floor[0]["cpu_pct"]:.1f} points to what rclpy and '
             'Fast DDS cost for two reliable publishes per tick.')
-    proposed = [row for row in rows if row['process'] == 'node, proposed']
-    if proposed:
-        notes.append('Proposed for the node (node_variant.py rows): ' + '; '.join(
+    variants = [row for row in rows if row['process'] == 'node_variant.py']
+    if variants:
+        described = '; '.join(
             f'{row["spin"]}: CPU {row["cpu_pct"]:.1f} %, delay p50 {row["delay_p50_us"]:.0f} us,'
-            f' p99 {row["delay_p99_us"]:.0f} us, {row["late"]} late' for row in proposed) + '.')
+            f' p99 {row["delay_p99_us"]:.0f} us, {row["late"]} late' for row in variants)
+        notes.append('The node class with its loop and grid origin as before 8dfbd58 and each '
+                     'change alone (node_variant.py rows; the installed node has both): '
+                     + described + '.')
     if SUSTAINED_RATE in node:
         row = node[SUSTAINED_RATE]
         sustained = (row['missing'] == 0

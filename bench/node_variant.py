@@ -1,18 +1,19 @@
 #!/usr/bin/env python3
 """
-The node's own class, run with variations of its spin loop and tick grid, and optionally timed.
+The node's own class, run with a chosen spin loop and tick-grid origin, and optionally timed.
 
-``node_variant.py [--loop once|until] [--phase-lock] [--report FILE] [--ros-args ...]`` runs
-``MouseConstraintNode`` from the package, unchanged, in a main loop like ``node.main``'s, until
-SIGINT/SIGTERM. The variations are what the benchmarks propose for the node, tried here without
-editing it:
+``node_variant.py --loop once|until --grid node|first-call|scheduled [--report FILE]
+[--ros-args ...]`` runs ``MouseConstraintNode`` from the package, unchanged, in a main loop like
+``node.main``'s, until SIGINT/SIGTERM, with the choices fixed here whatever ``node.py`` does, so
+that an A/B comparison means the same before and after the node changes:
 
-- ``--loop once``: ``EventsExecutor.spin_once(timeout_sec=0.1)`` in a loop, as ``node.main``;
-  ``--loop until``: ``spin_until_future_complete(never_done, timeout_sec=0.1)`` in a loop, which
-  runs every event due within the 0.1 s in one call instead of returning to Python after each;
-- ``--phase-lock``: put the tick grid's t0 at the time the timer's first call was scheduled
-  (``now + time_until_next_call - period``) instead of at the clock reading in that call, so
-  that every later call finds exactly its own tick due however late it runs (up to a period).
+- ``--loop once``: ``EventsExecutor.spin_once(timeout_sec=0.1)`` in a loop (node.main before
+  8dfbd58); ``--loop until``: ``spin_until_future_complete(never_done, timeout_sec=0.1)`` in a
+  loop (since), which runs every event due within the 0.1 s in one call;
+- ``--grid first-call``: the tick grid's t0 at the clock reading of the timer's first call
+  (before 8dfbd58); ``--grid scheduled``: t0 at the time the timer scheduled that call
+  (``now + time_until_next_call - period``, since), so that every later call finds exactly its
+  own tick due however late it runs (up to a period); ``--grid node``: whatever the node does.
 
 With ``--report FILE`` it writes, on exit, the thread CPU time of the main thread spent in each
 part of the tick (``time.thread_time_ns`` around the step, each publish, the grid, the whole
@@ -56,24 +57,26 @@ class PartTimer:
         return timed
 
 
-def phase_lock(node: MouseConstraintNode, callback):
-    """Return ``callback`` that first puts the grid's t0 where the timer scheduled its call."""
-    def locked() -> None:
+def grid_origin(node: MouseConstraintNode, callback, how: str):
+    """Return ``callback`` that first starts the node's tick grid at t0 chosen by ``how``."""
+    def started() -> None:
         grid = node._grid
         if not grid.started:
             now = node.get_clock().now().nanoseconds
             left = node._timer.time_until_next_call()
-            if left is not None:
+            if how == 'scheduled' and left is not None:
                 grid.restart(now + left - node._timer.timer_period_ns)
+            else:
+                grid.restart(now)
         callback()
-    return locked
+    return started
 
 
 def main(argv=None) -> int:
     argv = sys.argv if argv is None else argv
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
-    parser.add_argument('--loop', choices=('once', 'until'), default='once')
-    parser.add_argument('--phase-lock', action='store_true')
+    parser.add_argument('--loop', choices=('once', 'until'), default='until')
+    parser.add_argument('--grid', choices=('node', 'first-call', 'scheduled'), default='node')
     parser.add_argument('--report', help='write the per-part CPU times here on exit (JSON)')
     options = parser.parse_args(remove_ros_args(argv)[1:])
     rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
@@ -90,8 +93,8 @@ def main(argv=None) -> int:
         timer_callback = parts.wrap(timer_callback, 'timer callback')
         for timer in getattr(node, '_monitor_timers', []):
             timer.callback = parts.wrap(timer.callback, 'markers and diagnostics')
-    if options.phase_lock:
-        timer_callback = phase_lock(node, timer_callback)
+    if options.grid != 'node':
+        timer_callback = grid_origin(node, timer_callback, options.grid)
     node._timer.callback = timer_callback
     executor = EventsExecutor(context=node.context)
     executor.add_node(node)

@@ -25,7 +25,7 @@ SUITE = [
     ('accuracy', 'part 4: the corner pendulum against the exact motion, energy'),
     ('drag', 'part 5: dragging at 1 kHz, tracking error'),
     ('node_rate', 'part 2: the node process at 100 Hz to 5 kHz, observed over DDS; CPU, RSS'),
-    ('node_cost', 'part 2: where the node spends its CPU per tick, as is and as proposed'),
+    ('node_cost', 'part 2: where the node spends its CPU per tick, before and after 8dfbd58'),
     ('latency', 'part 3: target published -> first pose reflecting it, at 1 kHz'),
     ('soak', 'hardening: 10 min simulated at 1 kHz, the core directly'),
     # Last: the longest, and nothing else runs while it does.
