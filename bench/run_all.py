@@ -28,6 +28,7 @@ SUITE = [
     ('node_cost', 'part 2: where the node spends its CPU per tick, before and after 8dfbd58'),
     ('latency', 'part 3: target published -> first pose reflecting it, at 1 kHz'),
     ('soak', 'hardening: 10 min simulated at 1 kHz, the core directly'),
+    ('flood', 'hardening: 20 000 targets/s for 10 s at the node running 1 kHz'),
     # Last: the longest, and nothing else runs while it does.
     ('memory', 'part 6: node RSS over minutes at 1 kHz, every path exercised'),
 ]
