@@ -42,8 +42,8 @@ class TargetGate:
         :param frame: the target's frame_id; '' is the node's frame.
         :param point: the target's x, y, z.
         """
-        point = tuple(float(c) for c in point)
-        return self._refusal(frame, point, f'{point}')
+        x, y, z = map(float, point)
+        return self._refusal(frame, (x, y, z), None)
 
     def circle_refusal(self, frame: str, center: Sequence[float],
                        radius: float) -> Optional[Refusal]:
@@ -67,14 +67,16 @@ class TargetGate:
                                               f'{(cx, cy, cz)} of radius {radius:g} m')
 
     def _refusal(self, frame: str, point: Tuple[float, float, float],
-                 described: str) -> Optional[Refusal]:
+                 described: Optional[str]) -> Optional[Refusal]:
+        # On the node's path for every target: the reason text is only built for a refusal.
         if frame and frame != self.frame_id:
             return Refusal('frame', f'in frame {frame!r}: this node works in '
                                     f'{self.frame_id!r} (no tf lookup is made)')
-        if not all(math.isfinite(c) for c in point):
-            return Refusal('finite', f'{described}: not finite')
-        if math.hypot(*point) > self.workspace_radius:
-            return Refusal('workspace', f'{described}: farther than workspace_radius '
+        x, y, z = point
+        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z)):
+            return Refusal('finite', f'{described or point}: not finite')
+        if math.hypot(x, y, z) > self.workspace_radius:
+            return Refusal('workspace', f'{described or point}: farther than workspace_radius '
                                         f'{self.workspace_radius:g} m from the origin of '
                                         f'{self.frame_id!r}')
         return None
