@@ -15,7 +15,8 @@ The ``mouse_record`` command: record target, pose and twist, then draw the motio
 The anchor (body frame) is read from the ``anchor`` parameter of the node being recorded
 (``--node``, default ``mouse_constraint`` in the recorder's namespace) through its parameter
 service, so the figure always matches the node; ``--anchor X Y Z`` gives it instead and needs
-no node. Ctrl-C ends the recording early and still writes the files.
+no node. Ctrl-C ends the recording early and still writes the files. The files are checked
+for writing before the recording starts: an unwritable ``--output`` fails at once.
 """
 
 import argparse
@@ -105,28 +106,85 @@ def _finite(name: str, minimum: Optional[float] = None):
     return parse
 
 
-def parse_arguments(argv: List[str]) -> argparse.Namespace:
-    """Return the command's options from ``argv`` (ROS arguments already removed)."""
+def plain_text(text: str) -> str:
+    """Return docstring text for a terminal: without reST literals' backticks, one line."""
+    return ' '.join(text.replace('``', '').split())
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Return the command's argument parser; every option's help names its default."""
     parser = argparse.ArgumentParser(
-        prog='mouse_record', description=__doc__.split('\n\n')[0].strip(),
+        prog='mouse_record', description=plain_text(__doc__.split('\n\n')[0]),
         epilog='examples: mouse_record -d 10 -o run --mcap | mouse_record --anchor 0.2 0.1 0.05'
                ' | add --ros-args -r __ns:=/robot for a namespaced node')
     parser.add_argument('-d', '--duration', type=_finite('--duration', 0.0), default=10.0,
-                        help='seconds to record from the first pose (default 10)')
+                        help='seconds to record from the first pose (default: %(default)g)')
     parser.add_argument('-o', '--output', type=Path, default=None,
-                        help='path prefix of the files (default mouse_record_<date>_<time>)')
+                        help='path prefix of the files (default: mouse_record_<date>_<time>)')
     parser.add_argument('--mcap', action='store_true',
-                        help='also write PREFIX.mcap (Foxglove, ros2 bag)')
+                        help='also write PREFIX.mcap (Foxglove, ros2 bag; default: off)')
     parser.add_argument('--anchor', nargs=3, type=_finite('--anchor'), metavar=('X', 'Y', 'Z'),
-                        help="the anchor in the body frame (m); default: the node's parameter")
+                        help="the anchor in the body frame (m; default: the node's parameter)")
     parser.add_argument('--node', default='mouse_constraint',
-                        help='the node whose anchor parameter to read (default mouse_constraint)')
+                        help='the node whose anchor parameter to read '
+                             '(default: %(default)s, in this namespace)')
     parser.add_argument('--timeout', type=_finite('--timeout', 0.0), default=10.0,
-                        help='seconds to wait for the parameter service and the first pose')
+                        help='seconds to wait for the parameter service and the first pose '
+                             '(default: %(default)g)')
+    return parser
+
+
+def parse_arguments(argv: List[str]) -> argparse.Namespace:
+    """Return the command's options from ``argv`` (ROS arguments already removed)."""
+    parser = build_parser()
     options = parser.parse_args(argv)
     if options.output is None:
         options.output = Path(datetime.datetime.now().strftime('mouse_record_%Y%m%d_%H%M%S'))
+    if not options.output.name or options.output.name == '..':
+        parser.error(f'--output needs a file name prefix, got {str(options.output)!r}')
     return options
+
+
+def output_paths(prefix: Path, mcap: bool) -> List[Path]:
+    """Return the files a recording writes: PREFIX.csv, PREFIX.png and with ``mcap`` .mcap."""
+    suffixes = ('.csv', '.png', '.mcap') if mcap else ('.csv', '.png')
+    return [prefix.with_name(prefix.name + suffix) for suffix in suffixes]
+
+
+def check_writable(paths: Sequence[Path]) -> None:
+    """
+    Make sure each of ``paths`` can be written, leaving the file system as it was.
+
+    It does what writing does: creates the missing directories and opens each file for
+    appending (creating it, truncating nothing), then removes what it created. Trying is the
+    only reliable test: permissions say nothing for root, nor about /proc or a read-only mount.
+
+    :raises OSError: the first failure, its ``filename`` the path that failed.
+    """
+    created: List[Path] = []
+    try:
+        for path in paths:
+            missing = [d for d in (path.parent, *path.parent.parents) if not d.exists()]
+            for directory in reversed(missing):
+                directory.mkdir()
+                created.append(directory)
+            existed = path.exists()
+            with open(path, 'ab'):
+                pass
+            if not existed:
+                created.append(path)
+    finally:
+        for path in reversed(created):
+            try:
+                path.rmdir() if path.is_dir() else path.unlink()
+            except OSError:
+                pass
+
+
+def describe_os_error(error: OSError) -> str:
+    """Return 'PATH: reason' for an error of the file system, on one line."""
+    reason = error.strerror or str(error)
+    return f'{error.filename}: {reason}' if error.filename else reason
 
 
 class Recorder(Node):
@@ -453,6 +511,12 @@ def main(args: Optional[List[str]] = None) -> int:
     """Record, then write the files; 0 on success, 1 if there was nothing to record."""
     argv = sys.argv if args is None else args
     options = parse_arguments(remove_ros_args(argv)[1:])
+    try:
+        check_writable(output_paths(options.output, options.mcap))
+    except OSError as error:
+        print(f'mouse_record: cannot write {describe_os_error(error)}: nothing recorded',
+              file=sys.stderr)
+        return 1
     rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
     node = Recorder()
     logger = node.get_logger()
@@ -501,14 +565,17 @@ def write_outputs(node: Recorder, options: argparse.Namespace, anchor: Vector3) 
     if not rows:
         logger.error('no tick with both pose and twist was recorded')
         return 1
-    prefix = options.output
-    prefix.parent.mkdir(parents=True, exist_ok=True)
-    written = [prefix.with_name(prefix.name + '.csv'), prefix.with_name(prefix.name + '.png')]
-    write_csv(written[0], rows)
-    write_figure(written[1], rows, anchor, frame_of(node.received) or '?')
-    if options.mcap:
-        written.append(prefix.with_name(prefix.name + '.mcap'))
-        write_mcap(written[2], node)
+    written = output_paths(options.output, options.mcap)
+    try:
+        options.output.parent.mkdir(parents=True, exist_ok=True)
+        write_csv(written[0], rows)
+        write_figure(written[1], rows, anchor, frame_of(node.received) or '?')
+        if options.mcap:
+            write_mcap(written[2], node)
+    except OSError as error:
+        # Checked before recording, but the file system may have changed since.
+        logger.error(f'cannot write {describe_os_error(error)}')
+        return 1
     logger.info(f'{len(rows)} ticks, {rows[-1].time:.2f} s: wrote '
                 + ', '.join(str(path) for path in written))
     return 0

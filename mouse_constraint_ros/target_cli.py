@@ -3,16 +3,25 @@ The ``mouse_target`` command: publish mouse targets on the relative topic ``targ
 
 ``mouse_target X Y Z`` publishes one target and exits once a subscriber has acknowledged it;
 ``mouse_target --circle`` moves the target around a circle until Ctrl-C (or ``--duration``).
+Before publishing it reads the node's ``frame_id`` and ``workspace_radius`` parameters
+(``--node``, default ``mouse_constraint`` in this command's namespace) and refuses, with the
+reason and exit status 1, a target the node would ignore: another frame, or beyond the
+workspace (for ``--circle``, any point of the circle). When the parameter service does not
+answer within ``--timeout`` it says so and publishes the target unchecked, since the subscriber
+need not be ``mouse_constraint``. Ctrl-C or SIGTERM stops it at once, also while waiting.
 ROS arguments work as for any node: ``--ros-args -r __ns:=/robot -r target:=/clicked_point``.
 """
 
 import argparse
 import math
+import signal
 import sys
 import time
-from typing import List, Optional
+from typing import Callable, List, Optional
 
 from geometry_msgs.msg import PointStamped
+from rcl_interfaces.msg import ParameterType
+from rcl_interfaces.srv import GetParameters
 import rclpy
 from rclpy.duration import Duration
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
@@ -23,30 +32,56 @@ from rclpy.utilities import remove_ros_args
 from .conversions import point_message
 from .node import TARGET_QOS
 from .signals import StopRequest
+from .target_gate import TargetGate
+
+# The frame of the targets when the node's frame_id cannot be read.
+FALLBACK_FRAME = 'world'
+# Longest a wait blocks before it looks at the clock and at Ctrl-C again (s).
+POLL_PERIOD = 0.05
+
+
+def plain_text(text: str) -> str:
+    """Return docstring text for a terminal: without reST literals' backticks, one line."""
+    return ' '.join(text.replace('``', '').split())
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Return the command's argument parser; every option's help names its default."""
+    parser = argparse.ArgumentParser(
+        prog='mouse_target', description=plain_text(__doc__.split('\n\n')[0]),
+        epilog='examples: mouse_target 0.5 0 1 | mouse_target --circle --center 0 0 1 '
+               '--radius 0.3 --period 2 | add --ros-args -r target:=/clicked_point to remap')
+    parser.add_argument('point', nargs='*', type=float, metavar='X Y Z',
+                        help='one target (m), published once (default: none, give --circle)')
+    parser.add_argument('--frame', default=None,
+                        help="frame_id of the targets (default: the node's frame_id parameter, "
+                             f'{FALLBACK_FRAME} if it cannot be read)')
+    parser.add_argument('--node', default='mouse_constraint',
+                        help='the node whose frame_id and workspace_radius the targets must fit '
+                             '(default: %(default)s, in this namespace)')
+    parser.add_argument('--timeout', type=float, default=10.0,
+                        help='seconds to wait for a subscriber, the parameters and the '
+                             'acknowledgement (default: %(default)g)')
+    circle = parser.add_argument_group('moving target')
+    circle.add_argument('--circle', action='store_true',
+                        help='move the target around a horizontal circle until Ctrl-C '
+                             '(default: off)')
+    circle.add_argument('--center', nargs=3, type=float, default=[0.0, 0.0, 1.0],
+                        metavar=('X', 'Y', 'Z'), help='circle centre (m, default: 0 0 1)')
+    circle.add_argument('--radius', type=float, default=0.3,
+                        help='circle radius (m, default: %(default)g)')
+    circle.add_argument('--period', type=float, default=2.0,
+                        help='seconds per turn; negative turns clockwise (default: %(default)g)')
+    circle.add_argument('--rate', type=float, default=50.0,
+                        help='targets per second (default: %(default)g)')
+    circle.add_argument('--duration', type=float, default=math.inf,
+                        help='stop after this many seconds (default: until Ctrl-C)')
+    return parser
 
 
 def parse_arguments(argv: List[str]) -> argparse.Namespace:
     """Return the command's options from ``argv`` (ROS arguments already removed)."""
-    parser = argparse.ArgumentParser(
-        prog='mouse_target', description=__doc__.split('\n\n')[0].strip(),
-        epilog='examples: mouse_target 0.5 0 1 | mouse_target --circle --center 0 0 1 '
-               '--radius 0.3 --period 2 | add --ros-args -r target:=/clicked_point to remap')
-    parser.add_argument('point', nargs='*', type=float, metavar='X Y Z',
-                        help='one target (m), published once')
-    parser.add_argument('--frame', default='world', help='frame_id of the target (default world)')
-    parser.add_argument('--timeout', type=float, default=10.0,
-                        help='seconds to wait for a subscriber and its acknowledgement')
-    circle = parser.add_argument_group('moving target')
-    circle.add_argument('--circle', action='store_true',
-                        help='move the target around a horizontal circle until Ctrl-C')
-    circle.add_argument('--center', nargs=3, type=float, default=[0.0, 0.0, 1.0],
-                        metavar=('X', 'Y', 'Z'), help='circle centre (m, default 0 0 1)')
-    circle.add_argument('--radius', type=float, default=0.3, help='circle radius (m)')
-    circle.add_argument('--period', type=float, default=2.0,
-                        help='seconds per turn; negative turns clockwise')
-    circle.add_argument('--rate', type=float, default=50.0, help='targets per second')
-    circle.add_argument('--duration', type=float, default=math.inf,
-                        help='stop after this many seconds (default: until Ctrl-C)')
+    parser = build_parser()
     options = parser.parse_args(argv)
     if options.circle == bool(options.point):
         parser.error('give either X Y Z or --circle')
@@ -69,6 +104,32 @@ def circle_point(center: List[float], radius: float, period: float, t: float) ->
             center[2]]
 
 
+class Interrupted(Exception):
+    """SIGINT or SIGTERM came while waiting; ``signal`` is its number."""
+
+    def __init__(self, signum: int) -> None:
+        """Record the signal."""
+        super().__init__(signal.Signals(signum).name)
+        self.signal = signum
+
+
+def wait_until(condition: Callable[[], bool], deadline: float, stop: StopRequest,
+               step: Callable[[], None]) -> bool:
+    """
+    Call ``step`` (which blocks at most ``POLL_PERIOD``) until ``condition()`` holds.
+
+    :returns: whether it held before ``deadline`` (``time.monotonic()``).
+    :raises Interrupted: as soon as ``stop`` is requested.
+    """
+    while not condition():
+        if stop:
+            raise Interrupted(stop.signal)
+        if time.monotonic() > deadline:
+            return False
+        step()
+    return True
+
+
 class TargetPublisher(Node):
     """A node with one publisher on ``target``, QoS-compatible with ``mouse_constraint``."""
 
@@ -82,58 +143,131 @@ class TargetPublisher(Node):
         self.publisher.publish(
             point_message(point, frame_id, self.get_clock().now().nanoseconds))
 
-    def wait_for_subscriber(self, executor, timeout: float) -> bool:
-        """Spin until a subscriber has matched, for at most ``timeout`` seconds."""
-        deadline = time.monotonic() + timeout
-        while self.publisher.get_subscription_count() == 0:
+    def wait_for_subscriber(self, executor, deadline: float, stop: StopRequest) -> bool:
+        """
+        Spin until a subscriber has matched; return False at ``deadline`` (monotonic).
+
+        :raises Interrupted: on Ctrl-C or SIGTERM.
+        """
+        return wait_until(lambda: self.publisher.get_subscription_count() > 0, deadline, stop,
+                          lambda: executor.spin_once(timeout_sec=POLL_PERIOD))
+
+    def wait_for_ack(self, deadline: float, stop: StopRequest) -> bool:
+        """
+        Wait until every subscriber has acknowledged what was published, or ``deadline``.
+
+        Waits in slices of ``POLL_PERIOD``: Python runs signal handlers between calls, so one
+        long ``wait_for_all_acked`` would hold Ctrl-C back until it returned.
+
+        :raises Interrupted: on Ctrl-C or SIGTERM.
+        """
+        while not self.publisher.wait_for_all_acked(Duration(seconds=POLL_PERIOD)):
+            if stop:
+                raise Interrupted(stop.signal)
             if time.monotonic() > deadline:
                 return False
-            executor.spin_once(timeout_sec=0.05)
         return True
+
+    def fetch_gate(self, executor, target_node: str, deadline: float,
+                   stop: StopRequest) -> TargetGate:
+        """
+        Return the target policy of ``target_node`` from its parameter service.
+
+        :raises RuntimeError: saying why the parameters could not be read by ``deadline``.
+        :raises Interrupted: on Ctrl-C or SIGTERM.
+        """
+        client = self.create_client(GetParameters, f'{target_node}/get_parameters')
+        try:
+            def spin() -> None:
+                executor.spin_once(timeout_sec=POLL_PERIOD)
+            if not wait_until(client.service_is_ready, deadline, stop, spin):
+                raise RuntimeError(f'no parameter service {client.srv_name}')
+            future = client.call_async(
+                GetParameters.Request(names=['frame_id', 'workspace_radius']))
+            if not wait_until(future.done, deadline, stop, spin):
+                raise RuntimeError(f'{client.srv_name} did not answer')
+            values = future.result().values
+            if len(values) != 2 or values[0].type != ParameterType.PARAMETER_STRING \
+                    or values[1].type != ParameterType.PARAMETER_DOUBLE:
+                raise RuntimeError(f'{target_node} has no string frame_id and double '
+                                   'workspace_radius parameters')
+            return TargetGate(values[0].string_value, values[1].double_value)
+        finally:
+            self.destroy_client(client)
 
 
 def main(args: Optional[List[str]] = None) -> int:
-    """Publish one target or a moving one; return 0 on success, 1 when nobody listened."""
+    """
+    Publish one target or a moving one.
+
+    :returns: 0 on success; 1 when nobody listened or the node would refuse the target;
+        128 + the signal number when SIGINT or SIGTERM came before anything was published.
+    """
     argv = sys.argv if args is None else args
     options = parse_arguments(remove_ros_args(argv)[1:])
     rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
     node = TargetPublisher()
+    logger = node.get_logger()
     executor = SingleThreadedExecutor(context=node.context)
     executor.add_node(node)
     topic = node.publisher.topic_name
+    deadline = time.monotonic() + options.timeout
     try:
-        if not node.wait_for_subscriber(executor, options.timeout):
-            node.get_logger().error(
-                f'no subscriber on {topic} after {options.timeout:g} s: is mouse_constraint '
-                'running with the same ROS_DOMAIN_ID, namespace and remappings?')
-            return 1
-        if not options.circle:
-            node.publish_point(options.point, options.frame)
-            if not node.publisher.wait_for_all_acked(Duration(seconds=options.timeout)):
-                node.get_logger().error(f'target on {topic} was not acknowledged in '
-                                        f'{options.timeout:g} s')
-                return 1
-            node.get_logger().info(f'target {tuple(options.point)} in {options.frame!r} '
-                                   f'received on {topic}')
-            return 0
-        start = time.monotonic()
-        node.get_logger().info(
-            f'circling {tuple(options.center)} at radius {options.radius:g} m, '
-            f'{abs(options.period):g} s per turn, {options.rate:g} Hz on {topic}; Ctrl-C stops')
-
-        def tick() -> None:
-            node.publish_point(circle_point(options.center, options.radius, options.period,
-                                            time.monotonic() - start), options.frame)
-
-        node.create_timer(1.0 / options.rate, tick)
-        tick()
         with StopRequest() as stop:
+            try:
+                logger.info(f'waiting up to {options.timeout:g} s for a subscriber on {topic}')
+                if not node.wait_for_subscriber(executor, deadline, stop):
+                    logger.error(
+                        f'no subscriber on {topic} after {options.timeout:g} s: is '
+                        'mouse_constraint running with the same ROS_DOMAIN_ID, namespace and '
+                        'remappings?')
+                    return 1
+                frame = options.frame
+                try:
+                    gate = node.fetch_gate(executor, options.node, deadline, stop)
+                except RuntimeError as error:
+                    logger.warning(f'cannot check the target against {options.node}: {error} '
+                                   f'within {options.timeout:g} s (is --node right?); '
+                                   'publishing it unchecked')
+                    gate = None
+                if frame is None:
+                    frame = FALLBACK_FRAME if gate is None else gate.frame_id
+                if gate is not None:
+                    refusal = (gate.circle_refusal(frame, options.center, options.radius)
+                               if options.circle else gate.refusal(frame, options.point))
+                    if refusal is not None:
+                        logger.error(f'{options.node} would ignore target {refusal.reason}; '
+                                     'nothing published')
+                        return 1
+                if not options.circle:
+                    node.publish_point(options.point, frame)
+                    if not node.wait_for_ack(deadline, stop):
+                        logger.error(f'target on {topic} was not acknowledged in '
+                                     f'{options.timeout:g} s')
+                        return 1
+                    logger.info(f'target {tuple(options.point)} in {frame!r} received on '
+                                f'{topic}')
+                    return 0
+            except Interrupted as interrupted:
+                return 128 + interrupted.signal
+            start = time.monotonic()
+            logger.info(
+                f'circling {tuple(options.center)} at radius {options.radius:g} m in '
+                f'{frame!r}, {abs(options.period):g} s per turn, {options.rate:g} Hz on {topic};'
+                ' Ctrl-C stops')
+
+            def tick() -> None:
+                node.publish_point(circle_point(options.center, options.radius, options.period,
+                                                time.monotonic() - start), frame)
+
+            node.create_timer(1.0 / options.rate, tick)
+            tick()
+            # Ctrl-C is how a moving target ends: exit 0.
             while not stop and time.monotonic() - start < options.duration:
                 executor.spin_once(timeout_sec=0.1)
-        return 0
-    except (KeyboardInterrupt, ExternalShutdownException):
-        # Ctrl-C is how a moving target ends; a one-shot target it interrupts.
-        return 0 if options.circle else 130
+            return 0
+    except ExternalShutdownException:
+        return 1
     finally:
         node.destroy_node()
         rclpy.try_shutdown()

@@ -31,9 +31,10 @@ import yaml
 
 from mouse_constraint_ros.conversions import point_message, stamp_nanoseconds
 from mouse_constraint_ros.node import MouseConstraintNode
-from mouse_constraint_ros.recorder import (COLUMNS, FIGURE_DPI, FIGURE_INCHES,
-                                           message_definition, parse_arguments, Progress,
-                                           progress_bar, Received, schema_name, tick_rows)
+from mouse_constraint_ros.recorder import (check_writable, COLUMNS, FIGURE_DPI, FIGURE_INCHES,
+                                           message_definition, output_paths, parse_arguments,
+                                           Progress, progress_bar, Received, schema_name,
+                                           tick_rows)
 
 BIN = Path(sys.executable).parent
 ANCHOR = (0.1, -0.05, 0.02)
@@ -283,7 +284,7 @@ def test_progress_bar_and_lines_off_a_terminal():
 
 @pytest.mark.parametrize('arguments', [
     ['--duration', '0'], ['--duration', 'inf'], ['--anchor', '0', 'nan', '0'], ['--anchor', '1'],
-    ['--timeout', '-1'], ['extra'],
+    ['--timeout', '-1'], ['extra'], ['--output', '/'], ['--output', '.'],
 ])
 def test_bad_arguments_are_usage_errors(arguments, capsys):
     """Invalid durations, anchors and timeouts exit 2 with the usage."""
@@ -321,3 +322,56 @@ def test_ctrl_c_ends_the_recording_early_and_keeps_it(harness, tmp_path):
     rows = read_csv(prefix.with_suffix('.csv'))
     assert 0.2 * RATE < len(rows) < 10 * RATE
     assert prefix.with_suffix('.png').is_file() and not prefix.with_suffix('.mcap').exists()
+
+
+def unwritable_outputs(tmp_path: Path) -> list:
+    """Return (arguments, the path that fails) for outputs that cannot be written."""
+    a_file = tmp_path / 'a_file'
+    a_file.write_text('kept')
+    (tmp_path / 'png_is_a_directory.png').mkdir()
+    (tmp_path / 'mcap_is_a_directory.mcap').mkdir()
+    cases = [
+        (['-o', str(a_file / 'run')], a_file / 'run.csv'),
+        (['-o', str(a_file / 'sub' / 'run')], a_file / 'sub'),
+        (['-o', str(tmp_path / 'png_is_a_directory')], tmp_path / 'png_is_a_directory.png'),
+        (['-o', str(tmp_path / 'mcap_is_a_directory'), '--mcap'],
+         tmp_path / 'mcap_is_a_directory.mcap'),
+    ]
+    if Path('/proc/self').is_dir():
+        cases.append((['-o', '/proc/run'], Path('/proc/run.csv')))
+    return cases
+
+
+def tree(root: Path) -> dict:
+    """Return every path under ``root`` with its content (None for directories)."""
+    return {path: None if path.is_dir() else path.read_bytes() for path in root.rglob('*')}
+
+
+def test_unwritable_output_fails_before_recording(tmp_path):
+    """
+    Exit 1 with one line naming the path, before any waiting; the file system as it was.
+
+    The duration and the timeouts are long and no node runs: only a check made before
+    recording can end the command before ``subprocess.run``'s timeout.
+    """
+    cases = unwritable_outputs(tmp_path)
+    before = tree(tmp_path)
+    for arguments, failing in cases:
+        result = subprocess.run(
+            [str(BIN / 'mouse_record'), '--duration', '600', '--timeout', '600', '--anchor',
+             '0', '0', '0', *arguments], capture_output=True, text=True, timeout=60)
+        assert result.returncode == 1, (arguments, result.stderr)
+        [line] = result.stderr.strip().splitlines()
+        assert line.startswith(f'mouse_record: cannot write {failing}: '), line
+        assert tree(tmp_path) == before, arguments
+
+
+def test_check_writable_leaves_nothing_behind(tmp_path):
+    """A writable prefix passes; the directories and files the check made are gone again."""
+    existing = tmp_path / 'run.csv'
+    existing.write_text('old')
+    check_writable(output_paths(tmp_path / 'run', mcap=True))
+    check_writable(output_paths(tmp_path / 'new' / 'deeper' / 'run', mcap=False))
+    assert tree(tmp_path) == {existing: b'old'}
+    assert [p.name for p in output_paths(Path('x/run'), mcap=True)] == [
+        'run.csv', 'run.png', 'run.mcap']

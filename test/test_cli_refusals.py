@@ -1,0 +1,173 @@
+"""
+The CLIs as separate processes: refusals with a reason, signals, and plain help.
+
+``mouse_target`` refuses what the node would ignore, says why and exits 1; it stops at once on
+SIGINT, even started with SIGINT ignored (a background job of a script); and both commands'
+``--help`` is plain text naming every default.
+"""
+
+import argparse
+import math
+from pathlib import Path
+import signal
+import subprocess
+import sys
+import threading
+
+from geometry_msgs.msg import PointStamped
+import pytest
+from rclpy.parameter import Parameter
+
+from mouse_constraint_ros import recorder, target_cli
+from mouse_constraint_ros.node import MouseConstraintNode
+from mouse_constraint_ros.target_gate import TargetGate
+
+BIN = Path(sys.executable).parent
+FRAME = 'odom'
+RADIUS = 2.0
+# Long enough that a command which misses a signal or a refusal is caught by its exit status,
+# not by this timeout (only there so that a hang fails instead of blocking the run).
+LONG = 60.0
+
+
+def run_while_spinning(ros, command, timeout=30.0) -> subprocess.CompletedProcess:
+    """Run ``command`` to completion while the in-process nodes spin; return its result."""
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                               text=True)
+    try:
+        assert ros.spin_until(lambda: process.poll() is not None, timeout=timeout), command
+    finally:
+        if process.poll() is None:
+            process.kill()
+    stdout, stderr = process.communicate()
+    return subprocess.CompletedProcess(command, process.returncode, stdout, stderr)
+
+
+@pytest.fixture
+def node(ros):
+    """Start the node in-process in frame FRAME with workspace_radius RADIUS."""
+    return ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
+        Parameter('rate_hz', value=100.0), Parameter('frame_id', value=FRAME),
+        Parameter('workspace_radius', value=RADIUS), Parameter('marker_rate_hz', value=0.0),
+        Parameter('diagnostics_rate_hz', value=0.0)]))
+
+
+def error_lines(stderr: str) -> list:
+    """Return the lines of ``stderr`` logged at ERROR."""
+    return [line for line in stderr.splitlines() if line.startswith('[ERROR]')]
+
+
+@pytest.mark.parametrize('arguments', [
+    ['1e9', '0', '0'],
+    [str(RADIUS), '0', '0.001'],
+    ['0', '0', '1', '--frame', 'map'],
+    ['--circle', '--center', '1.8', '0', '0.5', '--radius', '0.3', '--duration', str(LONG)],
+    ['--circle', '--center', '0', '0', '1', '--frame', 'world', '--duration', str(LONG)],
+])
+def test_target_the_node_would_ignore_is_refused_with_the_reason(ros, node, arguments):
+    """Exit 1, one error line with the gate's reason, and the node never got a target."""
+    received = ros.collect(PointStamped, 'target')
+    before = node.simulation.target
+    result = run_while_spinning(ros, [str(BIN / 'mouse_target'), *arguments, '--timeout',
+                                      str(LONG)])
+    ros.spin_for(0.2)
+    options = target_cli.parse_arguments(arguments)
+    gate = TargetGate(FRAME, RADIUS)
+    frame = options.frame or FRAME
+    refusal = (gate.circle_refusal(frame, options.center, options.radius) if options.circle
+               else gate.refusal(frame, options.point))
+    assert refusal is not None
+    assert result.returncode == 1, result.stderr
+    [line] = error_lines(result.stderr)
+    assert refusal.reason in line and 'nothing published' in line
+    assert 'Traceback' not in result.stderr
+    assert received == [] and node.simulation.target == before
+
+
+def test_target_without_frame_is_published_in_the_node_s_frame(ros, node):
+    """No --frame: the target goes out in the node's frame_id, and the node takes it."""
+    received = ros.collect(PointStamped, 'target')
+    result = run_while_spinning(ros, [str(BIN / 'mouse_target'), '0.5', '0', '1'])
+    assert result.returncode == 0, result.stderr
+    assert ros.spin_until(lambda: received)
+    assert received[-1].header.frame_id == FRAME
+    assert node.simulation.target == (0.5, 0.0, 1.0)
+
+
+def test_circle_inside_the_workspace_runs(ros, node):
+    """A circle whose farthest point is inside the workspace circles for its duration."""
+    received = ros.collect(PointStamped, 'target')
+    result = run_while_spinning(ros, [str(BIN / 'mouse_target'), '--circle', '--center', '1.6',
+                                      '0', '0.5', '--radius', '0.3', '--duration', '0.5'])
+    assert result.returncode == 0, result.stderr
+    assert received and all(m.header.frame_id == FRAME for m in received)
+
+
+def test_unanswered_parameters_are_said_and_the_target_still_goes_out(ros):
+    """A subscriber but no parameter service: a warning, then the target, unchecked; exit 0."""
+    received = ros.collect(PointStamped, 'target')
+    result = run_while_spinning(ros, [str(BIN / 'mouse_target'), '1e9', '0', '0', '--node',
+                                      'nobody_here', '--timeout', '1'])
+    assert result.returncode == 0, result.stderr
+    assert 'no parameter service nobody_here/get_parameters' in result.stderr
+    assert 'publishing it unchecked' in result.stderr
+    assert ros.spin_until(lambda: received)
+    assert received[-1].point.x == 1e9 and received[-1].header.frame_id == 'world'
+
+
+def ignore_sigint() -> None:
+    """Start with SIGINT ignored, as a shell starts a background job of a script."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+@pytest.mark.parametrize('inherited', [signal.SIG_DFL, signal.SIG_IGN], ids=['default', 'ignored'])
+def test_sigint_while_waiting_for_a_subscriber_exits_130_at_once(inherited):
+    """No node: SIGINT during the wait ends the one-shot command with 130, no traceback."""
+    process = subprocess.Popen(
+        [str(BIN / 'mouse_target'), '0', '0', '1', '--timeout', str(LONG)],
+        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+        preexec_fn=ignore_sigint if inherited == signal.SIG_IGN else None)
+    lines = []
+    waiting = threading.Event()
+
+    def read() -> None:
+        for line in process.stderr:
+            lines.append(line)
+            if 'waiting up to' in line:
+                waiting.set()
+    reader = threading.Thread(target=read, daemon=True)
+    reader.start()
+    try:
+        assert waiting.wait(timeout=LONG / 2), ''.join(lines)
+        process.send_signal(signal.SIGINT)
+        returncode = process.wait(timeout=LONG / 2)
+    finally:
+        if process.poll() is None:
+            process.kill()
+        process.wait()
+        reader.join(timeout=5.0)
+    stderr = ''.join(lines)
+    assert returncode == 128 + signal.SIGINT, stderr
+    assert 'Traceback' not in stderr and 'no subscriber' not in stderr
+
+
+@pytest.mark.parametrize('module, executable', [(target_cli, 'mouse_target'),
+                                                (recorder, 'mouse_record')])
+def test_help_is_plain_text_and_names_every_default(module, executable):
+    """No reST backticks in --help; each option's help says its default, numbers as set."""
+    result = subprocess.run([str(BIN / executable), '--help'], capture_output=True, text=True,
+                            timeout=30)
+    assert result.returncode == 0, result.stderr
+    assert '`' not in result.stdout
+    parser = module.build_parser()
+    compact = ''.join(result.stdout.split())
+    actions = [a for a in parser._actions if not isinstance(a, argparse._HelpAction)]
+    assert actions
+    for action in actions:
+        text = action.help % dict(vars(action), prog=parser.prog)
+        assert 'default' in text, action.dest
+        assert ''.join(text.split()) in compact, action.dest
+        defaults = action.default if isinstance(action.default, list) else [action.default]
+        for value in defaults:
+            if isinstance(value, float) and math.isfinite(value):
+                assert f'{value:g}' in text, action.dest

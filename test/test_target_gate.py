@@ -1,0 +1,100 @@
+"""
+``TargetGate``: the node's target policy as plain data, and the same verdicts as the node.
+
+The node is asked directly: each target goes through its ``_on_target`` and the test sees
+whether the simulation took it and under which throttling key it was refused.
+"""
+
+import dataclasses
+import itertools
+import math
+
+from geometry_msgs.msg import PointStamped
+import numpy as np
+import pytest
+from rclpy.parameter import Parameter
+
+from mouse_constraint_ros.node import MouseConstraintNode
+from mouse_constraint_ros.target_cli import circle_point
+from mouse_constraint_ros.target_gate import REASONS, TargetGate
+
+FRAME = 'odom'
+RADIUS = 5.0
+BEYOND = math.nextafter(RADIUS, math.inf)
+FRAMES = ['', FRAME, 'world', 'Odom', ' odom']
+POINTS = [(0.0, 0.0, 1.0), (3.0, 4.0, 0.0), (0.0, 0.0, -RADIUS), (BEYOND, 0.0, 0.0),
+          (3.0, 4.0, 1e-6), (1e9, 0.0, 0.0), (math.nan, 0.0, 0.0), (0.0, math.inf, 0.0),
+          (0.0, 0.0, -math.inf)]
+SENTINEL = (0.125, -0.25, 0.5)
+
+
+def node_verdict(node: MouseConstraintNode, frame: str, point) -> tuple:
+    """Return (taken, refusal keys) of the node's target callback for one target."""
+    keys = []
+    node._warn = lambda key, _message: keys.append(key)
+    node.simulation.target = SENTINEL
+    message = PointStamped()
+    message.header.frame_id = frame
+    message.point.x, message.point.y, message.point.z = point
+    node._on_target(message)
+    return node.simulation.target != SENTINEL, keys
+
+
+def test_gate_gives_the_node_s_verdict_for_every_frame_and_point(ros):
+    """Taken by the node exactly when the gate returns None; else refused under the gate's key."""
+    node = ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
+        Parameter('frame_id', value=FRAME), Parameter('workspace_radius', value=RADIUS),
+        Parameter('marker_rate_hz', value=0.0), Parameter('diagnostics_rate_hz', value=0.0)]))
+    gate = TargetGate(FRAME, RADIUS)
+    verdicts = set()
+    for frame, point in itertools.product(FRAMES, POINTS):
+        refusal = gate.refusal(frame, point)
+        taken, keys = node_verdict(node, frame, point)
+        assert taken == (refusal is None), (frame, point)
+        assert keys == ([] if refusal is None else [refusal.key]), (frame, point)
+        verdicts.add(None if refusal is None else refusal.key)
+    # The cases reach every verdict.
+    assert verdicts == {None, *REASONS}
+
+
+def test_refusal_reasons_say_why():
+    """Frame before finiteness before the workspace, each reason naming what failed."""
+    gate = TargetGate('world', 10000.0)
+    assert gate.refusal('map', (math.nan, 0.0, 0.0)) == (
+        'frame', "in frame 'map': this node works in 'world' (no tf lookup is made)")
+    finite = gate.refusal('', (math.inf, 0.0, 1e9))
+    assert finite.key == 'finite' and str((math.inf, 0.0, 1e9)) in finite.reason
+    far = gate.refusal('world', (1e9, 0.0, 0.0))
+    assert far.key == 'workspace' and str((1e9, 0.0, 0.0)) in far.reason
+    assert f'workspace_radius {gate.workspace_radius:g} m' in far.reason
+    assert gate.refusal('', [1, 2, 3]) is None
+
+
+def test_gate_is_a_frozen_value():
+    """Equal settings give equal gates; a gate cannot be changed after the node made it."""
+    gate = TargetGate('world', 1.0)
+    assert gate == TargetGate('world', 1.0) and hash(gate) == hash(TargetGate('world', 1.0))
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        gate.workspace_radius = 2.0
+
+
+@pytest.mark.parametrize('center', [(3.0, -4.0, 2.0), (0.0, 0.0, 1.0), (-0.5, 0.0, -7.0)])
+def test_circle_is_taken_exactly_when_its_farthest_point_is_inside(center):
+    """The workspace test of a circle holds at its extent, |(|c_xy| + r, c_z)|, either way."""
+    radius = 0.75
+    extent = math.hypot(math.hypot(center[0], center[1]) + radius, center[2])
+    inside = TargetGate('world', extent * (1.0 + 1e-12))
+    outside = TargetGate('world', extent * (1.0 - 1e-12))
+    assert inside.circle_refusal('world', center, radius) is None
+    refusal = outside.circle_refusal('', center, radius)
+    assert refusal.key == 'workspace' and f'radius {radius:g} m' in refusal.reason
+    # Every point the circle mode publishes passes the gate that took the circle.
+    samples = [circle_point(list(center), radius, 1.0, t) for t in np.linspace(0.0, 1.0, 721)]
+    assert all(inside.refusal('', point) is None for point in samples)
+    assert max(math.hypot(*point) for point in samples) == pytest.approx(extent, rel=1e-5)
+
+
+def test_circle_in_a_foreign_frame_is_refused_for_its_frame():
+    """The frame is checked before the extent, with the same reason as for one target."""
+    gate = TargetGate('world', 1.0)
+    assert gate.circle_refusal('map', (0.0, 0.0, 0.5), 0.1) == gate.refusal('map', (0, 0, 0))
