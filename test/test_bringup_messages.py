@@ -34,7 +34,7 @@ def random_states(count: int, seed: int):
 
 
 def vector(message) -> np.ndarray:
-    """Return the x, y, z fields of a Point, Vector3 or Quaternion-less message as an array."""
+    """Return the x, y, z fields of a ``Point`` or ``Vector3`` as an array."""
     return np.array([message.x, message.y, message.z])
 
 
