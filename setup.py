@@ -14,6 +14,8 @@ setup(
         ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
         ('share/' + package_name, ['package.xml']),
         ('share/' + package_name + '/config', sorted(glob('config/*.yaml'))),
+        ('share/' + package_name + '/launch', sorted(glob('launch/*.launch.py'))),
+        ('share/' + package_name + '/rviz', sorted(glob('rviz/*.rviz'))),
     ],
     # The ROS 2 Python packages (rclpy, message packages) are deliberately NOT
     # listed here: on an apt ROS install they come from the system, and for a

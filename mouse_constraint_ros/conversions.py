@@ -6,10 +6,11 @@ per-tick path builds no message objects (rclpy serializes on ``publish``, so reu
 """
 
 from builtin_interfaces.msg import Time
-from geometry_msgs.msg import Point, PointStamped, PoseStamped, TwistStamped
+from geometry_msgs.msg import Point, PointStamped, PoseStamped, TransformStamped, TwistStamped
+from nav_msgs.msg import Odometry
 
 from .physics import BodyState
-from .physics.rotation import Vector3
+from .physics.rotation import multiply_transposed, rotation_matrix, Vector3
 
 NANOSECONDS_PER_SECOND = 1_000_000_000
 
@@ -63,3 +64,74 @@ def state_from_messages(pose: PoseStamped, twist: TwistStamped) -> BodyState:
 def fill_point(message: Point, vector: Vector3) -> None:
     """Write a 3-vector of floats into a ``geometry_msgs/Point`` (or Vector3: any x, y, z)."""
     message.x, message.y, message.z = vector
+
+
+def fill_transform(message: TransformStamped, state: BodyState) -> None:
+    """
+    Write the body's pose into a ``TransformStamped`` from ``frame_id`` to the body frame.
+
+    The translation is the COM position and the rotation the orientation (x, y, z, w), so the
+    transform maps body-frame coordinates to ``frame_id`` coordinates: the body frame's origin
+    is the COM, as in ``BodyState``. The header and ``child_frame_id`` are left to the caller,
+    who sets the frame ids once and the stamp per tick.
+    """
+    translation, rotation = message.transform.translation, message.transform.rotation
+    translation.x, translation.y, translation.z = state.position
+    rotation.x, rotation.y, rotation.z, rotation.w = state.orientation
+
+
+def transform_message(state: BodyState, *, frame_id: str, body_frame_id: str,
+                      nanoseconds: int) -> TransformStamped:
+    """
+    Return the ``TransformStamped`` ``frame_id`` -> ``body_frame_id`` of ``state``.
+
+    :param state: the body state (world-frame velocities are not used).
+    :param frame_id: the parent frame, the node's ``frame_id``.
+    :param body_frame_id: the child frame, attached to the body at its COM.
+    :param nanoseconds: the stamp in integer nanoseconds.
+    """
+    message = TransformStamped()
+    message.header.frame_id = frame_id
+    message.child_frame_id = body_frame_id
+    set_stamp(message.header.stamp, nanoseconds)
+    fill_transform(message, state)
+    return message
+
+
+def fill_odometry(message: Odometry, state: BodyState) -> None:
+    """
+    Write the COM pose and the body-frame twist of ``state`` into an ``Odometry``.
+
+    nav_msgs/Odometry gives its pose in ``header.frame_id`` and its twist in
+    ``child_frame_id``, the body frame. ``BodyState`` holds both velocities in the world frame,
+    so they are rotated into the body frame: v_body = R^T v_world, w_body = R^T w_world, with R
+    the body's rotation matrix. The ``twist`` topic (``fill_twist``) keeps the world frame.
+    The covariances are left as the caller set them (all zeros by default: the state is exact).
+    The header and ``child_frame_id`` are left to the caller, like ``fill_transform``.
+    """
+    pose = message.pose.pose
+    position, orientation = pose.position, pose.orientation
+    position.x, position.y, position.z = state.position
+    orientation.x, orientation.y, orientation.z, orientation.w = state.orientation
+    rotation = rotation_matrix(state.orientation)
+    linear, angular = message.twist.twist.linear, message.twist.twist.angular
+    linear.x, linear.y, linear.z = multiply_transposed(state.linear_velocity, rotation)
+    angular.x, angular.y, angular.z = multiply_transposed(state.angular_velocity, rotation)
+
+
+def odometry_message(state: BodyState, *, frame_id: str, body_frame_id: str,
+                     nanoseconds: int) -> Odometry:
+    """
+    Return the ``Odometry`` of ``state``: pose in ``frame_id``, twist in ``body_frame_id``.
+
+    :param state: the body state, velocities in the world frame.
+    :param frame_id: ``header.frame_id``, the frame of the pose (the node's ``frame_id``).
+    :param body_frame_id: ``child_frame_id``, the body frame the twist is expressed in.
+    :param nanoseconds: the stamp in integer nanoseconds.
+    """
+    message = Odometry()
+    message.header.frame_id = frame_id
+    message.child_frame_id = body_frame_id
+    set_stamp(message.header.stamp, nanoseconds)
+    fill_odometry(message, state)
+    return message
