@@ -50,7 +50,10 @@ NODE_NAME = 'mouse_constraint'
 MAX_CATCH_UP_SECONDS = 0.1
 # Run ticks for at most this much wall time in one timer callback; the rest of the due ticks are
 # dropped. The executor is single-threaded: this bounds how long a service or parameter call
-# waits behind the physics, whatever one tick costs (substeps).
+# waits behind the physics, whatever one tick costs (substeps). A callback that reaches the
+# budget is followed by as long a rest, in which due ticks are dropped at once: the physics
+# then has at most half of the wall time, and the timer events that queued up meanwhile are
+# cleared in microseconds instead of each running ticks in turn.
 CALLBACK_BUDGET_SECONDS = 0.05
 # Weight of the newest callback in the running estimate of one tick's wall time.
 TICK_COST_WEIGHT = 0.25
@@ -206,6 +209,8 @@ class MouseConstraintNode(Node):
         self.drop_cause: Optional[str] = None
         # Running estimate of one tick's wall time (s), 0 before the first tick.
         self._tick_seconds = 0.0
+        # perf_counter() until which due ticks are dropped, after a callback over its budget.
+        self._rest_until = -math.inf
         # Which clock the grid runs on: simulated (True) or system time.
         self._grid_sim_time = self.get_clock().ros_time_is_active
         # Timers that must run while a simulated clock stands still or has not started.
@@ -358,17 +363,30 @@ class MouseConstraintNode(Node):
         if due.dropped:
             self._drop(due.dropped, f'more than the {MAX_CATCH_UP_SECONDS:g} s catch-up bound '
                        'was missed')
+        self._release_if_timed_out(now)
+        if count and time.perf_counter() < self._rest_until:
+            # Resting after a callback that spent its budget: the executor's queue (timer
+            # events keep coming at the rate while ticks run) drains, services get their turn.
+            self._drop(count, self._budget_cause(self._tick_seconds))
+            return
         # What fits in the wall budget at the estimated cost runs; the oldest of the rest are
         # dropped, so that the newest state is the one published.
+        over_budget = False
         if self._tick_seconds > 0.0:
             fits = max(1, int(CALLBACK_BUDGET_SECONDS / self._tick_seconds))
             if count > fits:
+                over_budget = True
                 self._drop(count - fits, self._budget_cause(self._tick_seconds))
                 first, count = first + count - fits, fits
-        self._release_if_timed_out(now)
+        started = time.perf_counter()
         ran = self._run_ticks(first, count)
         if ran < count:
+            over_budget = True
             self._drop(count - ran, self._budget_cause(self._tick_seconds))
+        if over_budget:
+            # The physics cannot keep the rate: it gets at most half of the wall time.
+            finished = time.perf_counter()
+            self._rest_until = finished + (finished - started)
         if ran > 1:
             self.late_ticks += ran - 1
         self.ticks_run += ran
