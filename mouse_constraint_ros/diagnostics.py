@@ -11,13 +11,21 @@ check                              OK                 WARN                 ERROR
 =================================  =================  ===================  ==============
 achieved / requested rate (*)      >= 0.99            < 0.99               < 0.9
 ticks run late (in catch-up)       <= 25 % of them    > 25 %
-clock jumped backwards             no                 yes, in the window
+clock restarted (**)               no                 yes, in the window
+waiting for the first /clock       no                 yes
 anchor error (m)                   < anchor_warn      >= anchor_warn       >= anchor_error
 constraint force (N)               < max_force        >= 0.999 max_force
 target age, if target_timeout > 0  < timeout / 2      >= timeout / 2
 =================================  =================  ===================  ==============
 
 (*) allowing one tick of jitter at the window's edges: (ticks + 1) / (seconds * rate_hz).
+(**) the clock jumped backwards (a /clock replay restarting) or changed source (``use_sim_time``
+flipped): the node restarts its tick grid there, with no catch-up and no ticks dropped.
+
+Dropped ticks are named with their cause: missed time beyond the catch-up bound, or a timer
+callback that reached its wall-time budget (a tick costs more than the node can run at
+``rate_hz``, e.g. many substeps). With ``use_sim_time`` and no /clock yet the node's clock reads
+zero and no tick runs: the rate status says what it waits for instead of "measuring".
 
 ``anchor_warn`` and ``anchor_error`` come from the node's parameters (``diagnostics_anchor_warn``,
 ``diagnostics_anchor_error``); a non-finite anchor error is an ERROR. The anchor error, force and
@@ -123,19 +131,27 @@ def _status(name: str, hardware_id: str, level: bytes, problems: List[str], fine
 
 
 def rate_status(name: str, hardware_id: str, rate_hz: float, window: Optional[Window],
-                totals: TickCounters, thresholds: Thresholds = Thresholds()) -> DiagnosticStatus:
+                totals: TickCounters, thresholds: Thresholds = Thresholds(), *,
+                drop_cause: Optional[str] = None,
+                waiting_for: Optional[str] = None) -> DiagnosticStatus:
     """
     Return the tick-rate status: requested vs achieved rate, late and dropped ticks.
 
-    :param name: the status name, ``<node>: rate``.
+    :param name: the status name, ``<fully qualified node name>: rate``.
     :param hardware_id: the status's hardware_id.
     :param rate_hz: the requested rate (the ``rate_hz`` parameter).
     :param window: the last window, or None when there is none yet (OK, "measuring").
     :param totals: the counters since the node started.
     :param thresholds: where the levels change.
+    :param drop_cause: why ticks were last dropped, or None if none ever were.
+    :param waiting_for: what keeps the clock from running (WARN), e.g.
+        ``'/clock on /clock'``, or None.
     """
     level, problems = OK, []
     achieved = None
+    if waiting_for is not None:
+        level = WARN
+        problems.append(f'waiting for {waiting_for}: no tick runs until it comes')
     if window is None:
         fine = 'measuring'
     else:
@@ -145,14 +161,17 @@ def rate_status(name: str, hardware_id: str, rate_hz: float, window: Optional[Wi
         share = min(1.0, (window.ticks + 1) / expected)
         if share < thresholds.rate_warn:
             level = ERROR if share < thresholds.rate_error else WARN
-            problems.append(f'achieved {achieved:.1f} of {rate_hz:g} Hz'
-                            + (f' ({window.dropped} ticks dropped)' if window.dropped else ''))
+            dropped = ''
+            if window.dropped:
+                dropped = f' ({window.dropped} ticks dropped' + (
+                    f': {drop_cause})' if drop_cause else ')')
+            problems.append(f'achieved {achieved:.1f} of {rate_hz:g} Hz' + dropped)
         if window.ticks and window.late > thresholds.late_warn * window.ticks:
             level = max(level, WARN)
             problems.append(f'{100.0 * window.late / window.ticks:.0f} % of ticks ran late')
         if window.clock_restarts:
             level = max(level, WARN)
-            problems.append('clock jumped backwards')
+            problems.append('clock restarted (jumped backwards or changed source)')
     values = [KeyValue(key='requested rate (Hz)', value=_value(rate_hz)),
               KeyValue(key='achieved rate (Hz)', value=_value(achieved))]
     values += [KeyValue(key=key, value=_value(None if window is None else window[index]))
@@ -161,6 +180,7 @@ def rate_status(name: str, hardware_id: str, rate_hz: float, window: Optional[Wi
         KeyValue(key='late ticks since start', value=str(totals.late)),
         KeyValue(key='dropped ticks since start', value=str(totals.dropped)),
         KeyValue(key='clock restarts since start', value=str(totals.clock_restarts)),
+        KeyValue(key='last drop cause', value=drop_cause or 'n/a'),
     ]
     return _status(name, hardware_id, level, problems, fine, values)
 
@@ -172,7 +192,7 @@ def constraint_status(name: str, hardware_id: str, target_kind: str, target: Opt
     """
     Return the constraint status: anchor error, constraint force, target and its age.
 
-    :param name: the status name, ``<node>: constraint``.
+    :param name: the status name, ``<fully qualified node name>: constraint``.
     :param hardware_id: the status's hardware_id.
     :param target_kind: ``USER_TARGET``, ``INITIAL_ANCHOR`` or ``NO_TARGET``.
     :param target: the target (m), or None.

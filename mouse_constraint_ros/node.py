@@ -3,20 +3,31 @@ The ``mouse_constraint`` node: parameters, topics, services and the fixed-rate t
 
 It holds no physics: a ``MouseSimulation`` does the stepping, ``TickGrid`` says which ticks are
 due, ``configuration`` validates parameters and ``conversions`` fills the messages.
+
+Start-up refuses what it cannot run with one FATAL line tagged with the node's real name and
+exit 1: a parameter of the wrong type or out of its declared range, a configuration that is not
+valid as a whole, or a params file rcl cannot read. Unknown keys in the parameters given to the
+node are not an error (one file may serve several nodes) but are warned about, with the nearest
+known name.
 """
 
+import difflib
 import math
+import re
 import sys
 import time
-from typing import Any, Callable, Dict, List, Optional, Tuple
+from typing import Any, Callable, Dict, List, NoReturn, Optional, Sequence, Tuple
 
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
 from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescriptor,
                                 SetParametersResult)
 import rclpy
+from rclpy.clock import Clock, ClockType
+from rclpy.exceptions import ParameterException
 from rclpy.executors import ExternalShutdownException
 from rclpy.experimental import EventsExecutor
+from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
@@ -24,7 +35,7 @@ from rclpy.signals import SignalHandlerOptions
 from std_srvs.srv import Trigger
 from visualization_msgs.msg import MarkerArray
 
-from .configuration import configuration_from, PARAMETERS
+from .configuration import configuration_from, Parameter as Declaration, PARAMETERS
 from .conversions import (fill_pose, fill_twist, point_from_message, set_stamp,
                           stamp_nanoseconds)
 from .diagnostics import (constraint_status, diagnostic_array, INITIAL_ANCHOR, NO_TARGET,
@@ -37,8 +48,21 @@ from .tick_grid import TickGrid
 NODE_NAME = 'mouse_constraint'
 # Catch up on at most this much missed time in one timer callback; older ticks are dropped.
 MAX_CATCH_UP_SECONDS = 0.1
+# Run ticks for at most this much wall time in one timer callback; the rest of the due ticks are
+# dropped. The executor is single-threaded: this bounds how long a service or parameter call
+# waits behind the physics, whatever one tick costs (substeps). A callback that reaches the
+# budget is followed by as long a rest, in which due ticks are dropped at once: the physics
+# then has at most half of the wall time, and the timer events that queued up meanwhile are
+# cleared in microseconds instead of each running ticks in turn.
+CALLBACK_BUDGET_SECONDS = 0.05
+# Weight of the newest callback in the running estimate of one tick's wall time.
+TICK_COST_WEIGHT = 0.25
 # Throttle period of the warnings about bad input and missed rate (s).
 WARN_PERIOD = 2.0
+# Period (s, steady clock) of the check that a simulated clock has started.
+CLOCK_WATCH_PERIOD = 1.0
+# Parameters rclpy declares or reads by itself; not unknown keys.
+RCLPY_PARAMETER_PREFIXES = ('use_sim_time', 'start_type_description_service', 'qos_overrides.')
 
 # The target subscription: RELIABLE so that `ros2 topic pub`, RViz's Publish Point tool and
 # `mouse_target` (all RELIABLE) connect and a one-shot target is acknowledged; depth 1 because
@@ -49,6 +73,91 @@ TARGET_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
                         reliability=ReliabilityPolicy.RELIABLE)
 STATE_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
                        reliability=ReliabilityPolicy.RELIABLE)
+
+
+class StartupRefusal(ValueError):
+    """
+    The node cannot start with what it was given; the message says what and why.
+
+    :param logger_name: the logger of the node that refuses, with its real (remapped) name.
+    :param reason: one line naming the parameter and the reason.
+    """
+
+    def __init__(self, logger_name: str, reason: str) -> None:
+        """Keep the logger name next to the reason."""
+        super().__init__(reason)
+        self.logger_name = logger_name
+
+
+_TYPE_NAMES = {
+    Parameter.Type.BOOL: 'a bool',
+    Parameter.Type.INTEGER: 'an integer',
+    Parameter.Type.DOUBLE: 'a double',
+    Parameter.Type.STRING: 'a string',
+    Parameter.Type.BYTE_ARRAY: 'a list of bytes',
+    Parameter.Type.BOOL_ARRAY: 'a list of bools',
+    Parameter.Type.INTEGER_ARRAY: 'a list of integers',
+    Parameter.Type.DOUBLE_ARRAY: 'a list of doubles',
+    Parameter.Type.STRING_ARRAY: 'a list of strings',
+}
+
+
+def _yaml(value: Any) -> str:
+    """Return ``value`` as YAML writes it (true, 2.0, [1.0, 2.0], .nan)."""
+    if isinstance(value, bool):
+        return 'true' if value else 'false'
+    if isinstance(value, float) and not math.isfinite(value):
+        return '.nan' if math.isnan(value) else ('-.inf' if value < 0 else '.inf')
+    if isinstance(value, (list, tuple)) or type(value).__name__ == 'array':
+        return '[' + ', '.join(_yaml(v) for v in value) + ']'
+    return repr(value)
+
+
+def _type_hint(value: Any, expected: Parameter.Type) -> Optional[str]:
+    """Return how to write ``value`` as the ``expected`` type, where that is plain."""
+    if expected == Parameter.Type.DOUBLE and type(value) is int:
+        return _yaml(float(value))
+    if expected == Parameter.Type.DOUBLE_ARRAY and isinstance(value, Sequence):
+        if all(type(v) in (int, float) for v in value):
+            return _yaml([float(v) for v in value])
+    if expected == Parameter.Type.INTEGER and isinstance(value, float) and value.is_integer():
+        return str(int(value))
+    if expected == Parameter.Type.BOOL and type(value) is int and value in (0, 1):
+        return _yaml(bool(value))
+    return None
+
+
+def refusal_reason(declaration: Declaration, given: Optional[Parameter],
+                   error: ParameterException) -> str:
+    """
+    Return one line saying why ``given`` cannot be ``declaration``'s value.
+
+    rclpy refuses an override of another type than the default's (a YAML ``2`` is an integer,
+    never a double: ``ros2 param set`` refuses it the same way, so the node does not convert it
+    at start either) or outside the declared range; its exception texts name neither the
+    parameter first nor the fix.
+
+    :param declaration: the parameter as the node declares it.
+    :param given: the override the node was started with, or None.
+    :param error: what rclpy raised.
+    """
+    name = declaration.name
+    if given is None:
+        return f'{name}: {error}'
+    expected = Parameter.Type.from_parameter_value(declaration.default)
+    value = given.value
+    if given.type_ != expected:
+        reason = (f'{name}: {_yaml(value)} is {_TYPE_NAMES.get(given.type_, given.type_.name)}, '
+                  f'{name} takes {_TYPE_NAMES.get(expected, expected.name)}')
+        hint = _type_hint(value, expected)
+        return reason + (f': write {hint}' if hint else '')
+    if declaration.bounds is not None:
+        low, high = declaration.bounds
+        bounds = f'its range [{_yaml(low)}, {_yaml(high)}]'
+        if isinstance(value, float) and math.isnan(value):
+            return f'{name}: .nan is not a number, so not within {bounds}'
+        return f'{name}: {_yaml(value)} is outside {bounds}'
+    return f'{name}: {error}'
 
 
 def _descriptor(parameter) -> ParameterDescriptor:
@@ -72,11 +181,20 @@ class MouseConstraintNode(Node):
     """
 
     def __init__(self, **kwargs: Any) -> None:
-        """Declare parameters and build the simulation; raise ValueError if they are invalid."""
+        """
+        Declare parameters and build the simulation.
+
+        :raises StartupRefusal: (a ValueError) a parameter or the configuration is invalid; the
+            node is destroyed then.
+        """
         super().__init__(NODE_NAME, **kwargs)
-        for parameter in PARAMETERS:
-            self.declare_parameter(parameter.name, parameter.default, _descriptor(parameter))
-        self._config = configuration_from(self._parameter_values())
+        try:
+            for parameter in PARAMETERS:
+                self._declare(parameter)
+            self._config = configuration_from(self._parameter_values())
+        except ValueError as error:
+            self._refuse(str(error))
+        self._warn_about_unknown_parameters()
         self._simulation = MouseSimulation(self._config.settings, self._config.initial_state)
         self._user_target = False
         self._last_target_ns: Optional[int] = None
@@ -87,6 +205,16 @@ class MouseConstraintNode(Node):
         self.late_ticks = 0
         self.dropped_ticks = 0
         self.clock_restarts = 0
+        # Why ticks were last dropped, for /diagnostics; None while none were.
+        self.drop_cause: Optional[str] = None
+        # Running estimate of one tick's wall time (s), 0 before the first tick.
+        self._tick_seconds = 0.0
+        # perf_counter() until which due ticks are dropped, after a callback over its budget.
+        self._rest_until = -math.inf
+        # Which clock the grid runs on: simulated (True) or system time.
+        self._grid_sim_time = self.get_clock().ros_time_is_active
+        # Timers that must run while a simulated clock stands still or has not started.
+        self._steady_clock = Clock(clock_type=ClockType.STEADY_TIME)
 
         self._pose = PoseStamped()
         self._twist = TwistStamped()
@@ -99,8 +227,33 @@ class MouseConstraintNode(Node):
         self._timer = None
         self._start_timer()
         self._setup_monitors()
+        self.create_timer(CLOCK_WATCH_PERIOD, self._watch_clock, clock=self._steady_clock)
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.get_logger().info(self._describe())
+
+    def _declare(self, parameter: Declaration) -> None:
+        try:
+            self.declare_parameter(parameter.name, parameter.default, _descriptor(parameter))
+        except ParameterException as error:
+            raise ValueError(refusal_reason(
+                parameter, self._parameter_overrides.get(parameter.name), error)) from None
+
+    def _refuse(self, reason: str) -> NoReturn:
+        """Destroy the half-built node and raise StartupRefusal with its logger's name."""
+        logger_name = self.get_logger().name
+        self.destroy_node()
+        raise StartupRefusal(logger_name, reason) from None
+
+    def _warn_about_unknown_parameters(self) -> None:
+        """Warn once for each given parameter the node does not have, with the nearest name."""
+        known = [p.name for p in PARAMETERS]
+        for name in sorted(set(self._parameter_overrides) - set(self._parameters)):
+            if name.startswith(RCLPY_PARAMETER_PREFIXES):
+                continue
+            nearest = difflib.get_close_matches(name, known, n=1)
+            self.get_logger().warning(
+                f'ignoring unknown parameter {name!r}'
+                + (f': did you mean {nearest[0]!r}?' if nearest else ''))
 
     @property
     def simulation(self) -> MouseSimulation:
@@ -183,8 +336,17 @@ class MouseConstraintNode(Node):
         self._last_target_ns = self.get_clock().now().nanoseconds
 
     def _on_timer(self) -> None:
-        now = self.get_clock().now().nanoseconds
-        if not self._grid.started:
+        clock = self.get_clock()
+        now = clock.now().nanoseconds
+        if clock.ros_time_is_active != self._grid_sim_time:
+            # use_sim_time flipped: a new clock, not lost time. Restart the grid on it.
+            self._grid_sim_time = clock.ros_time_is_active
+            self._grid.restart(now)
+            self.clock_restarts += 1
+            self.get_logger().info(
+                f'clock changed to {"simulated" if self._grid_sim_time else "system"} time: '
+                f'restarting the tick grid at {now * 1e-9:.9f} s without catching up')
+        elif not self._grid.started:
             # Put t0 where the timer scheduled this first call, not where it ran: each later
             # call then finds exactly its own tick due, however late (up to a period) it runs,
             # instead of only when its jitter beats the first call's.
@@ -197,17 +359,60 @@ class MouseConstraintNode(Node):
             self.clock_restarts += 1
             self.get_logger().warning('clock jumped backwards: restarting the tick grid at '
                                       f'{now * 1e-9:.9f} s without catching up')
+        first, count = due.first, due.count
         if due.dropped:
-            self.dropped_ticks += due.dropped
-            self._warn('rate', lambda: (
-                f'cannot keep {self._config.rate_hz:g} Hz: dropped {due.dropped} ticks '
-                f'({self.dropped_ticks} in all); simulated time falls behind'))
-        if due.count > 1:
-            self.late_ticks += due.count - 1
-        self.ticks_run += due.count
+            self._drop(due.dropped, f'more than the {MAX_CATCH_UP_SECONDS:g} s catch-up bound '
+                       'was missed')
         self._release_if_timed_out(now)
+        if count and time.perf_counter() < self._rest_until:
+            # Resting after a callback that spent its budget: the executor's queue (timer
+            # events keep coming at the rate while ticks run) drains, services get their turn.
+            self._drop(count, self._budget_cause(self._tick_seconds))
+            return
+        # What fits in the wall budget at the estimated cost runs; the oldest of the rest are
+        # dropped, so that the newest state is the one published.
+        over_budget = False
+        if self._tick_seconds > 0.0:
+            fits = max(1, int(CALLBACK_BUDGET_SECONDS / self._tick_seconds))
+            if count > fits:
+                over_budget = True
+                self._drop(count - fits, self._budget_cause(self._tick_seconds))
+                first, count = first + count - fits, fits
+        started = time.perf_counter()
+        ran = self._run_ticks(first, count)
+        if ran < count:
+            over_budget = True
+            self._drop(count - ran, self._budget_cause(self._tick_seconds))
+        if over_budget:
+            # The physics cannot keep the rate: it gets at most half of the wall time.
+            finished = time.perf_counter()
+            self._rest_until = finished + (finished - started)
+        if ran > 1:
+            self.late_ticks += ran - 1
+        self.ticks_run += ran
+
+    def _budget_cause(self, tick_seconds: float) -> str:
+        return (f'one tick takes {tick_seconds * 1e3:.3g} ms of wall time '
+                f'({self._config.settings.substeps} substeps) and a timer callback stops after '
+                f'{CALLBACK_BUDGET_SECONDS * 1e3:g} ms so that services and parameters answer')
+
+    def _drop(self, count: int, cause: str) -> None:
+        self.dropped_ticks += count
+        self.drop_cause = cause
+        self._warn('rate', lambda: (
+            f'cannot keep {self._config.rate_hz:g} Hz: dropped {count} ticks '
+            f'({self.dropped_ticks} in all): {cause}; simulated time falls behind'))
+
+    def _run_ticks(self, first: int, count: int) -> int:
+        """
+        Step and publish ticks ``first`` on, until ``count`` ran or the wall budget is spent.
+
+        :returns: how many ran (at least one when ``count`` > 0).
+        """
         simulation, dt = self._simulation, self._dt
-        for tick in range(due.first, due.first + due.count):
+        started = time.perf_counter()
+        ran = 0
+        for tick in range(first, first + count):
             state = simulation.step(dt)
             stamp = self._grid.stamp(tick)
             set_stamp(self._pose.header.stamp, stamp)
@@ -216,6 +421,33 @@ class MouseConstraintNode(Node):
             fill_twist(self._twist, state)
             self._pose_publisher.publish(self._pose)
             self._twist_publisher.publish(self._twist)
+            ran += 1
+            if time.perf_counter() - started > CALLBACK_BUDGET_SECONDS:
+                break
+        if ran:
+            cost = (time.perf_counter() - started) / ran
+            self._tick_seconds = (cost if self._tick_seconds == 0.0 else
+                                  self._tick_seconds + TICK_COST_WEIGHT * (
+                                      cost - self._tick_seconds))
+        return ran
+
+    def waiting_for_clock(self) -> Optional[str]:
+        """
+        Return ``'/clock on <topic>'`` while use_sim_time is on and no clock message came.
+
+        The node's clock reads zero until then and no timer on it fires: no tick, no pose.
+        """
+        clock = self.get_clock()
+        if clock.ros_time_is_active and clock.now().nanoseconds == 0:
+            return f'/clock on {self.resolve_topic_name("/clock")}'
+        return None
+
+    def _watch_clock(self) -> None:
+        waiting = self.waiting_for_clock()
+        if waiting is not None:
+            self._warn('clock', lambda: (
+                f'waiting for {waiting}: use_sim_time is true and no clock message has come; '
+                'no tick runs until one does'))
 
     def _release_if_timed_out(self, now: int) -> None:
         timeout = self._config.target_timeout
@@ -268,17 +500,26 @@ class MouseConstraintNode(Node):
         self._diagnostics_publisher = self.create_publisher(DiagnosticArray, '/diagnostics', 10)
         # The first window opens at the first diagnostics call, once the node spins.
         self._tick_window = TickWindow()
+        self._window_sim_time = self.get_clock().ros_time_is_active
         self._monitor_timers = []
         self._start_monitor_timers()
 
     def _start_monitor_timers(self) -> None:
-        """(Re)create the marker and diagnostics timers at their rates; 0 Hz means none."""
+        """
+        (Re)create the marker and diagnostics timers at their rates; 0 Hz means none.
+
+        Markers show the latest tick and follow the node's clock. Diagnostics run on the steady
+        clock: they must still come when a simulated clock has not started or stands still,
+        which is when they have something to say.
+        """
         for timer in self._monitor_timers:
             self.destroy_timer(timer)
         self._monitor_timers = [
-            self.create_timer(1.0 / rate, callback)
-            for rate, callback in ((self._config.marker_rate_hz, self._publish_markers),
-                                   (self._config.diagnostics_rate_hz, self._publish_diagnostics))
+            self.create_timer(1.0 / rate, callback, clock=clock)
+            for rate, callback, clock in (
+                (self._config.marker_rate_hz, self._publish_markers, None),
+                (self._config.diagnostics_rate_hz, self._publish_diagnostics,
+                 self._steady_clock))
             if rate > 0.0]
 
     def _tick_counters(self) -> TickCounters:
@@ -294,10 +535,21 @@ class MouseConstraintNode(Node):
             simulation.target, simulation.constraint_force, reference_force(simulation.settings)))
 
     def _publish_diagnostics(self) -> None:
-        """Publish the rate status over the window since the last call and the constraint's."""
-        now = self.get_clock().now().nanoseconds
+        """
+        Publish the rate status over the window since the last call and the constraint's.
+
+        Stamped with the node's clock, which reads zero while a simulated clock has not started.
+        The status names start with the fully qualified node name, unique in a ROS graph, as
+        diagnostic_aggregator needs.
+        """
+        clock = self.get_clock()
+        now = clock.now().nanoseconds
         config, simulation = self._config, self._simulation
         counters = self._tick_counters()
+        if clock.ros_time_is_active != self._window_sim_time:
+            # Another clock: a window across the change would measure nothing real.
+            self._window_sim_time = clock.ros_time_is_active
+            self._tick_window = TickWindow()
         window = self._tick_window.sample(now, counters, config.rate_hz)
         thresholds = Thresholds(anchor_warn=config.diagnostics_anchor_warn,
                                 anchor_error=config.diagnostics_anchor_error)
@@ -306,10 +558,11 @@ class MouseConstraintNode(Node):
             kind, age = USER_TARGET, max(0.0, (now - self._last_target_ns) * 1e-9)
         else:
             kind, age = (NO_TARGET if simulation.target is None else INITIAL_ANCHOR), None
-        name, hardware_id = self.get_name(), self.get_fully_qualified_name()
+        name = hardware_id = self.get_fully_qualified_name()
         self._diagnostics_publisher.publish(diagnostic_array(now, [
             rate_status(f'{name}: rate', hardware_id, config.rate_hz, window, counters,
-                        thresholds),
+                        thresholds, drop_cause=self.drop_cause,
+                        waiting_for=self.waiting_for_clock()),
             constraint_status(f'{name}: constraint', hardware_id, kind, simulation.target,
                               None if error is None else math.hypot(*error),
                               simulation.constraint_force, config.settings.constraint.max_force,
@@ -317,9 +570,51 @@ class MouseConstraintNode(Node):
         ]))
 
 
+def requested_logger_name(args: Sequence[str]) -> str:
+    """
+    Return the node's logger name as the command line's remaps make it, without rcl.
+
+    For the one case where rcl cannot start (an unreadable params file) and so cannot say:
+    ``-r __node:=other`` (or ``__name``) and ``-r __ns:=/a/b`` give ``a.b.other``.
+    """
+    name, namespace = NODE_NAME, ''
+    for argument in args:
+        match = re.fullmatch(r'(?:[^:=]+:)?__(node|name|ns):=(.+)', argument)
+        if match and match.group(1) == 'ns':
+            namespace = match.group(2)
+        elif match:
+            name = match.group(2)
+    return '.'.join(part for part in namespace.split('/') + [name] if part)
+
+
+def rcl_reason(error: Exception) -> str:
+    """Return rcl's start-up error as one line: its sentence, without rcl's source locations."""
+    text = re.sub(r', at \S+:\d+', '', str(error)).strip()
+    text = re.sub(r'^failed to initialize rcl: ', '', text)
+    if 'Sequence should be of same type' in text:
+        text += (' (a list holds one type: write every number of a list of doubles with a '
+                 'decimal point, e.g. [0.2, 0.0, 0.05])')
+    elif 'Error opening YAML file' in text:
+        text += ' (no such file, or not readable)'
+    return text
+
+
 def main(args: Optional[List[str]] = None) -> int:
-    """Run the node until Ctrl-C or SIGTERM; exit 0 then, 1 for invalid parameters."""
-    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    """Run the node until Ctrl-C, SIGTERM or SIGHUP; exit 0 then, 1 when it cannot start."""
+    # rcl logs "Failed to parse global arguments" of its own before it raises; the FATAL line
+    # below says it all, and with the reason.
+    quiet = rclpy.logging.LoggingSeverity.FATAL
+    previous = rclpy.logging.get_logger_level('rcl')
+    rclpy.logging.set_logger_level('rcl', quiet)
+    try:
+        rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    except _rclpy.RCLError as error:
+        rclpy.logging.get_logger(requested_logger_name(
+            sys.argv if args is None else args)).fatal(f'cannot start: {rcl_reason(error)}')
+        return 1
+    finally:
+        if rclpy.logging.get_logger_level('rcl') == quiet:  # not set by --log-level
+            rclpy.logging.set_logger_level('rcl', previous)
     node = None
     try:
         with StopRequest() as stop:
@@ -334,8 +629,8 @@ def main(args: Optional[List[str]] = None) -> int:
                 executor.spin_once(timeout_sec=0.1)
     except ExternalShutdownException:
         pass
-    except ValueError as error:
-        rclpy.logging.get_logger(NODE_NAME).fatal(f'invalid parameters: {error}')
+    except StartupRefusal as error:
+        rclpy.logging.get_logger(error.logger_name).fatal(f'invalid parameters: {error}')
         return 1
     finally:
         if node is not None:

@@ -43,7 +43,7 @@ def test_tick_window_takes_differences_between_samples():
     (898, 0, 0, ERROR, 'achieved 898.0 of 1000 Hz'),
     (1000, 250, 0, OK, '1000.0 of 1000 Hz'),
     (1000, 251, 0, WARN, '25 % of ticks ran late'),
-    (1000, 0, 1, WARN, 'clock jumped backwards'),
+    (1000, 0, 1, WARN, 'clock restarted (jumped backwards or changed source)'),
 ])
 def test_rate_levels(ticks, late, restarts, level, message):
     """Achieved vs requested rate, late ticks and clock restarts by the documented thresholds."""
@@ -62,6 +62,20 @@ def test_rate_allows_one_tick_of_jitter_and_reports_drops():
     assert status.message == 'achieved 50.0 of 100 Hz (50 ticks dropped)'
     assert values(status)['dropped ticks'] == '50'
     assert values(status)['dropped ticks since start'] == '60'
+    assert values(status)['last drop cause'] == 'n/a'
+
+
+def test_rate_names_the_drop_cause_and_what_the_clock_waits_for():
+    """The cause of dropped ticks is in the message; a clock that never came is a WARN."""
+    cause = 'a tick takes too long'
+    status = rate_status('n', '', 100.0, Window(1.0, 50, 0, 50, 0), TickCounters(90, 0, 60, 0),
+                         drop_cause=cause)
+    assert status.message == f'achieved 50.0 of 100 Hz (50 ticks dropped: {cause})'
+    assert values(status)['last drop cause'] == cause
+    waiting = rate_status('n', '', 100.0, None, TickCounters(0, 0, 0, 0),
+                          waiting_for='/clock on /sim/clock')
+    assert waiting.level == WARN
+    assert waiting.message == 'waiting for /clock on /sim/clock: no tick runs until it comes'
 
 
 def test_rate_without_a_window_is_measuring():
@@ -134,8 +148,8 @@ def test_node_reports_rate_and_constraint(ros):
     arrays = ros.collect(DiagnosticArray, '/diagnostics')
     assert ros.spin_until(lambda: len(arrays) >= 5, timeout=5.0)
     rate, constraint = arrays[-1].status
-    assert rate.name == 'mouse_constraint: rate'
-    assert constraint.name == 'mouse_constraint: constraint'
+    assert rate.name == '/mouse_constraint: rate'
+    assert constraint.name == '/mouse_constraint: constraint'
     assert rate.hardware_id == constraint.hardware_id == '/mouse_constraint'
     assert values(rate)['requested rate (Hz)'] == '200'
     assert float(values(rate)['achieved rate (Hz)']) == pytest.approx(200.0, rel=0.15)
@@ -155,3 +169,21 @@ def test_node_reports_rate_and_constraint(ros):
     # On its way to anchor_error (0.5 m) it spends ~0.25 s between 0.05 m and 0.5 m: WARN.
     levels = [a.status[1].level for a in arrays[count:]]
     assert WARN in levels
+
+
+def test_namespaced_nodes_have_unique_status_names(ros):
+    """Two nodes of one name in two namespaces: the status names differ, by namespace."""
+    for namespace in ('left', 'right'):
+        ros.add(MouseConstraintNode(context=ros.context, namespace=namespace,
+                                    parameter_overrides=[
+                                        Parameter('rate_hz', value=100.0),
+                                        Parameter('diagnostics_rate_hz', value=10.0),
+                                        Parameter('marker_rate_hz', value=0.0)]))
+    arrays = ros.collect(DiagnosticArray, '/diagnostics')
+
+    def names():
+        return {status.name for array in arrays for status in array.status}
+
+    assert ros.spin_until(lambda: len(names()) >= 4, timeout=10.0), names()
+    assert names() == {f'/{ns}/mouse_constraint: {kind}'
+                       for ns in ('left', 'right') for kind in ('rate', 'constraint')}

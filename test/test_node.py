@@ -2,6 +2,7 @@
 
 import math
 
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
 import numpy as np
 import pytest
@@ -9,6 +10,7 @@ from rcl_interfaces.msg import Parameter as ParameterMessage, ParameterType, Par
 from rcl_interfaces.srv import SetParameters
 from rclpy.node import Node
 from rclpy.parameter import Parameter
+from rosgraph_msgs.msg import Clock
 from scipy.spatial.transform import Rotation
 from std_srvs.srv import Trigger
 
@@ -236,7 +238,6 @@ def test_no_hold_starts_a_free_body(ros):
 
 def test_sim_time_driven_by_clock(ros):
     """With use_sim_time the ticks follow /clock: grid stamps, catch-up, and a jump back."""
-    from rosgraph_msgs.msg import Clock
     node = start_node(ros, rate_hz=100.0, use_sim_time=True)
     poses = ros.collect(PoseStamped, 'pose')
     clock = ros.probe.create_publisher(Clock, '/clock', 10)
@@ -295,7 +296,6 @@ def test_yaml_lists_exactly_the_declared_parameters(ros):
 
 def test_each_warning_reason_has_its_own_throttle(ros, capfd):
     """A foreign-frame target, then the clock jumps 0.5 s: 'cannot keep' is logged too."""
-    from rosgraph_msgs.msg import Clock
     node = start_node(ros, use_sim_time=True, rate_hz=100.0)
     target = ros.probe.create_publisher(PointStamped, '/target', 10)
     clock = ros.probe.create_publisher(Clock, '/clock', 10)
@@ -317,3 +317,92 @@ def test_each_warning_reason_has_its_own_throttle(ros, capfd):
     err = capfd.readouterr().err
     assert "ignoring target in frame 'map'" in err
     assert 'cannot keep 100 Hz: dropped 40 ticks' in err, err
+
+
+def test_atomic_parameter_sets_change_nothing_when_one_value_is_invalid(ros):
+    """
+    set_parameters_atomically: all or nothing; set_parameters: one by one.
+
+    ``ros2 param load`` takes the second path (a valid ``mass`` lands before an invalid
+    ``inertia`` fails); SetParametersAtomically is the all-or-nothing one.
+    """
+    node = start_node(ros, rate_hz=200.0)
+    mass = node.get_parameter('mass').value
+    changes = [Parameter('mass', value=mass + 1.0),
+               Parameter('inertia', value=[1.0, 0.0, 0.0, 1.0, 0.0, 3.0])]
+    before = node.simulation.settings
+    result = node.set_parameters_atomically(changes)
+    assert not result.successful and 'triangle' in result.reason
+    assert node.get_parameter('mass').value == mass
+    assert node.simulation.settings is before
+    results = node.set_parameters(changes)
+    assert [r.successful for r in results] == [True, False]
+    assert node.get_parameter('mass').value == mass + 1.0
+    assert node.simulation.settings.body.mass == mass + 1.0
+
+
+def rate_of(arrays) -> DiagnosticStatus:
+    """Return the rate status of the newest diagnostics array."""
+    return arrays[-1].status[0]
+
+
+def test_without_clock_the_node_says_it_waits_then_runs_when_one_comes(ros, capfd):
+    """
+    use_sim_time and no /clock: a warning and a diagnostics status name the topic, no pose.
+
+    /diagnostics keep coming (steady-clock timer), stamped zero: the node's clock has no time
+    yet. Once /clock publishes, ticks run and the status stops waiting.
+    """
+    node = start_node(ros, rate_hz=100.0, use_sim_time=True, diagnostics_rate_hz=10.0,
+                      marker_rate_hz=0.0)
+    poses = ros.collect(PoseStamped, 'pose')
+    arrays = ros.collect(DiagnosticArray, '/diagnostics')
+    assert ros.spin_until(lambda: len(arrays) >= 5, timeout=10.0)
+    topic = node.resolve_topic_name('/clock')
+    status = rate_of(arrays)
+    assert status.level == DiagnosticStatus.WARN
+    assert f'waiting for /clock on {topic}' in status.message
+    assert {stamp_ns(a) for a in arrays} == {0}
+    assert poses == [] and node.ticks_run == 0
+    assert ros.spin_until(lambda: f'waiting for /clock on {topic}' in capfd.readouterr().err,
+                          timeout=5.0)
+    clock = ros.probe.create_publisher(Clock, '/clock', 10)
+    assert ros.spin_until(lambda: clock.get_subscription_count() > 0)
+    start = 7_000_000_000
+    for k in range(30):
+        message = Clock()
+        message.clock.sec, message.clock.nanosec = divmod(start + k * 10_000_000, 10 ** 9)
+        clock.publish(message)
+        ros.spin_for(0.02)
+    assert poses and stamp_ns(poses[0]) >= start
+    count = len(arrays)
+    assert ros.spin_until(lambda: len(arrays) > count + 1, timeout=5.0)
+    assert 'waiting' not in rate_of(arrays).message
+    assert stamp_ns(arrays[-1]) >= start
+
+
+def test_switching_use_sim_time_off_restarts_the_grid_without_drops(ros, capfd):
+    """From simulated to system time the clock leaps forwards: a restart, no ticks dropped."""
+    node = start_node(ros, rate_hz=100.0, use_sim_time=True, diagnostics_rate_hz=10.0)
+    poses = ros.collect(PoseStamped, 'pose')
+    arrays = ros.collect(DiagnosticArray, '/diagnostics')
+    clock = ros.probe.create_publisher(Clock, '/clock', 10)
+    assert ros.spin_until(lambda: clock.get_subscription_count() > 0)
+    for k in range(20):
+        message = Clock()
+        message.clock.sec, message.clock.nanosec = divmod(5 * 10 ** 9 + k * 10_000_000, 10 ** 9)
+        clock.publish(message)
+        ros.spin_for(0.02)
+    assert node.ticks_run > 0
+    assert node.set_parameters([Parameter('use_sim_time', value=False)])[0].successful
+    count = len(poses)
+    assert ros.spin_until(lambda: len(poses) > count + 20, timeout=5.0)
+    assert node.dropped_ticks == 0 and node.clock_restarts == 1
+    assert stamp_ns(poses[-1]) > 10 ** 18  # system time now
+    count = len(arrays)
+    assert ros.spin_until(lambda: len(arrays) > count + 2, timeout=5.0)
+    values = {kv.key: kv.value for kv in rate_of(arrays).values}
+    assert values['dropped ticks since start'] == '0'
+    err = capfd.readouterr().err
+    assert 'clock changed to system time: restarting the tick grid' in err
+    assert 'cannot keep' not in err

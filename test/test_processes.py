@@ -36,6 +36,11 @@ def run_while_spinning(ros, command, timeout=20.0) -> subprocess.CompletedProces
     return subprocess.CompletedProcess(command, process.returncode, stdout, stderr)
 
 
+def values(status) -> dict:
+    """Return a diagnostic status's key-value pairs as a dict."""
+    return {kv.key: kv.value for kv in status.values}
+
+
 def start_node(ros, *ros_arguments: str) -> MouseConstraintNode:
     """Start the node in-process with command-line style ROS arguments."""
     return ros.add(MouseConstraintNode(
@@ -98,9 +103,9 @@ def test_target_cli_rejects_bad_arguments():
         assert 'usage: mouse_target' in result.stderr
 
 
-@pytest.mark.parametrize('signum', [signal.SIGINT, signal.SIGTERM])
+@pytest.mark.parametrize('signum', [signal.SIGINT, signal.SIGTERM, signal.SIGHUP])
 def test_node_exits_cleanly_on_signals(ros, signum):
-    """SIGINT and SIGTERM end the node within 1 s with exit 0 and no traceback."""
+    """SIGINT, SIGTERM and SIGHUP (terminal closed) end the node in 1 s: exit 0, no traceback."""
     poses = ros.collect(PoseStamped, 'pose')
     process = subprocess.Popen(
         [str(BIN / 'mouse_constraint_node'), '--ros-args', '--params-file', str(PARAMS)],
@@ -209,3 +214,54 @@ def test_colcon_build_gives_what_ros2_run_needs(ros, tmp_path):
     assert not any(path.name == 'build' for path in ROOT.iterdir() if path.is_dir())
     assert shutil.which('mouse_constraint_node', path=str(prefix / 'lib' /
                                                           'mouse_constraint_ros'))
+
+
+def test_slow_ticks_leave_services_and_parameters_answering(ros):
+    """
+    With 1000 substeps at 1 kHz a tick costs more than its period, and the node stays responsive.
+
+    Each timer callback stops running ticks after its wall budget and drops the rest, so
+    ~/reset and a parameter set answer promptly (a generous behaviour bound, not a benchmark)
+    and /diagnostics report the drops with their cause.
+    """
+    from diagnostic_msgs.msg import DiagnosticArray
+    from rcl_interfaces.msg import Parameter as ParameterMessage, ParameterType, ParameterValue
+    from rcl_interfaces.srv import SetParameters
+    from std_srvs.srv import Trigger
+    poses = ros.collect(PoseStamped, 'pose')
+    arrays = ros.collect(DiagnosticArray, '/diagnostics')
+    process = subprocess.Popen(
+        [str(BIN / 'mouse_constraint_node'), '--ros-args', '--params-file', str(PARAMS),
+         '-p', 'substeps:=1000', '-p', 'diagnostics_rate_hz:=2.0'],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+    def answer_time(service_type, name, request) -> float:
+        """Return how long the second call takes: the first one also waits for discovery."""
+        client = ros.probe.create_client(service_type, name)
+        assert client.wait_for_service(timeout_sec=15.0)
+        for _ in range(2):
+            started = time.monotonic()
+            future = client.call_async(request)
+            assert ros.spin_until(future.done, timeout=10.0)
+        return time.monotonic() - started
+
+    try:
+        assert ros.spin_until(lambda: len(poses) > 10, timeout=15.0)
+        ros.spin_for(0.5)
+        reset = answer_time(Trigger, '/mouse_constraint/reset', Trigger.Request())
+        mass = answer_time(SetParameters, '/mouse_constraint/set_parameters',
+                           SetParameters.Request(parameters=[ParameterMessage(
+                               name='mass', value=ParameterValue(
+                                   type=ParameterType.PARAMETER_DOUBLE, double_value=3.0))]))
+        assert ros.spin_until(lambda: any(
+            int(values(a.status[0])['dropped ticks since start']) > 0 for a in arrays),
+            timeout=10.0)
+    finally:
+        process.send_signal(signal.SIGINT)
+        process.wait(timeout=5.0)
+    _, stderr = process.communicate()
+    assert reset < 0.5 and mass < 0.5, (reset, mass)
+    rate = arrays[-1].status[0]
+    cause = values(rate)['last drop cause']
+    assert '1000 substeps' in cause and 'services and parameters answer' in cause
+    assert 'cannot keep 1000 Hz: dropped' in stderr and '1000 substeps' in stderr

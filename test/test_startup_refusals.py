@@ -1,0 +1,117 @@
+"""
+Start-up refusals of the real executable: one FATAL line naming the parameter, exit 1.
+
+Each case is a params file a user could write; the node is started as ``ros2 run`` starts it
+(``mouse_constraint_node --ros-args --params-file F``) and its whole output is checked.
+"""
+
+from pathlib import Path
+import subprocess
+import sys
+
+import pytest
+
+from mouse_constraint_ros.configuration import DEFAULTS
+
+BIN = Path(sys.executable).parent
+NODE = str(BIN / 'mouse_constraint_node')
+
+
+def params_file(tmp_path: Path, *lines: str) -> Path:
+    """Write a params file for every node with the given ``ros__parameters`` lines."""
+    path = tmp_path / 'params.yaml'
+    path.write_text('/**:\n  ros__parameters:\n' + ''.join(f'    {line}\n' for line in lines))
+    return path
+
+
+def run_node(*ros_arguments: str, timeout: float = 20.0) -> subprocess.CompletedProcess:
+    """Run the node with ``ros_arguments`` until it exits; return what it printed."""
+    return subprocess.run([NODE, '--ros-args', *ros_arguments], capture_output=True, text=True,
+                          timeout=timeout)
+
+
+def the_one_line(result: subprocess.CompletedProcess) -> str:
+    """Return the process's only output line, asserting that it is one FATAL line."""
+    lines = (result.stdout + result.stderr).splitlines()
+    assert len(lines) == 1, lines
+    assert lines[0].startswith('[FATAL]'), lines
+    return lines[0]
+
+
+@pytest.mark.parametrize('line, expected', [
+    ('mass: 2', 'mass: 2 is an integer, mass takes a double: write 2.0'),
+    ('substeps: 2.0', 'substeps: 2.0 is a double, substeps takes an integer: write 2'),
+    ('hold_initial_anchor: 1',
+     'hold_initial_anchor: 1 is an integer, hold_initial_anchor takes a bool: write true'),
+    ('gravity: [0, 0, -10]', 'gravity: [0, 0, -10] is a list of integers, gravity takes a list '
+     'of doubles: write [0.0, 0.0, -10.0]'),
+    ('rate_hz: 0.0', 'rate_hz: 0.0 is outside its range [1.0, 10000.0]'),
+    ('rate_hz: 20000.0', 'rate_hz: 20000.0 is outside its range [1.0, 10000.0]'),
+    ('substeps: 0', 'substeps: 0 is outside its range [1, 1000]'),
+    ('mass: .nan', 'mass: .nan is not a number, so not within its range [0.0, .inf]'),
+])
+def test_a_wrong_type_or_range_is_one_line_naming_the_parameter(tmp_path, line, expected):
+    """Each bad value: exit 1 and one FATAL line with the parameter, the reason and the fix."""
+    result = run_node('--params-file', str(params_file(tmp_path, line)))
+    assert result.returncode == 1
+    assert the_one_line(result).endswith(f'[mouse_constraint]: invalid parameters: {expected}')
+
+
+def test_a_configuration_invalid_as_a_whole_is_one_line(tmp_path):
+    """Values each in range but not together (a non-physical inertia): one line, exit 1."""
+    result = run_node('--params-file', str(params_file(
+        tmp_path, 'inertia: [1.0, 0.0, 0.0, 1.0, 0.0, 3.0]')))
+    assert result.returncode == 1
+    line = the_one_line(result)
+    assert 'invalid parameters: ' in line and 'inertia' in line
+
+
+def test_a_file_rcl_cannot_parse_is_one_line(tmp_path):
+    """A list of mixed types: rcl refuses the file; one line with rcl's reason and the fix."""
+    result = run_node('--params-file', str(params_file(tmp_path, 'anchor: [0.2, 0, 0.05]')))
+    assert result.returncode == 1
+    line = the_one_line(result)
+    assert "cannot start: Couldn't parse params file" in line
+    assert 'Sequence should be of same type' in line and 'e.g. [0.2, 0.0, 0.05]' in line
+    assert '.c:' not in line  # no rcl source locations
+
+
+def test_a_missing_params_file_is_one_line(tmp_path):
+    """A params file that is not there: one line naming it, exit 1."""
+    missing = tmp_path / 'no_such.yaml'
+    result = run_node('--params-file', str(missing))
+    assert result.returncode == 1
+    line = the_one_line(result)
+    assert str(missing) in line and 'no such file' in line
+
+
+@pytest.mark.parametrize('case', ['parameter', 'rcl'])
+def test_the_fatal_line_carries_the_real_node_name(tmp_path, case):
+    """Renamed and namespaced with remaps, the FATAL line is tagged with the real name."""
+    line = 'mass: 2' if case == 'parameter' else 'anchor: [0.2, 0, 0.05]'
+    result = run_node('--params-file', str(params_file(tmp_path, line)),
+                      '-r', '__node:=other', '-r', '__ns:=/robot')
+    assert result.returncode == 1
+    assert '[robot.other]: ' in the_one_line(result)
+
+
+def test_an_unknown_key_is_warned_about_with_the_nearest_name(tmp_path):
+    """A typo'd key: the node runs, and warns at start with the key and the known name."""
+    assert 'baumgarte' in DEFAULTS
+    path = params_file(tmp_path, 'baumgarde: 0.5', 'rate_hz: 50.0')
+    process = subprocess.Popen([NODE, '--ros-args', '--params-file', str(path)],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        # The node is up once it describes itself; the warning comes before.
+        lines = []
+        while not any('Hz x' in line for line in lines):
+            line = process.stderr.readline()
+            assert line, lines
+            lines.append(line)
+    finally:
+        process.terminate()
+        process.communicate(timeout=10.0)
+    assert process.returncode == 0
+    assert any('[WARN]' in line and
+               "ignoring unknown parameter 'baumgarde': did you mean 'baumgarte'?" in line
+               for line in lines), lines
