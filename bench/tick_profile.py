@@ -1,0 +1,184 @@
+#!/usr/bin/env python3
+"""
+Where a tick of the running node goes: py-spy samples of its main thread, sorted into parts.
+
+``python bench/tick_profile.py --py-spy /path/to/py-spy [--seconds 15] [--rate 250]
+[--domain N] [--raw FILE]`` starts ``mouse_constraint_node --ros-args --params-file
+config/params.yaml`` and, in another process, a reader of ``pose`` and ``twist`` (ordinary,
+deserializing subscriptions), then runs ``py-spy record --native -f raw`` on the node for the
+window. py-spy is not a dependency of the package: install it anywhere (a throwaway venv) and
+pass its path.
+
+Each sample of the main thread is put in the first part whose frame it holds, looked for from
+the leaf up: the physics step, the grid and clock reads, the stamp and field filling, the
+publish calls split into the Python -> C message conversion, rmw's CDR serialization in C, and
+the DDS write, the marker and diagnostics callbacks, the rest of the timer callback, and the
+executor turn (everything else in the spin loop). A part's microseconds per tick are its share
+of the samples times the main thread's CPU time per tick over the window (/proc), so they
+assume py-spy's samples fall on the CPU time evenly: py-spy also samples a thread that is
+runnable but waiting for a CPU, which on a busy machine weighs the parts after a wake-up (the
+DDS write wakes the reader) more. The other threads' CPU per tick is shown beside it. For
+CPU-only shares of the native parts (conversion, CDR serialization, DDS write), ``perf record
+--call-graph dwarf -p <node pid>`` samples on-CPU time only, but shows no Python functions.
+"""
+
+import argparse
+import collections
+import json
+import os
+from pathlib import Path
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from typing import Dict, List, Tuple
+
+BENCH = Path(__file__).resolve().parent
+ROOT = BENCH.parent
+CLOCK_TICKS = os.sysconf('SC_CLK_TCK')
+
+# (part, frame markers): a sample goes to the first part, leaf first, one of whose markers is
+# in a frame of its stack.
+PARTS: List[Tuple[str, Tuple[str, ...]]] = [
+    ('CDR serialization (C, in rmw)', ('TypeSupport::serialize', 'getEstimatedSerializedSize',
+                                       'cdr_serialize')),
+    ('DDS write (rcl_publish, Fast DDS)', ('rcl_publish',)),
+    ('message conversion (Python -> C)', ('convert_from_py', '__create', '__destroy',
+                                          '__init (', '__fini')),
+    ('publish, rest (rclpy Python)', ('Publisher.publish',)),
+    ('physics step', ('MouseSimulation.step', 'physics/')),
+    ('stamp and field filling', ('set_stamp', 'fill_pose', 'fill_twist')),
+    ('grid and clock reads', ('tick_grid.py', 'Clock.now', 'time_until_next_call',
+                              '_release_if_timed_out', 'Time.nanoseconds')),
+    ('markers and diagnostics (own timers)', ('_publish_markers', '_publish_diagnostics')),
+    ('timer callback, rest', ('_on_timer',)),
+    ('executor turn and spin loop', ('spin_once', 'main (')),
+]
+UNSORTED = 'other (not under the spin loop)'
+READER = """
+import json, signal, sys
+import rclpy
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.signals import SignalHandlerOptions
+from geometry_msgs.msg import PoseStamped, TwistStamped
+rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
+node = Node('tick_profile_reader')
+qos = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
+                 reliability=ReliabilityPolicy.RELIABLE)
+counts = {'pose': 0, 'twist': 0}
+def counter(name):
+    def count(_message):
+        counts[name] += 1
+    return count
+node.create_subscription(PoseStamped, 'pose', counter('pose'), qos)
+node.create_subscription(TwistStamped, 'twist', counter('twist'), qos)
+stop = []
+signal.signal(signal.SIGINT, lambda *_: stop.append(1))
+signal.signal(signal.SIGUSR1, lambda *_: print(json.dumps(counts), flush=True))
+executor = SingleThreadedExecutor(context=node.context)
+executor.add_node(node)
+while not stop:
+    executor.spin_once(timeout_sec=0.1)
+executor.shutdown()
+node.destroy_node()
+rclpy.try_shutdown()
+"""
+
+
+def thread_cpu(pid: int) -> Dict[int, Tuple[str, float]]:
+    """Return, per thread id of ``pid``, its name and CPU seconds (utime + stime)."""
+    threads = {}
+    for task in Path(f'/proc/{pid}/task').iterdir():
+        try:
+            name = (task / 'comm').read_text().strip()
+            fields = (task / 'stat').read_text().rsplit(')', 1)[1].split()
+        except OSError:
+            continue
+        threads[int(task.name)] = (name, (int(fields[11]) + int(fields[12])) / CLOCK_TICKS)
+    return threads
+
+
+def categorize(raw: str) -> Dict[str, int]:
+    """Return the main thread's samples per part from py-spy's raw output."""
+    counts: Dict[str, int] = collections.Counter()
+    for line in raw.splitlines():
+        if not line.strip():
+            continue
+        stack, count = line.rsplit(' ', 1)
+        frames = stack.split(';')
+        if not any(frame.startswith('<module> (') for frame in frames[:3]):
+            continue  # Not the main thread.
+        part = UNSORTED
+        for frame in reversed(frames):
+            part = next((name for name, markers in PARTS
+                         if any(marker in frame for marker in markers)), None)
+            if part is not None:
+                break
+        counts[part or UNSORTED] += int(count)
+    return counts
+
+
+def reader_counts(reader: subprocess.Popen) -> Dict[str, int]:
+    reader.send_signal(signal.SIGUSR1)
+    return json.loads(reader.stdout.readline())
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
+    parser.add_argument('--py-spy', required=True, help='path of the py-spy executable')
+    parser.add_argument('--seconds', type=float, default=15.0)
+    parser.add_argument('--rate', type=int, default=250, help='py-spy samples per second')
+    parser.add_argument('--domain', type=int, default=20 + os.getpid() % 10)
+    parser.add_argument('--raw', type=Path, help='keep py-spy raw output here')
+    options = parser.parse_args(argv)
+    env = dict(os.environ, ROS_DOMAIN_ID=str(options.domain),
+               ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST', PYTHONUNBUFFERED='1')
+    node_bin = Path(sys.executable).parent / 'mouse_constraint_node'
+    reader = subprocess.Popen([sys.executable, '-c', READER], env=env, stdout=subprocess.PIPE,
+                              text=True)
+    node = subprocess.Popen([str(node_bin), '--ros-args', '--params-file',
+                             str(ROOT / 'config' / 'params.yaml')], env=env, cwd=ROOT,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        time.sleep(5.0)  # Discovery and warm-up.
+        with tempfile.TemporaryDirectory(prefix='tick_profile_') as directory:
+            out = options.raw or Path(directory) / 'profile.txt'
+            before, start = thread_cpu(node.pid), reader_counts(reader)
+            wall = time.monotonic()
+            subprocess.run([options.py_spy, 'record', '--native', '-r', str(options.rate),
+                            '-d', str(int(options.seconds)), '-f', 'raw', '-o', str(out),
+                            '--pid', str(node.pid)], check=True, capture_output=True)
+            wall = time.monotonic() - wall
+            after, end = thread_cpu(node.pid), reader_counts(reader)
+            samples = categorize(Path(out).read_text())
+    finally:
+        for process in (node, reader):
+            process.send_signal(signal.SIGINT)
+        for process in (node, reader):
+            try:
+                process.wait(timeout=10.0)
+            except subprocess.TimeoutExpired:
+                process.kill()
+                process.wait()
+    ticks = end['pose'] - start['pose']
+    main_cpu = after[node.pid][1] - before[node.pid][1]
+    other_cpu = sum(cpu - before[tid][1] for tid, (_, cpu) in after.items()
+                    if tid != node.pid and tid in before)
+    total = sum(samples.values())
+    per_tick = 1e6 * main_cpu / ticks
+    print(f'{ticks} ticks (poses received) in {wall:.1f} s; main thread {per_tick:.1f} us CPU '
+          f'per tick, other threads {1e6 * other_cpu / ticks:.1f} us; {total} samples; '
+          f'load {os.getloadavg()[0]:.2f}')
+    print('| part | samples % | us per tick |')
+    print('| --- | ---: | ---: |')
+    for name in [name for name, _ in PARTS] + [UNSORTED]:
+        share = samples.get(name, 0) / total if total else 0.0
+        print(f'| {name} | {100 * share:.1f} | {share * per_tick:.1f} |')
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
