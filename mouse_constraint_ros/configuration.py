@@ -136,8 +136,10 @@ def configuration_from(values: Mapping[str, Any]) -> Configuration:
 def _configuration_from(values: Mapping[str, Any]) -> Configuration:
     rate_hz = _bounded('rate_hz', values['rate_hz'])
     substeps = values['substeps']
-    if isinstance(substeps, int) and not isinstance(substeps, bool):
-        _bounded('substeps', substeps)
+    # Settings checks that substeps is an integer >= 1; the node also bounds it above.
+    most = BOUNDS['substeps'][1]
+    if isinstance(substeps, int) and substeps > most:
+        raise ValueError(f'substeps must be <= {most}, got {substeps}')
     box_size = finite_vector('box_size', values['box_size'])
     inertia = finite_vector('inertia', values['inertia'], 6)
     if any(inertia):

@@ -330,6 +330,15 @@ def test_array_parameters_of_the_wrong_size_show_plain_numbers(name):
     assert '[0.5, 0.25]' in message, message
 
 
+@pytest.mark.parametrize('name, value', [
+    ('rate_hz', 0.5), ('rate_hz', 20000.0), ('substeps', 1001), ('workspace_radius', 1e13)])
+def test_the_declared_ranges_hold_without_ros_too(name, value):
+    """configuration_from keeps the node's ranges, so h = dt / substeps stays >= 1e-7 s."""
+    bounds = next(p.bounds for p in PARAMETERS if p.name == name)
+    assert not bounds[0] <= value <= bounds[1]
+    refused(name, **{name: value})
+
+
 def test_a_message_with_a_line_break_in_a_value_is_one_line():
     """A value whose repr spans lines (a 2-D array) is shown on one line."""
     refused('initial_orientation', initial_orientation=np.eye(2))
