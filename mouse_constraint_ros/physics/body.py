@@ -73,21 +73,22 @@ class RigidBody:
                 'overflow')
         matrix = _matrix(inertia)
         moments = np.linalg.eigvalsh(matrix)
+        # The principal moments, shown where they differ from the diagonal.
+        principal = ('' if not any(inertia[i] for i in (1, 2, 4)) else
+                     ' (principal moments ' + ', '.join(f'{m:.6g}' for m in moments) + ')')
         if not moments[0] > _CONDITION_LIMIT * moments[2]:
             raise ValueError(
-                f'inertia must be positive definite, got {shown(inertia)} (principal moments '
-                f'{shown(tuple(moments.tolist()))}; the smallest must exceed '
-                f'{_CONDITION_LIMIT:g} of the largest)')
+                f'inertia must be positive definite, got {shown(inertia)}{principal}: the '
+                f'smallest principal moment must exceed {_CONDITION_LIMIT:g} of the largest')
         if moments[0] + moments[1] < moments[2] * (1.0 - _TRIANGLE_TOLERANCE):
             raise ValueError(
-                f'inertia is not physically realizable, got {shown(inertia)}: principal moments '
-                f'{shown(tuple(moments.tolist()))} break the triangle inequality I1 + I2 >= I3')
+                f'inertia is not physically realizable, got {shown(inertia)}{principal}: the '
+                'principal moments break the triangle inequality I1 + I2 >= I3')
         if not MIN_MOMENT <= moments[0] <= moments[2] <= MAX_MOMENT:
             raise ValueError(
                 f'inertia must have principal moments within [{MIN_MOMENT:g}, {MAX_MOMENT:g}] '
-                f'kg m^2, got {shown(inertia)} (principal moments '
-                f'{shown(tuple(moments.tolist()))}): the determinant of the Jacobian of the '
-                'gyroscopic step, a product of three moments, would leave the float range')
+                f'kg m^2, got {shown(inertia)}{principal}: the determinant of the Jacobian of '
+                'the gyroscopic step, a product of three moments, would leave the float range')
         inverse = np.linalg.inv(matrix)
         object.__setattr__(self, 'mass', mass)
         object.__setattr__(self, 'inertia', inertia)
