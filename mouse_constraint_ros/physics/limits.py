@@ -4,8 +4,8 @@ The ranges of the physical settings, each derived from what the float arithmetic
 A float holds magnitudes from about 2.2e-308 (the smallest normal number) to 1.8e308. The step
 forms products and quotients of the settings, so each setting is bounded where one of those
 stops being a finite, normal, well-conditioned float at some step size h in
-[MIN_STEP, MAX_STEP]. Every bound is decades beyond any physical use; within them every value
-the step computes from the settings is finite with a margin of at least 1e30.
+[MIN_STEP, MAX_STEP]. Every bound is decades beyond any physical use; within them the
+quantities named below stay finite with margins of 1e30 and more.
 
 The step's largest velocities come from the position correction, b |C| per substep with
 b <= 4 / h (soft mode; delta / h <= 1 / h rigid) and the anchor error |C| up to about

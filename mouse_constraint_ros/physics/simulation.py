@@ -49,9 +49,13 @@ class Settings:
 
     :param body: mass and inertia.
     :param constraint: anchor and how stiffly it follows the target.
-    :param gravity: gravitational acceleration in the world frame (m/s^2).
-    :param linear_damping: rate c (1/s): v decays as exp(-c t) whatever the step size.
+    :param gravity: gravitational acceleration in the world frame (m/s^2), of norm at most
+        MAX_ACCELERATION (see ``limits``).
+    :param linear_damping: rate c (1/s): v decays as exp(-c t) whatever the step size. Any
+        rate >= 0 is valid: the factor exp(-c h) lies in [0, 1] and c h cannot overflow.
     :param angular_damping: the same for the angular velocity.
+
+    The body and the constraint's anchor must suit each other: see ``check_lever``.
     :param substeps: equal substeps per ``step`` call (>= 1).
     """
 
@@ -93,7 +97,6 @@ def check_lever(body: RigidBody, anchor: Vector3, *, body_name: str = 'body of m
     1 / m + |r|^2 / I_min across it, in any orientation: its condition number is at most
     1 + m |r|^2 / I_min, which must not exceed MAX_CONDITION (see ``limits``). A point farther out
     would be held by a K that rounding makes singular, and its Cholesky factor would fail.
-    Damping needs no such bound: any rate >= 0 gives a decay factor exp(-c h) in [0, 1].
 
     :param body: the body.
     :param anchor: the anchor in the body frame (m).
