@@ -3,15 +3,23 @@ The node's parameters as plain data, and the core objects they make (no ROS here
 
 ``PARAMETERS`` is the one table of names, defaults, units and ranges: the node declares it,
 ``config/params.yaml`` lists it (a test checks they match), and ``configuration_from`` turns a
-set of values into validated core objects, raising ValueError with the reason otherwise.
+set of values into validated core objects, raising ValueError with the reason otherwise: one
+line that names the parameter and shows values as plain numbers and lists.
+
+The ranges of the physical parameters are those of ``physics.limits``, where the step's float
+arithmetic stays finite and well conditioned at every step the node can take,
+h = 1 / (rate_hz substeps) from 1e-7 s to 1 s (within the core's MIN_STEP..MAX_STEP).
 """
 
 import math
 from typing import Any, Mapping, NamedTuple, Optional, Tuple
 
 from .physics import BodyState, MouseConstraint, RigidBody, Settings
+from .physics.limits import (MAX_ACCELERATION, MAX_CONDITION, MAX_DISTANCE, MAX_MASS,
+                             MAX_MOMENT, MIN_MASS, MIN_MOMENT)
 from .physics.rotation import multiply, rotation_matrix, Vector3
-from .physics.validation import finite_vector, scalar
+from .physics.simulation import check_lever
+from .physics.validation import finite_vector, scalar, shown
 
 
 class Parameter(NamedTuple):
@@ -28,22 +36,35 @@ PARAMETERS = (
               (1.0, 10000.0)),
     Parameter('substeps', 2, 'Equal solver substeps per tick.', (1, 1000)),
     Parameter('frame_id', 'world',
-              'Frame of targets (empty frame_id is taken as this) and of pose and twist.'),
-    Parameter('mass', 2.0, 'Body mass (kg), > 0.', (0.0, math.inf)),
+              'Frame of targets (empty frame_id is taken as this) and of pose and twist; no '
+              'leading slash (tf2 refuses it).'),
+    Parameter('mass', 2.0,
+              f'Body mass (kg), {MIN_MASS:g} .. {MAX_MASS:g}: beyond, the effective mass '
+              '(1 / m) or the impulses and energies (m) of the step overflow.', (0.0, math.inf)),
     Parameter('box_size', [0.4, 0.2, 0.1],
-              'Edge lengths of the body box (m); gives the inertia when inertia is all zeros.'),
+              f'Edge lengths of the body box (m), each in (0, {MAX_DISTANCE:g}]; gives the '
+              'inertia when inertia is all zeros, which must then be valid as below.'),
     Parameter('inertia', [0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
               'Inertia about the COM, body frame, URDF order ixx ixy ixz iyy iyz izz (kg m^2); '
-              'all zeros: a solid box of box_size and mass.'),
-    Parameter('anchor', [0.2, 0.1, 0.05], 'Dragged point in the body frame, from the COM (m).'),
+              'all zeros: a solid box of box_size and mass. Physical (positive definite, '
+              f'I1 + I2 >= I3), principal moments {MIN_MOMENT:g} .. {MAX_MOMENT:g} (the '
+              'gyroscopic step multiplies three of them), the largest at most '
+              f'{MAX_CONDITION:g} times the smallest.'),
+    Parameter('anchor', [0.2, 0.1, 0.05],
+              f'Dragged point in the body frame, from the COM (m), at most {MAX_DISTANCE:g} m '
+              f'and with 1 + mass |anchor|^2 / I_min <= {MAX_CONDITION:g}, the condition '
+              'number of the effective mass the step solves.'),
     Parameter('initial_position', [0.0, 0.0, 1.0],
-              'COM position at start and after ~/reset (m, frame_id).'),
+              'COM position at start and after ~/reset (m, frame_id), at most '
+              f'{MAX_DISTANCE:g} m from the origin.'),
     Parameter('initial_orientation', [0.0, 0.0, 0.0, 1.0],
               'Orientation at start and after ~/reset, unit quaternion x y z w.'),
     Parameter('hold_initial_anchor', True,
               'At start and after ~/reset, hold the anchor where it starts until a target '
               'arrives; false: start as a free body.'),
-    Parameter('gravity', [0.0, 0.0, -9.80665], 'Gravitational acceleration (m/s^2, frame_id).'),
+    Parameter('gravity', [0.0, 0.0, -9.80665],
+              'Gravitational acceleration (m/s^2, frame_id), norm at most '
+              f'{MAX_ACCELERATION:g} (about the surface gravity of a neutron star).'),
     Parameter('baumgarte', 0.2, 'Rigid mode: fraction of the anchor error removed per substep.',
               (0.0, 1.0)),
     Parameter('frequency_hz', 0.0, 'Soft mode: natural frequency of the anchor (Hz); 0 = rigid.',
@@ -56,7 +77,7 @@ PARAMETERS = (
     Parameter('workspace_radius', 10000.0,
               'Targets farther than this from the origin of frame_id are ignored, like '
               'non-finite ones (m): beyond it a drag would wreck the precision of the state.',
-              (0.0, 1e12)),
+              (0.0, MAX_DISTANCE)),
     Parameter('target_timeout', 0.0,
               'Release the body when no target arrived for this long (s); 0 = hold forever.',
               (0.0, math.inf)),
@@ -100,40 +121,64 @@ class Configuration(NamedTuple):
 
 
 def configuration_from(values: Mapping[str, Any]) -> Configuration:
-    """Return the configuration for parameter ``values``; raise ValueError naming what is wrong."""
-    box_size = finite_vector('box_size', values['box_size'])
-    if min(box_size) <= 0.0:
-        raise ValueError(f'box_size must be > 0, got {box_size!r}')
-    inertia = finite_vector('inertia', values['inertia'], 6)
-    body = (RigidBody.solid_box(values['mass'], box_size) if not any(inertia)
-            else RigidBody(values['mass'], inertia))
+    """
+    Return the configuration for parameter ``values``; raise ValueError naming what is wrong.
+
+    The message is one line (the node returns it as the reason of a refused ``ros2 param set``
+    and logs it at start-up) and names the parameter as the user set it.
+    """
+    try:
+        return _configuration_from(values)
+    except ValueError as error:
+        raise ValueError(' '.join(str(error).splitlines())) from None
+
+
+def _configuration_from(values: Mapping[str, Any]) -> Configuration:
+    rate_hz = _bounded('rate_hz', values['rate_hz'])
     substeps = values['substeps']
+    # Settings checks that substeps is an integer >= 1; the node also bounds it above.
+    most = BOUNDS['substeps'][1]
+    if isinstance(substeps, int) and substeps > most:
+        raise ValueError(f'substeps must be <= {most}, got {substeps}')
+    box_size = finite_vector('box_size', values['box_size'])
+    inertia = finite_vector('inertia', values['inertia'], 6)
+    if any(inertia):
+        body = RigidBody(values['mass'], inertia)
+        body_name = f'body of inertia {shown(inertia)} and mass'
+    else:
+        body = RigidBody.solid_box(values['mass'], box_size, name='box_size')
+        body_name = f'solid box of box_size {shown(box_size)} and mass'
     constraint = MouseConstraint(
         anchor=values['anchor'], baumgarte=values['baumgarte'],
         frequency_hz=values['frequency_hz'], damping_ratio=values['damping_ratio'],
         max_force=values['max_force'])
+    check_lever(body, constraint.anchor, body_name=body_name)
     settings = Settings(body, constraint, gravity=values['gravity'],
                         linear_damping=values['linear_damping'],
                         angular_damping=values['angular_damping'], substeps=substeps)
     initial_state = BodyState(values['initial_position'],
-                              values['initial_orientation']).validated()
+                              values['initial_orientation']).validated(prefix='initial_')
     frame_id = values['frame_id']
     if not isinstance(frame_id, str) or not frame_id:
-        raise ValueError(f'frame_id must be a non-empty string, got {frame_id!r}')
+        raise ValueError(f'frame_id must be a non-empty string, got {shown(frame_id)}')
+    if frame_id.startswith('/'):
+        raise ValueError(f'frame_id must not start with a slash, got {shown(frame_id)}: tf2 '
+                         f'refuses such frame ids (use {shown(frame_id.lstrip("/"))})')
     hold = values['hold_initial_anchor']
     if not isinstance(hold, bool):
-        raise ValueError(f'hold_initial_anchor must be true or false, got {hold!r}')
+        raise ValueError(f'hold_initial_anchor must be true or false, got {shown(hold)}')
     anchor_warn = scalar('diagnostics_anchor_warn', values['diagnostics_anchor_warn'], above=0.0)
     anchor_error = scalar('diagnostics_anchor_error', values['diagnostics_anchor_error'],
                           at_least=anchor_warn)
     return Configuration(
         settings=settings,
         initial_state=initial_state,
-        rate_hz=scalar('rate_hz', values['rate_hz'], above=0.0),
+        rate_hz=rate_hz,
         frame_id=frame_id,
         box_size=box_size,
         hold_initial_anchor=hold,
-        workspace_radius=scalar('workspace_radius', values['workspace_radius'], above=0.0),
+        workspace_radius=scalar('workspace_radius', values['workspace_radius'], above=0.0,
+                                at_most=MAX_DISTANCE),
         target_timeout=scalar('target_timeout', values['target_timeout'], at_least=0.0),
         marker_rate_hz=scalar('marker_rate_hz', values['marker_rate_hz'], at_least=0.0),
         diagnostics_rate_hz=scalar('diagnostics_rate_hz', values['diagnostics_rate_hz'],
@@ -141,3 +186,12 @@ def configuration_from(values: Mapping[str, Any]) -> Configuration:
         diagnostics_anchor_warn=anchor_warn,
         diagnostics_anchor_error=anchor_error,
     )
+
+
+def _bounded(name: str, value: Any) -> float:
+    """Return ``value`` checked against the range of parameter ``name`` in PARAMETERS."""
+    low, high = BOUNDS[name]
+    return scalar(name, value, at_least=low, at_most=high)
+
+
+BOUNDS = {p.name: p.bounds for p in PARAMETERS if p.bounds is not None}

@@ -21,6 +21,8 @@ from scipy.spatial.transform import Rotation
 from mouse_constraint_ros.physics import (BodyState, MouseConstraint, MouseSimulation, RigidBody,
                                           Settings, STANDARD_GRAVITY)
 from mouse_constraint_ros.physics.constraint import soft_gains
+from mouse_constraint_ros.physics.limits import (MAX_ACCELERATION, MAX_CONDITION, MAX_DISTANCE,
+                                                 MAX_MASS, MAX_MOMENT, MIN_MASS, MIN_MOMENT)
 from mouse_constraint_ros.physics.simulation import MAX_STEP, MIN_STEP
 
 NO_GRAVITY = (0.0, 0.0, 0.0)
@@ -271,10 +273,18 @@ def bad_inertias(draw) -> tuple:
     Non-SPD: a principal moment below 0 by at least 1e-6 of the largest, or exactly 0 on the
     diagonal (rotated, a zero moment may round to a tiny positive one: a valid thin rod).
     Non-realizable: the largest moment exceeds the sum of the other two by at least 1e-6 of it
-    (the core accepts 1e-9 of slack for rounding).
+    (the core accepts 1e-9 of slack for rounding). Too small or too large: realizable moments
+    1e3 or more beyond MIN_MOMENT..MAX_MOMENT.
     """
-    kind = draw(st.sampled_from(['non-finite', 'not SPD', 'zero', 'not realizable', 'size']))
+    kind = draw(st.sampled_from(['non-finite', 'not SPD', 'zero', 'not realizable', 'size',
+                                 'too small', 'too large']))
     a, b = draw(log_uniform(1e-3, 1e3)), draw(log_uniform(1e-3, 1e3))
+    if kind in ('too small', 'too large'):
+        # Realizable moments of a scale beyond the range where the gyroscopic step's
+        # determinant is a normal float.
+        scale = (draw(log_uniform(1e-300, MIN_MOMENT * 1e-3)) if kind == 'too small'
+                 else draw(log_uniform(MAX_MOMENT * 1e3, 1e300)))
+        return rotated((scale, 1.2 * scale, 1.5 * scale), draw(unit_quaternions()))
     if kind == 'size':
         return draw(st.lists(log_uniform(1e-3, 1e3), max_size=9).filter(lambda v: len(v) != 6))
     if kind == 'non-finite':
@@ -328,8 +338,11 @@ def bad_changes() -> st.SearchStrategy:
     """
     Return (description, change) pairs: ``change(sim)`` must raise ValueError.
 
-    Every setting and input: non-finite, non-numeric or wrong-sized values; mass <= 0; a non-SPD
-    or non-realizable inertia; substeps < 1 or not an int; baumgarte outside (0, 1]; negative
+    Every setting and input: non-finite, non-numeric or wrong-sized values; mass <= 0 or out of
+    MIN_MASS..MAX_MASS; a non-SPD or non-realizable inertia, or one of moments out of their
+    range; gravity stronger than MAX_ACCELERATION; an anchor or a position farther than
+    MAX_DISTANCE, or an anchor so far that K is too ill-conditioned;
+    substeps < 1 or not an int; baumgarte outside (0, 1]; negative
     damping, frequency or damping ratio; max force <= 0; settings of the wrong type; invalid
     states; dt <= 0, dt > MAX_STEP and dt / substeps < MIN_STEP.
     """
@@ -355,13 +368,31 @@ def bad_changes() -> st.SearchStrategy:
     def step(sim, dt):
         sim.step(dt)
 
+    def ill_conditioned(sim, direction):
+        # Just beyond the farthest anchor at which K's condition bound 1 + m r^2 / I_min is
+        # MAX_CONDITION.
+        body = sim.settings.body
+        reach = math.sqrt((MAX_CONDITION - 1.0) * body.principal_moments[0] / body.mass)
+        constraint(sim, anchor=tuple(1.01 * reach * np.array(direction)))
+
     def short_step(sim, fraction):
         sim.step(fraction * MIN_STEP * sim.settings.substeps)
 
     positive_or_not = st.one_of(st.just(0.0), st.just(-0.0), NEGATIVE, NON_FINITE, NOT_A_NUMBER)
     not_non_negative = st.one_of(NEGATIVE, NON_FINITE, NOT_A_NUMBER)
+    far = st.builds(lambda d, r: tuple(r * np.array(d)), unit_vectors(),
+                    log_uniform(1.01 * MAX_DISTANCE, 1e300))
     cases = [
         ('mass', body, 'mass', positive_or_not),
+        ('mass out of range', body, 'mass', st.one_of(
+            log_uniform(5e-324, MIN_MASS * 0.99), log_uniform(MAX_MASS * 1.01, 1e308))),
+        ('gravity too strong', setting, 'gravity', st.builds(
+            lambda d, g: tuple(g * np.array(d)), unit_vectors(),
+            log_uniform(1.01 * MAX_ACCELERATION, 1e308))),
+        ('anchor too far', constraint, 'anchor', far),
+        ('anchor beyond the condition limit', ill_conditioned, 'direction', unit_vectors()),
+        ('initial position too far', assign, 'initial_state', far.map(
+            lambda p: BodyState(position=p))),
         ('inertia', body, 'inertia', bad_inertias()),
         ('substeps', setting, 'substeps', st.one_of(
             st.integers(max_value=0), st.sampled_from([2.0, True, '2', None]))),

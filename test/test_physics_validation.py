@@ -88,6 +88,16 @@ def test_reset_returns_to_the_initial_state_and_drops_the_target():
     (lambda: BodyState(position=(NAN, 0.0, 0.0)).validated(), 'position', 'nan'),
     (lambda: BodyState(linear_velocity=(0.0, INF, 0.0)).validated(), 'linear_velocity', 'inf'),
     (lambda: BodyState(angular_velocity=(0.0, 0.0)).validated(), 'angular_velocity', '(0.0, 0.0)'),
+    (lambda: RigidBody(1e-300, BOX.inertia), 'mass', '1e-300'),
+    (lambda: RigidBody(1e300, BOX.inertia), 'mass', '1e+300'),
+    (lambda: RigidBody(1.0, (1e-110, 0.0, 0.0, 1e-110, 0.0, 1e-110)), 'inertia', '1e-110'),
+    (lambda: RigidBody(1.0, (1e100, 0.0, 0.0, 1e100, 0.0, 1e100)), 'inertia', '1e+100'),
+    (lambda: RigidBody.solid_box(1.0, (1e200, 1.0, 1.0)), 'extents', '1e+200'),
+    (lambda: RigidBody.solid_box(1.0, (1e-120, 1e-120, 1e-120)), 'extents', '1e-120'),
+    (lambda: MouseConstraint(anchor=(0.0, 1e200, 0.0)), 'anchor', '1e+200'),
+    (lambda: Settings(BOX, MouseConstraint(anchor=(1e8, 0.0, 0.0))), 'anchor', '1e+08'),
+    (lambda: Settings(BOX, gravity=(1e308, 0.0, 0.0)), 'gravity', '1e+308'),
+    (lambda: BodyState(position=(0.0, 0.0, 1e200)).validated(), 'position', '1e+200'),
 ])
 def test_every_invalid_setting_raises_naming_field_and_value(build, field, value):
     """Test 8: ValueError whose message names the field and shows the value."""
@@ -95,6 +105,15 @@ def test_every_invalid_setting_raises_naming_field_and_value(build, field, value
         build()
     assert field in str(raised.value)
     assert value in str(raised.value)
+
+
+def test_messages_name_the_fields_with_a_prefix_and_show_plain_numbers():
+    """A state names its fields with ``prefix``; arrays are shown as lists of numbers."""
+    from array import array
+    with pytest.raises(ValueError, match=r'^initial_orientation .*\(0\.0, 0\.0, 0\.0, 2\.0\)'):
+        BodyState(orientation=array('d', [0.0, 0.0, 0.0, 2.0])).validated(prefix='initial_')
+    with pytest.raises(ValueError, match=r'^initial_position .*\[1\.0, 2\.0\]'):
+        BodyState(position=array('d', [1.0, 2.0])).validated(prefix='initial_')
 
 
 def test_a_thin_plate_is_the_limit_of_realizable():

@@ -1,8 +1,9 @@
 """
 The physics core: one rigid body held by the mouse constraint. Imports numpy only, never rclpy.
 
-See ``shared/seed/mouse-constraint.md`` for the constraint; the ``constraint`` module states the
-two sign corrections made to it.
+The constraint is Irlan Robson's, from his note "The Mouse Constraint (and its Jacobian)" (the
+"seed" note of the docstrings); the ``constraint`` module states the two sign corrections made
+to it, and ``limits`` the ranges of the settings.
 """
 
 from .body import RigidBody

@@ -1,5 +1,5 @@
 """
-The mouse constraint of the seed note (``shared/seed/mouse-constraint.md``), with its corrections.
+The mouse constraint of Irlan Robson's note "The Mouse Constraint (and its Jacobian)", corrected.
 
 A body-fixed anchor, at ``r = R r_local`` from the center of mass, is pulled to the mouse target:
 
@@ -27,8 +27,9 @@ from typing import Tuple
 
 import numpy as np
 
+from .limits import MAX_DISTANCE
 from .rotation import Symmetric3, Vector3
-from .validation import finite_vector, scalar
+from .validation import finite_vector, norm, scalar, shown
 
 
 # Upper bounds on the soft-mode settings: far beyond any use (a 1 MHz spring is rigid at any
@@ -42,7 +43,8 @@ class MouseConstraint:
     """
     How the anchor is held: where it is on the body and how stiffly it follows the target.
 
-    :param anchor: the anchor in the body frame, from the COM (m).
+    :param anchor: the anchor in the body frame, from the COM (m), at most MAX_DISTANCE away
+        (and near enough for the body's effective mass, see ``simulation.check_lever``).
     :param baumgarte: rigid mode's Baumgarte factor delta in (0, 1] (seed eq. 1.5).
     :param frequency_hz: soft mode's natural frequency f (Hz); 0 selects rigid mode.
     :param damping_ratio: soft mode's damping ratio zeta (1 = critical).
@@ -57,7 +59,12 @@ class MouseConstraint:
 
     def __post_init__(self) -> None:
         """Validate every field; raise ValueError naming the first invalid one."""
-        object.__setattr__(self, 'anchor', finite_vector('anchor', self.anchor))
+        anchor = finite_vector('anchor', self.anchor)
+        if norm(anchor) > MAX_DISTANCE:
+            raise ValueError(
+                f'anchor must be at most {MAX_DISTANCE:g} m from the COM, got {shown(anchor)} '
+                f'({norm(anchor):g} m): positions are not resolved beyond')
+        object.__setattr__(self, 'anchor', anchor)
         object.__setattr__(self, 'baumgarte',
                            scalar('baumgarte', self.baumgarte, above=0.0, at_most=1.0))
         object.__setattr__(self, 'frequency_hz', scalar(

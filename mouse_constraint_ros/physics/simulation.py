@@ -21,10 +21,11 @@ from typing import Optional, Tuple
 
 from .body import gyroscopic_step, RigidBody
 from .constraint import cholesky, effective_mass, MouseConstraint, solve_cholesky
+from .limits import MAX_ACCELERATION, MAX_CONDITION, MAX_STEP, MIN_STEP
 from .rotation import (congruence, integrate_orientation, multiply, multiply_symmetric,
                        multiply_transposed, rotation_matrix, Vector3)
 from .state import BodyState
-from .validation import finite_vector, scalar
+from .validation import finite_vector, norm, scalar, shown
 
 STANDARD_GRAVITY: Vector3 = (0.0, 0.0, -9.80665)
 # The most a substep's position correction may turn the body (rad). The impulse is solved for
@@ -33,10 +34,6 @@ STANDARD_GRAVITY: Vector3 = (0.0, 0.0, -9.80665)
 # would miss, and the missed error would pump energy in. Only corrections of large errors meet
 # the limit; they then close at this turn per substep instead of at delta per substep.
 MAX_CORRECTION_TURN = 0.2
-# Step sizes outside [MIN_STEP, MAX_STEP] seconds are rejected: below, the gains b ~ 1 / h
-# overflow; above, the step is no simulation step.
-MIN_STEP = 1e-9
-MAX_STEP = 1.0
 # The leapfrog start kicks a soft spring back by its own acceleration only while the step
 # resolves it (2 zeta omega h and (omega h)^2 below this); a stiffer one is started like rigid
 # mode, since a first-order kick of a spring that settles within a step adds energy. Likewise
@@ -52,9 +49,13 @@ class Settings:
 
     :param body: mass and inertia.
     :param constraint: anchor and how stiffly it follows the target.
-    :param gravity: gravitational acceleration in the world frame (m/s^2).
-    :param linear_damping: rate c (1/s): v decays as exp(-c t) whatever the step size.
+    :param gravity: gravitational acceleration in the world frame (m/s^2), of norm at most
+        MAX_ACCELERATION (see ``limits``).
+    :param linear_damping: rate c (1/s): v decays as exp(-c t) whatever the step size. Any
+        rate >= 0 is valid: the factor exp(-c h) lies in [0, 1] and c h cannot overflow.
     :param angular_damping: the same for the angular velocity.
+
+    The body and the constraint's anchor must suit each other: see ``check_lever``.
     :param substeps: equal substeps per ``step`` call (>= 1).
     """
 
@@ -68,17 +69,50 @@ class Settings:
     def __post_init__(self) -> None:
         """Validate every field; raise ValueError naming the first invalid one."""
         if not isinstance(self.body, RigidBody):
-            raise ValueError(f'body must be a RigidBody, got {self.body!r}')
+            raise ValueError(f'body must be a RigidBody, got {shown(self.body)}')
         if not isinstance(self.constraint, MouseConstraint):
-            raise ValueError(f'constraint must be a MouseConstraint, got {self.constraint!r}')
-        object.__setattr__(self, 'gravity', finite_vector('gravity', self.gravity))
+            raise ValueError(f'constraint must be a MouseConstraint, got {shown(self.constraint)}')
+        check_lever(self.body, self.constraint.anchor)
+        gravity = finite_vector('gravity', self.gravity)
+        if norm(gravity) > MAX_ACCELERATION:
+            raise ValueError(
+                f'gravity must be at most {MAX_ACCELERATION:g} m/s^2 (about the surface '
+                f'gravity of a neutron star), got {shown(gravity)} of norm {norm(gravity):g}: '
+                'beyond, the velocities it gives leave what the step keeps finite')
+        object.__setattr__(self, 'gravity', gravity)
         object.__setattr__(self, 'linear_damping',
                            scalar('linear_damping', self.linear_damping, at_least=0.0))
         object.__setattr__(self, 'angular_damping',
                            scalar('angular_damping', self.angular_damping, at_least=0.0))
         if isinstance(self.substeps, bool) or not isinstance(self.substeps, int) \
                 or self.substeps < 1:
-            raise ValueError(f'substeps must be an integer >= 1, got {self.substeps!r}')
+            raise ValueError(f'substeps must be an integer >= 1, got {shown(self.substeps)}')
+
+
+def check_lever(body: RigidBody, anchor: Vector3, *, body_name: str = 'body of mass') -> None:
+    """
+    Raise ValueError naming ``anchor`` if the effective mass K is too ill-conditioned to solve.
+
+    K = m^-1 I3 + [r]x I_w^-1 [r]x^T has the eigenvalue 1 / m along r and at most
+    1 / m + |r|^2 / I_min across it, in any orientation: its condition number is at most
+    1 + m |r|^2 / I_min, which must not exceed MAX_CONDITION (see ``limits``). A point farther out
+    would be held by a K that rounding makes singular, and its Cholesky factor would fail.
+
+    :param body: the body.
+    :param anchor: the anchor in the body frame (m).
+    :param body_name: what the message calls the body, before its mass (naming the parameters
+        its mass and inertia came from).
+    """
+    moments = body.principal_moments
+    lever = norm(anchor)
+    condition = 1.0 + body.mass * (lever / moments[0]) * lever
+    if condition > MAX_CONDITION:
+        reach = math.sqrt((MAX_CONDITION - 1.0) * moments[0] / body.mass)
+        raise ValueError(
+            f'anchor {shown(anchor)} is {lever:g} m from the COM, too far for the {body_name} '
+            f'{body.mass:g} kg (smallest principal moment {moments[0]:g} kg m^2): the '
+            f'effective mass K would have condition number {condition:g} > {MAX_CONDITION:g} '
+            f'(1 + m |anchor|^2 / I_min), too ill-conditioned to solve; at most {reach:g} m')
 
 
 class MouseSimulation:

@@ -3,8 +3,9 @@
 import math
 from typing import NamedTuple
 
+from .limits import MAX_DISTANCE
 from .rotation import IDENTITY_QUATERNION, Quaternion, Vector3
-from .validation import finite_vector
+from .validation import finite_vector, shown
 
 # How far from 1 the norm of a given orientation may be; it is then normalized exactly.
 UNIT_QUATERNION_TOLERANCE = 1e-6
@@ -22,17 +23,30 @@ class BodyState(NamedTuple):
     linear_velocity: Vector3 = (0.0, 0.0, 0.0)
     angular_velocity: Vector3 = (0.0, 0.0, 0.0)
 
-    def validated(self) -> 'BodyState':
-        """Return this state with floats and an exactly unit quaternion, or raise ValueError."""
-        orientation = finite_vector('orientation', self.orientation, 4)
+    def validated(self, *, prefix: str = '') -> 'BodyState':
+        """
+        Return this state with floats and an exactly unit quaternion, or raise ValueError.
+
+        The position must lie within MAX_DISTANCE of the origin, where positions are resolved
+        (see ``limits``).
+
+        :param prefix: put before the field names in messages, e.g. ``initial_`` for the
+            parameters ``initial_position`` and ``initial_orientation``.
+        """
+        orientation = finite_vector(prefix + 'orientation', self.orientation, 4)
         norm = math.sqrt(sum(c * c for c in orientation))
         if abs(norm - 1.0) > UNIT_QUATERNION_TOLERANCE:
             raise ValueError(
-                f'orientation must be a unit quaternion (x, y, z, w), got {orientation!r} '
-                f'with norm {norm!r}')
+                f'{prefix}orientation must be a unit quaternion (x, y, z, w), got '
+                f'{shown(orientation)} with norm {math.hypot(*orientation)!r}')
+        position = finite_vector(prefix + 'position', self.position)
+        if math.hypot(*position) > MAX_DISTANCE:
+            raise ValueError(
+                f'{prefix}position must be at most {MAX_DISTANCE:g} m from the origin, got '
+                f'{shown(position)}: positions are not resolved beyond')
         return BodyState(
-            finite_vector('position', self.position),
+            position,
             tuple(c / norm for c in orientation),
-            finite_vector('linear_velocity', self.linear_velocity),
-            finite_vector('angular_velocity', self.angular_velocity),
+            finite_vector(prefix + 'linear_velocity', self.linear_velocity),
+            finite_vector(prefix + 'angular_velocity', self.angular_velocity),
         )
