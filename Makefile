@@ -1,7 +1,8 @@
 # Developer entry points for mouse_constraint_ros (plain venv route, no apt ROS needed).
 #
 #   make venv   create/update .venv (only when requirements/setup files changed)
-#   make test   run the test suite with pytest
+#   make test   run the test suite with pytest (every tier: unit, ros, system)
+#   make test-unit  only the unit tier (pure code, no rclpy context, no process): seconds
 #   make lint   flake8 (ament_flake8 settings, see .flake8)
 #   make run    run the node with config/params.yaml
 #   make bench  run bench/run_all.py
@@ -18,7 +19,7 @@ STAMP := $(VENV)/.stamp
 REQS := $(wildcard requirements/*.txt)
 PIP := $(VPY) -m pip --disable-pip-version-check -q
 PYTEST_ARGS ?=
-LINT_PATHS := $(wildcard mouse_constraint_ros test bench setup.py)
+LINT_PATHS := $(wildcard mouse_constraint_ros test test_support bench launch setup.py)
 
 # If .venv/bin/python is missing or no longer runs (e.g. the base interpreter
 # moved), drop the stamp so the venv is (re)built.
@@ -26,7 +27,7 @@ ifneq ($(shell $(VPY) -c 'print(1)' 2>/dev/null),1)
 $(shell rm -f $(STAMP))
 endif
 
-.PHONY: venv test lint run bench bench-venv demo clean
+.PHONY: venv test test-unit lint run bench bench-venv demo clean
 
 # Peer engines for the benchmarks only (PyBullet, MuJoCo): installed into .venv by `make bench`,
 # never by `make venv`, `make test` or CI (requirements/bench/ is outside the wildcard above).
@@ -52,6 +53,9 @@ $(STAMP): $(REQS) setup.py setup.cfg
 
 test: venv
 	$(VPY) -m pytest test/ -q $(PYTEST_ARGS)
+
+test-unit: venv
+	$(VPY) -m pytest test/ -q -m unit $(PYTEST_ARGS)
 
 lint: venv
 	$(VPY) -m flake8 --max-line-length 99 $(LINT_PATHS)

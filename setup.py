@@ -9,7 +9,7 @@ package_name = 'mouse_constraint_ros'
 setup(
     name=package_name,
     version='0.1.0',
-    packages=find_packages(exclude=['test', 'test.*']),
+    packages=find_packages(include=[package_name, package_name + '.*']),
     data_files=[
         ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
         ('share/' + package_name, ['package.xml']),
@@ -35,8 +35,8 @@ setup(
     entry_points={
         'console_scripts': [
             'mouse_constraint_node = mouse_constraint_ros.node:main',
-            'mouse_target = mouse_constraint_ros.target_cli:main',
-            'mouse_record = mouse_constraint_ros.recorder:main',
+            'mouse_target = mouse_constraint_ros.cli.target:main',
+            'mouse_record = mouse_constraint_ros.cli.record:main',
         ],
     },
 )

@@ -51,7 +51,7 @@ def callback_cost_us(repeats: int) -> dict:
     """Return the microseconds per target callback of an in-process node, valid and rejected."""
     import rclpy
 
-    from mouse_constraint_ros.conversions import point_message
+    from mouse_constraint_ros.messages import point_message
     from mouse_constraint_ros.node import MouseConstraintNode
 
     context = rclpy.Context()

@@ -24,13 +24,16 @@ the pose's trip back over DDS).
 
 import time
 
-from geometry_msgs.msg import PoseStamped, TwistStamped
+from geometry_msgs.msg import PoseStamped
+from geometry_msgs.msg import TwistStamped
 import numpy as np
 from rclpy.serialization import deserialize_message
 import ros_process
 
-from mouse_constraint_ros.configuration import configuration_from, DEFAULTS
-from mouse_constraint_ros.conversions import stamp_nanoseconds, state_from_messages
+from mouse_constraint_ros.messages import stamp_nanoseconds
+from mouse_constraint_ros.messages import state_from_messages
+from mouse_constraint_ros.parameters import DEFAULTS
+from mouse_constraint_ros.parameters import node_config
 from mouse_constraint_ros.physics import MouseSimulation
 
 RATE_HZ = 1000.0
@@ -82,7 +85,7 @@ def reflecting_ticks(data: dict, parameters: dict) -> dict:
     (targets replaced before any tick used them), ``unexplained`` (ticks no candidate matched),
     ``checked`` (tick pairs replayed) and ``breaks`` (missing ticks that broke the chain).
     """
-    config = configuration_from(dict(DEFAULTS, **parameters))
+    config = node_config(dict(DEFAULTS, **parameters))
     simulation = MouseSimulation(config.settings, config.initial_state)
     period = 1e9 / config.rate_hz
     dt = 1.0 / config.rate_hz
@@ -128,7 +131,7 @@ def reflecting_ticks(data: dict, parameters: dict) -> dict:
 
 def measure(command, parameters: dict, trials: int) -> dict:
     """Run the node by ``command`` against the observer; return the latencies and counts."""
-    config = configuration_from(dict(DEFAULTS, **parameters))
+    config = node_config(dict(DEFAULTS, **parameters))
     with ros_process.Started(command) as node:
         data, samples, _ = ros_process.observe(
             ['latency', '--trials', str(trials), '--gap-min', str(GAP_S[0]),

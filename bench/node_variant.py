@@ -33,7 +33,7 @@ from rclpy.task import Future
 from rclpy.utilities import remove_ros_args
 
 from mouse_constraint_ros.node import MouseConstraintNode
-from mouse_constraint_ros.signals import StopRequest
+from mouse_constraint_ros.spin import StopRequest
 
 
 class PartTimer:

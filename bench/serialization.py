@@ -52,7 +52,7 @@ from rosgraph_msgs.msg import Clock  # noqa: E402
 
 from mouse_constraint_ros.cdr_layouts import (ClockLayout, OdometryLayout,  # noqa: E402
                                               PoseStampedLayout, TwistStampedLayout)
-from mouse_constraint_ros.conversions import fill_pose, fill_twist, set_stamp  # noqa: E402
+from mouse_constraint_ros.messages import fill_pose, fill_twist, set_stamp  # noqa: E402
 from mouse_constraint_ros.physics import BodyState  # noqa: E402
 
 NAMESPACE = 'bench_serialization'

@@ -3,7 +3,7 @@
 Soak (hardening issue): 10 minutes of simulated time at 1 kHz, the core stepped directly.
 
 No ROS and no clock: ``MouseSimulation.step(1 ms)`` 600 000 times per case, so it runs faster
-than real time. The settings are the node's defaults (``configuration_from(DEFAULTS)``) unless a
+than real time. The settings are the node's defaults (``node_config(DEFAULTS)``) unless a
 case says otherwise. Cases:
 
 - moving target: the target goes round a Lissajous figure that starts at the initial anchor
@@ -31,7 +31,7 @@ import time
 
 import numpy as np
 
-from mouse_constraint_ros.configuration import configuration_from, DEFAULTS
+from mouse_constraint_ros.parameters import DEFAULTS, node_config
 from mouse_constraint_ros.physics import BodyState, MouseSimulation, Settings
 
 RATE_HZ = 1000.0
@@ -58,7 +58,7 @@ CASES = ('moving target', 'held, spinning', 'free spin')
 
 def case(name: str):
     """Return (settings text, settings, initial state, target path or None, fixed target)."""
-    config = configuration_from(DEFAULTS)
+    config = node_config(DEFAULTS)
     anchor = config.initial_anchor()
     state = config.initial_state
     if name == 'moving target':
@@ -182,8 +182,8 @@ def run(quick: bool = False, minutes: float = None) -> dict:
     return {
         'title': f'Soak: {minutes:g} min simulated at {RATE_HZ:g} Hz, the core directly',
         'text': (f'{ticks} ticks of 1 ms per case, node default settings (rigid, baumgarte '
-                 f'{configuration_from(DEFAULTS).settings.constraint.baumgarte:g}, '
-                 f'{configuration_from(DEFAULTS).settings.substeps} substeps) unless stated; '
+                 f'{node_config(DEFAULTS).settings.constraint.baumgarte:g}, '
+                 f'{node_config(DEFAULTS).settings.substeps} substeps) unless stated; '
                  'first minute against last minute.'),
         'columns': [['case', 'case', ''], ['setup', 'setup', ''], ['finite', 'finite', ''],
                     ['q_error_max', 'max ||q| - 1|', '.1e'],

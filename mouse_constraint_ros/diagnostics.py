@@ -37,8 +37,8 @@ from typing import List, NamedTuple, Optional, Sequence
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 
-from .conversions import set_stamp
-from .physics.rotation import Vector3
+from .messages import set_stamp
+from .physics.algebra import Vector3
 
 OK, WARN, ERROR = DiagnosticStatus.OK, DiagnosticStatus.WARN, DiagnosticStatus.ERROR
 

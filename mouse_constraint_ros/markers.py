@@ -23,9 +23,9 @@ from geometry_msgs.msg import Point
 from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import Marker, MarkerArray
 
-from .conversions import fill_point, fill_pose, set_stamp
+from .messages import fill_point, fill_pose, set_stamp
 from .physics import BodyState, Settings, STANDARD_GRAVITY
-from .physics.rotation import Vector3
+from .physics.algebra import Vector3
 
 # Sphere diameter as a fraction of the box's longest edge; the line is a third as wide.
 SPHERE_FRACTION = 0.1

@@ -30,22 +30,22 @@ from rclpy.experimental import EventsExecutor
 from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
 from std_srvs.srv import Trigger
 from visualization_msgs.msg import MarkerArray
 
-from .configuration import configuration_from, Parameter as Declaration, PARAMETERS
-from .conversions import (fill_pose, fill_twist, point_from_message, set_stamp,
-                          stamp_nanoseconds)
 from .diagnostics import (constraint_status, diagnostic_array, INITIAL_ANCHOR, NO_TARGET,
                           rate_status, Thresholds, TickCounters, TickWindow, USER_TARGET)
+from .interface import (DIAGNOSTICS_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH, NODE_NAME,
+                        POSE_TOPIC, RELEASE_SERVICE, RESET_SERVICE, STATE_QOS, TARGET_QOS,
+                        TARGET_TOPIC, TWIST_TOPIC)
 from .markers import marker_array, reference_force
+from .messages import fill_pose, fill_twist, point_from_message, set_stamp, stamp_nanoseconds
+from .parameters import node_config, PARAMETERS, ParameterSpec
 from .physics import MouseSimulation
-from .signals import StopRequest
+from .spin import StopRequest
 from .tick_grid import TickGrid
 
-NODE_NAME = 'mouse_constraint'
 # Catch up on at most this much missed time in one timer callback; older ticks are dropped.
 MAX_CATCH_UP_SECONDS = 0.1
 # Run ticks for at most this much wall time in one timer callback; the rest of the due ticks are
@@ -63,16 +63,6 @@ WARN_PERIOD = 2.0
 CLOCK_WATCH_PERIOD = 1.0
 # Parameters rclpy declares or reads by itself; not unknown keys.
 RCLPY_PARAMETER_PREFIXES = ('use_sim_time', 'start_type_description_service', 'qos_overrides.')
-
-# The target subscription: RELIABLE so that `ros2 topic pub`, RViz's Publish Point tool and
-# `mouse_target` (all RELIABLE) connect and a one-shot target is acknowledged; depth 1 because
-# only the newest target matters. Pose and twist are RELIABLE, which any subscriber, RELIABLE or
-# BEST_EFFORT, can match, with depth 100 so that a catch-up burst (up to 0.1 s of ticks at
-# 1 kHz) is not overwritten in the writer's history before a reliable reader has it.
-TARGET_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
-                        reliability=ReliabilityPolicy.RELIABLE)
-STATE_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
-                       reliability=ReliabilityPolicy.RELIABLE)
 
 
 class StartupRefusal(ValueError):
@@ -127,7 +117,7 @@ def _type_hint(value: Any, expected: Parameter.Type) -> Optional[str]:
     return None
 
 
-def refusal_reason(declaration: Declaration, given: Optional[Parameter],
+def refusal_reason(declaration: ParameterSpec, given: Optional[Parameter],
                    error: ParameterException) -> str:
     """
     Return one line saying why ``given`` cannot be ``declaration``'s value.
@@ -191,7 +181,7 @@ class MouseConstraintNode(Node):
         try:
             for parameter in PARAMETERS:
                 self._declare(parameter)
-            self._config = configuration_from(self._parameter_values())
+            self._config = node_config(self._parameter_values())
         except ValueError as error:
             self._refuse(str(error))
         self._warn_about_unknown_parameters()
@@ -219,11 +209,11 @@ class MouseConstraintNode(Node):
         self._pose = PoseStamped()
         self._twist = TwistStamped()
         self._set_frame(self._config.frame_id)
-        self._pose_publisher = self.create_publisher(PoseStamped, 'pose', STATE_QOS)
-        self._twist_publisher = self.create_publisher(TwistStamped, 'twist', STATE_QOS)
-        self.create_subscription(PointStamped, 'target', self._on_target, TARGET_QOS)
-        self.create_service(Trigger, '~/reset', self._on_reset)
-        self.create_service(Trigger, '~/release', self._on_release)
+        self._pose_publisher = self.create_publisher(PoseStamped, POSE_TOPIC, STATE_QOS)
+        self._twist_publisher = self.create_publisher(TwistStamped, TWIST_TOPIC, STATE_QOS)
+        self.create_subscription(PointStamped, TARGET_TOPIC, self._on_target, TARGET_QOS)
+        self.create_service(Trigger, RESET_SERVICE, self._on_reset)
+        self.create_service(Trigger, RELEASE_SERVICE, self._on_release)
         self._timer = None
         self._start_timer()
         self._setup_monitors()
@@ -231,7 +221,7 @@ class MouseConstraintNode(Node):
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.get_logger().info(self._describe())
 
-    def _declare(self, parameter: Declaration) -> None:
+    def _declare(self, parameter: ParameterSpec) -> None:
         try:
             self.declare_parameter(parameter.name, parameter.default, _descriptor(parameter))
         except ParameterException as error:
@@ -476,7 +466,7 @@ class MouseConstraintNode(Node):
 
     def _on_set_parameters(self, changes: List[Parameter]) -> SetParametersResult:
         try:
-            config = configuration_from(self._parameter_values(changes))
+            config = node_config(self._parameter_values(changes))
         except ValueError as error:
             return SetParametersResult(successful=False, reason=str(error))
         previous, self._config = self._config, config
@@ -496,8 +486,9 @@ class MouseConstraintNode(Node):
     # messages are built by the markers and diagnostics modules from the simulation's data.
 
     def _setup_monitors(self) -> None:
-        self._marker_publisher = self.create_publisher(MarkerArray, '~/markers', 10)
-        self._diagnostics_publisher = self.create_publisher(DiagnosticArray, '/diagnostics', 10)
+        self._marker_publisher = self.create_publisher(MarkerArray, MARKERS_TOPIC, MONITOR_DEPTH)
+        self._diagnostics_publisher = self.create_publisher(
+            DiagnosticArray, DIAGNOSTICS_TOPIC, MONITOR_DEPTH)
         # The first window opens at the first diagnostics call, once the node spins.
         self._tick_window = TickWindow()
         self._window_sim_time = self.get_clock().ros_time_is_active

@@ -12,7 +12,7 @@ time rather than waiting for the old one to come back.
 from fractions import Fraction
 from typing import NamedTuple, Optional
 
-from .conversions import NANOSECONDS_PER_SECOND
+NANOSECONDS_PER_SECOND = 1_000_000_000
 
 
 class DueTicks(NamedTuple):

@@ -13,11 +13,31 @@ os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
 
 import pytest  # noqa: E402 (after the environment is set, as rclpy reads it)
 
+# Modules whose tests start executables as processes (or build with colcon): the system tier.
+SYSTEM_MODULES = {'test_cli_refusals', 'test_hardening', 'test_launch', 'test_processes',
+                  'test_recorder', 'test_startup_refusals'}
+
+
+def pytest_collection_modifyitems(items) -> None:
+    """
+    Mark each test with its tier.
+
+    system: its module starts processes; ros: it takes the ``ros`` fixture (a node
+    in-process); unit: everything else (pure code).
+    """
+    for item in items:
+        if item.module.__name__.rpartition('.')[2] in SYSTEM_MODULES:
+            item.add_marker(pytest.mark.system)
+        elif 'ros' in getattr(item, 'fixturenames', ()):
+            item.add_marker(pytest.mark.ros)
+        else:
+            item.add_marker(pytest.mark.unit)
+
 
 @pytest.fixture
 def ros():
     """Yield a ``RosHarness`` with its own context; shut it down afterwards."""
-    from ros_helpers import RosHarness
+    from test_support.ros_harness import RosHarness
     harness = RosHarness()
     yield harness
     harness.shutdown()

@@ -18,7 +18,7 @@ from geometry_msgs.msg import PointStamped
 import pytest
 from rclpy.parameter import Parameter
 
-from mouse_constraint_ros import recorder, target_cli
+from mouse_constraint_ros.cli import record as recorder, target as target_cli
 from mouse_constraint_ros.node import MouseConstraintNode
 from mouse_constraint_ros.target_gate import TargetGate
 

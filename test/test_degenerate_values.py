@@ -1,7 +1,7 @@
 """
 Degenerate parameter values: each is refused with its reason, or the step handles it.
 
-The node validates with ``configuration_from`` at start-up and in its set-parameters callback,
+The node validates with ``node_config`` at start-up and in its set-parameters callback,
 so a ValueError there is a refusal with a reason; anything it accepts must step without raising
 and stay finite, at the smallest and the largest step the core allows, for a target near the
 anchor and one at the far end of the workspace, in rigid and in soft mode. Hypothesis draws the
@@ -16,9 +16,9 @@ from hypothesis import event, given, HealthCheck, settings, strategies as st
 import numpy as np
 import pytest
 
-from mouse_constraint_ros.configuration import configuration_from, DEFAULTS, PARAMETERS
+from mouse_constraint_ros.parameters import DEFAULTS, node_config, PARAMETERS
 from mouse_constraint_ros.physics import BodyState, MouseSimulation, RigidBody, Settings
-from mouse_constraint_ros.physics.body import gyroscopic_step
+from mouse_constraint_ros.physics.gyroscopic import gyroscopic_step
 from mouse_constraint_ros.physics.limits import (MAX_ACCELERATION, MAX_CONDITION, MAX_DISTANCE,
                                                  MAX_MASS, MAX_MOMENT, MIN_MASS, MIN_MOMENT)
 from mouse_constraint_ros.physics.simulation import MAX_STEP, MIN_STEP
@@ -33,7 +33,7 @@ STEPS = 6
 def configured(**overrides):
     """Return the configuration of the defaults with ``overrides``, or the ValueError raised."""
     try:
-        return configuration_from(dict(DEFAULTS, **overrides))
+        return node_config(dict(DEFAULTS, **overrides))
     except ValueError as error:
         return error
 
@@ -243,7 +243,7 @@ def test_a_mass_or_moment_just_outside_the_ranges_is_refused():
 
 def test_the_anchor_is_refused_where_the_effective_mass_is_ill_conditioned():
     """1 + m |r|^2 / I_min may reach MAX_CONDITION and not exceed it; the message says why."""
-    config = configuration_from(DEFAULTS)
+    config = node_config(DEFAULTS)
     body = config.settings.body
     reach = math.sqrt((MAX_CONDITION - 1.0) * body.principal_moments[0] / body.mass)
     assert not isinstance(configured(anchor=[0.0, 0.0, 0.999 * reach]), ValueError)
@@ -281,7 +281,7 @@ def test_frame_id_with_a_leading_slash_is_refused():
     """tf2 refuses frame ids that start with '/'; the message says so and suggests the fix."""
     message = refused('frame_id', frame_id='/world')
     assert 'slash' in message and "'world'" in message, message
-    assert configuration_from(dict(DEFAULTS, frame_id='world/child')).frame_id == 'world/child'
+    assert node_config(dict(DEFAULTS, frame_id='world/child')).frame_id == 'world/child'
 
 
 # One invalid value of every parameter, and what the message must name.
@@ -333,7 +333,7 @@ def test_array_parameters_of_the_wrong_size_show_plain_numbers(name):
 @pytest.mark.parametrize('name, value', [
     ('rate_hz', 0.5), ('rate_hz', 20000.0), ('substeps', 1001), ('workspace_radius', 1e13)])
 def test_the_declared_ranges_hold_without_ros_too(name, value):
-    """configuration_from keeps the node's ranges, so h = dt / substeps stays >= 1e-7 s."""
+    """node_config keeps the node's ranges, so h = dt / substeps stays >= 1e-7 s."""
     bounds = next(p.bounds for p in PARAMETERS if p.name == name)
     assert not bounds[0] <= value <= bounds[1]
     refused(name, **{name: value})

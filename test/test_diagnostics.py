@@ -2,15 +2,22 @@
 
 import math
 
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
+from diagnostic_msgs.msg import DiagnosticArray
+from diagnostic_msgs.msg import DiagnosticStatus
 import pytest
 from rclpy.parameter import Parameter
 
-from mouse_constraint_ros.conversions import stamp_nanoseconds
-from mouse_constraint_ros.diagnostics import (constraint_status, diagnostic_array,
-                                              INITIAL_ANCHOR, NO_TARGET, rate_status,
-                                              Thresholds, TickCounters, TickWindow, USER_TARGET,
-                                              Window)
+from mouse_constraint_ros.diagnostics import constraint_status
+from mouse_constraint_ros.diagnostics import diagnostic_array
+from mouse_constraint_ros.diagnostics import INITIAL_ANCHOR
+from mouse_constraint_ros.diagnostics import NO_TARGET
+from mouse_constraint_ros.diagnostics import rate_status
+from mouse_constraint_ros.diagnostics import Thresholds
+from mouse_constraint_ros.diagnostics import TickCounters
+from mouse_constraint_ros.diagnostics import TickWindow
+from mouse_constraint_ros.diagnostics import USER_TARGET
+from mouse_constraint_ros.diagnostics import Window
+from mouse_constraint_ros.messages import stamp_nanoseconds
 from mouse_constraint_ros.node import MouseConstraintNode
 
 OK, WARN, ERROR = DiagnosticStatus.OK, DiagnosticStatus.WARN, DiagnosticStatus.ERROR

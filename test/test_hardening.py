@@ -28,19 +28,27 @@ import subprocess
 import sys
 import time
 
-from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
-import hardening_tools as tools
+from geometry_msgs.msg import PointStamped
+from geometry_msgs.msg import PoseStamped
+from geometry_msgs.msg import TwistStamped
 import numpy as np
 import pytest
-from rcl_interfaces.msg import Parameter as ParameterMessage, ParameterType, ParameterValue
-from rcl_interfaces.srv import GetParameters, SetParameters, SetParametersAtomically
+from rcl_interfaces.msg import Parameter as ParameterMessage
+from rcl_interfaces.msg import ParameterType
+from rcl_interfaces.msg import ParameterValue
+from rcl_interfaces.srv import GetParameters
+from rcl_interfaces.srv import SetParameters
+from rcl_interfaces.srv import SetParametersAtomically
 from rclpy.parameter import Parameter
 from rosgraph_msgs.msg import Clock
 
-from mouse_constraint_ros.configuration import configuration_from, DEFAULTS
-from mouse_constraint_ros.conversions import point_message
+from mouse_constraint_ros.messages import point_message
 from mouse_constraint_ros.node import MouseConstraintNode
-from mouse_constraint_ros.physics import MouseSimulation, RigidBody
+from mouse_constraint_ros.parameters import DEFAULTS
+from mouse_constraint_ros.parameters import node_config
+from mouse_constraint_ros.physics import MouseSimulation
+from mouse_constraint_ros.physics import RigidBody
+from test_support import hardening_tools as tools
 
 NS = tools.NS
 
@@ -123,7 +131,7 @@ def replay_in_core(ticks: int) -> list:
     used from tick k on; the node releases the body before a tick when target_timeout has
     passed since the last target.
     """
-    config = configuration_from(dict(DEFAULTS, **SIM_OVERRIDES))
+    config = node_config(dict(DEFAULTS, **SIM_OVERRIDES))
     simulation = MouseSimulation(config.settings, config.initial_state)
     simulation.target = config.initial_anchor()
     timeout_ns = SIM_OVERRIDES['target_timeout'] * 1e9
@@ -239,8 +247,8 @@ def test_a_1_km_jump_inside_the_workspace_is_served_and_stays_finite(ros):
     ros.spin_for(0.1)
     far, home = (1000.0, 0.0, 1.0), (0.2, 0.1, 1.05)
     targets = {1: far, 200: home}
-    config = configuration_from(dict(DEFAULTS, rate_hz=SIM_RATE, linear_damping=5.0,
-                                     angular_damping=5.0))
+    config = node_config(dict(DEFAULTS, rate_hz=SIM_RATE, linear_damping=5.0,
+                              angular_damping=5.0))
     core = MouseSimulation(config.settings, config.initial_state)
     core.target = config.initial_anchor()
     for k in range(550):
@@ -393,7 +401,7 @@ def churn_calls(count: int, seed: int = 7) -> list:
 
 def core_trajectory(parameters: dict, steps: int, target=None) -> list:
     """Return the core's poses (position, orientation) for ``steps`` ticks from rest."""
-    config = configuration_from(parameters)
+    config = node_config(parameters)
     simulation = MouseSimulation(config.settings, config.initial_state)
     simulation.target = config.initial_anchor() if target is None else target
     dt = 1.0 / parameters['rate_hz']
@@ -409,19 +417,19 @@ def test_scaling_mass_and_inertia_by_powers_of_4_changes_no_bit():
         assert core_trajectory(scaled, 3000) == reference, scale
     for half in (dict(parameters, mass=8.0),
                  dict(parameters, inertia=[4.0 * c for c in CHURN_INERTIA])):
-        config = configuration_from(parameters)
+        config = node_config(parameters)
         simulation = MouseSimulation(config.settings, config.initial_state)
         simulation.target = config.initial_anchor()
         for _ in range(100):
             simulation.step(0.001)
         # One step with the half update, then back: the trajectory has left the reference.
-        simulation.settings = configuration_from(half).settings
+        simulation.settings = node_config(half).settings
         simulation.step(0.001)
         simulation.settings = config.settings
         later = [(s.position, s.orientation) for s in
                  (simulation.step(0.001) for _ in range(100))]
         assert later != reference[101:201]
-    assert isinstance(configuration_from(parameters).settings.body, RigidBody)
+    assert isinstance(node_config(parameters).settings.body, RigidBody)
 
 
 def test_parameter_churn_under_load_applies_whole_updates_only(ros):
@@ -435,7 +443,7 @@ def test_parameter_churn_under_load_applies_whole_updates_only(ros):
     and at the end mass and inertia are the last valid pair.
     """
     parameters = churn_parameters()
-    config = configuration_from(parameters)
+    config = node_config(parameters)
     anchor = config.initial_anchor()
     node = tools.NodeProcess('-p', 'mass:=2.0', '-p',
                              f'inertia:={list(CHURN_INERTIA)!r}')

@@ -14,7 +14,7 @@ from rosgraph_msgs.msg import Clock
 from scipy.spatial.transform import Rotation
 from std_srvs.srv import Trigger
 
-from mouse_constraint_ros.conversions import point_message, state_from_messages
+from mouse_constraint_ros.messages import point_message, state_from_messages
 from mouse_constraint_ros.node import MouseConstraintNode
 
 ANCHOR = np.array([0.2, 0.1, 0.05])

@@ -6,11 +6,14 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from mouse_constraint_ros.physics.algebra import rotation_matrix
 from mouse_constraint_ros.physics.body import RigidBody
-from mouse_constraint_ros.physics.constraint import (box2d_soft_gains, effective_mass, jacobian,
-                                                     MouseConstraint, soft_gains,
-                                                     solve_effective_mass)
-from mouse_constraint_ros.physics.rotation import rotation_matrix
+from mouse_constraint_ros.physics.mouse_joint import effective_mass
+from mouse_constraint_ros.physics.mouse_joint import MouseConstraint
+from mouse_constraint_ros.physics.mouse_joint import soft_gains
+from test_support.physics_reference import box2d_soft_gains
+from test_support.physics_reference import jacobian
+from test_support.physics_reference import solve_effective_mass
 
 
 def random_body(rng: np.random.Generator) -> RigidBody:

@@ -4,12 +4,17 @@ import math
 
 import numpy as np
 import pytest
-from reference_dynamics import (GRAVITY, hanging_rotation, pendulum_com_path,
-                                small_oscillation_modes)
 from scipy.spatial.transform import Rotation
 
-from mouse_constraint_ros.physics import (BodyState, MouseConstraint, MouseSimulation, RigidBody,
-                                          Settings)
+from mouse_constraint_ros.physics import BodyState
+from mouse_constraint_ros.physics import MouseConstraint
+from mouse_constraint_ros.physics import MouseSimulation
+from mouse_constraint_ros.physics import RigidBody
+from mouse_constraint_ros.physics import Settings
+from test_support.reference_dynamics import GRAVITY
+from test_support.reference_dynamics import hanging_rotation
+from test_support.reference_dynamics import pendulum_com_path
+from test_support.reference_dynamics import small_oscillation_modes
 
 NO_GRAVITY = (0.0, 0.0, 0.0)
 BOX = RigidBody.solid_box(2.0, (0.4, 0.2, 0.1))

@@ -13,17 +13,30 @@ import functools
 import math
 from typing import NamedTuple
 
-from hypothesis import given, HealthCheck, settings, strategies as st
+from hypothesis import given
+from hypothesis import HealthCheck
+from hypothesis import settings
+from hypothesis import strategies as st
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from mouse_constraint_ros.physics import (BodyState, MouseConstraint, MouseSimulation, RigidBody,
-                                          Settings, STANDARD_GRAVITY)
-from mouse_constraint_ros.physics.constraint import soft_gains
-from mouse_constraint_ros.physics.limits import (MAX_ACCELERATION, MAX_CONDITION, MAX_DISTANCE,
-                                                 MAX_MASS, MAX_MOMENT, MIN_MASS, MIN_MOMENT)
-from mouse_constraint_ros.physics.simulation import MAX_STEP, MIN_STEP
+from mouse_constraint_ros.physics import BodyState
+from mouse_constraint_ros.physics import MouseConstraint
+from mouse_constraint_ros.physics import MouseSimulation
+from mouse_constraint_ros.physics import RigidBody
+from mouse_constraint_ros.physics import Settings
+from mouse_constraint_ros.physics import STANDARD_GRAVITY
+from mouse_constraint_ros.physics.limits import MAX_ACCELERATION
+from mouse_constraint_ros.physics.limits import MAX_CONDITION
+from mouse_constraint_ros.physics.limits import MAX_DISTANCE
+from mouse_constraint_ros.physics.limits import MAX_MASS
+from mouse_constraint_ros.physics.limits import MAX_MOMENT
+from mouse_constraint_ros.physics.limits import MIN_MASS
+from mouse_constraint_ros.physics.limits import MIN_MOMENT
+from mouse_constraint_ros.physics.mouse_joint import soft_gains
+from mouse_constraint_ros.physics.simulation import MAX_STEP
+from mouse_constraint_ros.physics.simulation import MIN_STEP
 
 NO_GRAVITY = (0.0, 0.0, 0.0)
 NON_FINITE = st.sampled_from([math.nan, math.inf, -math.inf])

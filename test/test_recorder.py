@@ -15,26 +15,38 @@ import sys
 import threading
 import time
 
-from geometry_msgs.msg import (PointStamped, PoseStamped, PoseWithCovarianceStamped,
-                               TwistStamped)
+from geometry_msgs.msg import PointStamped
+from geometry_msgs.msg import PoseStamped
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from geometry_msgs.msg import TwistStamped
 from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
 import numpy as np
 from PIL import Image
 import pytest
 from rclpy.parameter import Parameter
-from rclpy.serialization import deserialize_message, serialize_message
-from ros_helpers import RosHarness
+from rclpy.serialization import deserialize_message
+from rclpy.serialization import serialize_message
 from scipy.spatial.transform import Rotation
 from visualization_msgs.msg import Marker
 import yaml
 
-from mouse_constraint_ros.conversions import point_message, stamp_nanoseconds
+from mouse_constraint_ros.cli.record import check_writable
+from mouse_constraint_ros.cli.record import COLUMNS
+from mouse_constraint_ros.cli.record import FIGURE_DPI
+from mouse_constraint_ros.cli.record import FIGURE_INCHES
+from mouse_constraint_ros.cli.record import message_definition
+from mouse_constraint_ros.cli.record import output_paths
+from mouse_constraint_ros.cli.record import parse_arguments
+from mouse_constraint_ros.cli.record import Progress
+from mouse_constraint_ros.cli.record import progress_bar
+from mouse_constraint_ros.cli.record import Received
+from mouse_constraint_ros.cli.record import schema_name
+from mouse_constraint_ros.cli.record import tick_rows
+from mouse_constraint_ros.messages import point_message
+from mouse_constraint_ros.messages import stamp_nanoseconds
 from mouse_constraint_ros.node import MouseConstraintNode
-from mouse_constraint_ros.recorder import (check_writable, COLUMNS, FIGURE_DPI, FIGURE_INCHES,
-                                           message_definition, output_paths, parse_arguments,
-                                           Progress, progress_bar, Received, schema_name,
-                                           tick_rows)
+from test_support.ros_harness import RosHarness
 
 BIN = Path(sys.executable).parent
 ANCHOR = (0.1, -0.05, 0.02)

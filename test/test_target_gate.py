@@ -14,9 +14,10 @@ import numpy as np
 import pytest
 from rclpy.parameter import Parameter
 
+from mouse_constraint_ros.cli.target import circle_point
 from mouse_constraint_ros.node import MouseConstraintNode
-from mouse_constraint_ros.target_cli import circle_point
-from mouse_constraint_ros.target_gate import REASONS, TargetGate
+from mouse_constraint_ros.target_gate import REASONS
+from mouse_constraint_ros.target_gate import TargetGate
 
 FRAME = 'odom'
 RADIUS = 5.0

@@ -7,7 +7,7 @@ to it, and ``limits`` the ranges of the settings.
 """
 
 from .body import RigidBody
-from .constraint import MouseConstraint
+from .mouse_joint import MouseConstraint
 from .simulation import MouseSimulation, Settings, STANDARD_GRAVITY
 from .state import BodyState
 

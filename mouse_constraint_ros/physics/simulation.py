@@ -19,11 +19,12 @@ from dataclasses import dataclass
 import math
 from typing import Optional, Tuple
 
-from .body import gyroscopic_step, RigidBody
-from .constraint import cholesky, effective_mass, MouseConstraint, solve_cholesky
+from .algebra import (cholesky, congruence, integrate_orientation, multiply, multiply_symmetric,
+                      multiply_transposed, rotation_matrix, solve_cholesky, Vector3)
+from .body import RigidBody
+from .gyroscopic import gyroscopic_step
 from .limits import MAX_ACCELERATION, MAX_CONDITION, MAX_STEP, MIN_STEP
-from .rotation import (congruence, integrate_orientation, multiply, multiply_symmetric,
-                       multiply_transposed, rotation_matrix, Vector3)
+from .mouse_joint import effective_mass, MouseConstraint
 from .state import BodyState
 from .validation import finite_vector, norm, scalar, shown
 

@@ -3,8 +3,8 @@
 import math
 from typing import NamedTuple
 
+from .algebra import IDENTITY_QUATERNION, Quaternion, Vector3
 from .limits import MAX_DISTANCE
-from .rotation import IDENTITY_QUATERNION, Quaternion, Vector3
 from .validation import finite_vector, shown
 
 # How far from 1 the norm of a given orientation may be; it is then normalized exactly.

@@ -44,12 +44,13 @@ from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 import yaml
 
-from .conversions import point_from_message, stamp_nanoseconds, state_from_messages
-from .physics.rotation import multiply, rotation_matrix, Vector3
-from .signals import StopRequest
+from ..interface import NODE_NAME, POSE_TOPIC, TARGET_TOPIC, TWIST_TOPIC
+from ..messages import point_from_message, stamp_nanoseconds, state_from_messages
+from ..physics.algebra import multiply, rotation_matrix, Vector3
+from ..spin import StopRequest
 
 # The recorded topics (relative: namespaces and remaps apply) and their types, in CSV order.
-TOPICS = {'target': PointStamped, 'pose': PoseStamped, 'twist': TwistStamped}
+TOPICS = {TARGET_TOPIC: PointStamped, POSE_TOPIC: PoseStamped, TWIST_TOPIC: TwistStamped}
 # Deep RELIABLE queues: a burst of caught-up ticks must not overwrite unread messages.
 RECORD_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
                         reliability=ReliabilityPolicy.RELIABLE)
@@ -125,7 +126,7 @@ def build_parser() -> argparse.ArgumentParser:
                         help='also write PREFIX.mcap (Foxglove, ros2 bag; default: off)')
     parser.add_argument('--anchor', nargs=3, type=_finite('--anchor'), metavar=('X', 'Y', 'Z'),
                         help="the anchor in the body frame (m; default: the node's parameter)")
-    parser.add_argument('--node', default='mouse_constraint',
+    parser.add_argument('--node', default=NODE_NAME,
                         help='the node whose anchor parameter to read '
                              '(default: %(default)s, in this namespace)')
     parser.add_argument('--timeout', type=_finite('--timeout', 0.0), default=10.0,

@@ -10,9 +10,8 @@ from geometry_msgs.msg import Point, PointStamped, PoseStamped, TransformStamped
 from nav_msgs.msg import Odometry
 
 from .physics import BodyState
-from .physics.rotation import multiply_transposed, rotation_matrix, Vector3
-
-NANOSECONDS_PER_SECOND = 1_000_000_000
+from .physics.algebra import multiply_transposed, rotation_matrix, Vector3
+from .tick_grid import NANOSECONDS_PER_SECOND
 
 
 def set_stamp(stamp: Time, nanoseconds: int) -> None:

@@ -92,18 +92,6 @@ def cross(a: Vector3, b: Vector3) -> Vector3:
     return (ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx)
 
 
-def quaternion_multiply(a: Quaternion, b: Quaternion) -> Quaternion:
-    """Return the Hamilton product ``a b`` of quaternions in (x, y, z, w) order."""
-    ax, ay, az, aw = a
-    bx, by, bz, bw = b
-    return (
-        aw * bx + ax * bw + ay * bz - az * by,
-        aw * by - ax * bz + ay * bw + az * bx,
-        aw * bz + ax * by - ay * bx + az * bw,
-        aw * bw - ax * bx - ay * by - az * bz,
-    )
-
-
 def integrate_orientation(q: Quaternion, w: Vector3, h: float) -> Quaternion:
     """
     Rotate ``q`` by the world-frame angular velocity ``w`` held for ``h`` seconds.
@@ -130,9 +118,23 @@ def integrate_orientation(q: Quaternion, w: Vector3, h: float) -> Quaternion:
     return (nx * inv_norm, ny * inv_norm, nz * inv_norm, nw * inv_norm)
 
 
-def quaternion_from_axis_angle(axis: Vector3, angle: float) -> Quaternion:
-    """Return the unit quaternion of a rotation by ``angle`` radians about ``axis``."""
-    ax, ay, az = axis
-    norm = math.sqrt(ax * ax + ay * ay + az * az)
-    s = math.sin(0.5 * angle) / norm
-    return (ax * s, ay * s, az * s, math.cos(0.5 * angle))
+def cholesky(k: Symmetric3) -> Symmetric3:
+    """Return the Cholesky factor L of an SPD K = L L^T as (l00, l10, l20, l11, l21, l22)."""
+    k00, k01, k02, k11, k12, k22 = k
+    l00 = math.sqrt(k00)
+    l10 = k01 / l00
+    l20 = k02 / l00
+    l11 = math.sqrt(k11 - l10 * l10)
+    l21 = (k12 - l20 * l10) / l11
+    return (l00, l10, l20, l11, l21, math.sqrt(k22 - l20 * l20 - l21 * l21))
+
+
+def solve_cholesky(factor: Symmetric3, b: Vector3) -> Vector3:
+    """Return x with L L^T x = b for a factor from ``cholesky``."""
+    l00, l10, l20, l11, l21, l22 = factor
+    y0 = b[0] / l00
+    y1 = (b[1] - l10 * y0) / l11
+    y2 = (b[2] - l20 * y0 - l21 * y1) / l22
+    x2 = y2 / l22
+    x1 = (y1 - l21 * x2) / l11
+    return ((y0 - l10 * x1 - l20 * x2) / l00, x1, x2)

@@ -29,10 +29,10 @@ from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
-from .conversions import point_message
-from .node import TARGET_QOS
-from .signals import StopRequest
-from .target_gate import TargetGate
+from ..interface import NODE_NAME, TARGET_QOS, TARGET_TOPIC
+from ..messages import point_message
+from ..spin import StopRequest
+from ..target_gate import TargetGate
 
 # The frame of the targets when the node's frame_id cannot be read.
 FALLBACK_FRAME = 'world'
@@ -56,7 +56,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument('--frame', default=None,
                         help="frame_id of the targets (default: the node's frame_id parameter, "
                              f'{FALLBACK_FRAME} if it cannot be read)')
-    parser.add_argument('--node', default='mouse_constraint',
+    parser.add_argument('--node', default=NODE_NAME,
                         help='the node whose frame_id and workspace_radius the targets must fit '
                              '(default: %(default)s, in this namespace)')
     parser.add_argument('--timeout', type=float, default=10.0,
@@ -136,7 +136,7 @@ class TargetPublisher(Node):
     def __init__(self, **kwargs) -> None:
         """Create the node ``mouse_target`` and its publisher."""
         super().__init__('mouse_target', **kwargs)
-        self.publisher = self.create_publisher(PointStamped, 'target', TARGET_QOS)
+        self.publisher = self.create_publisher(PointStamped, TARGET_TOPIC, TARGET_QOS)
 
     def publish_point(self, point: List[float], frame_id: str) -> None:
         """Publish ``point`` in ``frame_id``, stamped now."""

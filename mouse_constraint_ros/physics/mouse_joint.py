@@ -25,10 +25,8 @@ from dataclasses import dataclass
 import math
 from typing import Tuple
 
-import numpy as np
-
+from .algebra import Symmetric3, Vector3
 from .limits import MAX_DISTANCE
-from .rotation import Symmetric3, Vector3
 from .validation import finite_vector, norm, scalar, shown
 
 
@@ -114,25 +112,6 @@ def soft_gains(frequency_hz: float, damping_ratio: float, h: float) -> Tuple[flo
     return 1.0 - determinant, (1.0 + determinant - trace) / h
 
 
-def box2d_soft_gains(frequency_hz: float, damping_ratio: float, h: float) -> Tuple[float, float]:
-    """Return Box2D v3's b2MakeSoft gains (mass scale, mass scale * bias rate), for comparison."""
-    omega = 2.0 * math.pi * frequency_hz
-    a1 = 2.0 * damping_ratio + h * omega
-    a2 = h * omega * a1
-    a3 = 1.0 / (1.0 + a2)
-    return a2 * a3, a2 * a3 * omega / a1
-
-
-def jacobian(r: Vector3) -> np.ndarray:
-    """Return the 3x6 Jacobian J = [I3, -[r]x] of eq. 1.2 (eq. 1.3 with its sign corrected)."""
-    rx, ry, rz = r
-    return np.array([
-        [1.0, 0.0, 0.0, 0.0, rz, -ry],
-        [0.0, 1.0, 0.0, -rz, 0.0, rx],
-        [0.0, 0.0, 1.0, ry, -rx, 0.0],
-    ])
-
-
 def effective_mass(inverse_mass: float, inverse_inertia: Symmetric3, r: Vector3) -> Symmetric3:
     """
     Return K = m^-1 I3 + [r]x I_w^-1 [r]x^T (eq. 1.10) as a symmetric 6-tuple.
@@ -160,30 +139,3 @@ def effective_mass(inverse_mass: float, inverse_inertia: Symmetric3, r: Vector3)
         rx * b11 - ry * b10,
         inverse_mass + rx * b21 - ry * b20,
     )
-
-
-def cholesky(k: Symmetric3) -> Symmetric3:
-    """Return the Cholesky factor L of an SPD K = L L^T as (l00, l10, l20, l11, l21, l22)."""
-    k00, k01, k02, k11, k12, k22 = k
-    l00 = math.sqrt(k00)
-    l10 = k01 / l00
-    l20 = k02 / l00
-    l11 = math.sqrt(k11 - l10 * l10)
-    l21 = (k12 - l20 * l10) / l11
-    return (l00, l10, l20, l11, l21, math.sqrt(k22 - l20 * l20 - l21 * l21))
-
-
-def solve_cholesky(factor: Symmetric3, b: Vector3) -> Vector3:
-    """Return x with L L^T x = b for a factor from ``cholesky``."""
-    l00, l10, l20, l11, l21, l22 = factor
-    y0 = b[0] / l00
-    y1 = (b[1] - l10 * y0) / l11
-    y2 = (b[2] - l20 * y0 - l21 * y1) / l22
-    x2 = y2 / l22
-    x1 = (y1 - l21 * x2) / l11
-    return ((y0 - l10 * x1 - l20 * x2) / l00, x1, x2)
-
-
-def solve_effective_mass(k: Symmetric3, b: Vector3) -> Vector3:
-    """Return x with K x = b for a symmetric positive definite K, by a closed-form Cholesky."""
-    return solve_cholesky(cholesky(k), b)

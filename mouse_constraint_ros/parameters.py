@@ -2,7 +2,7 @@
 The node's parameters as plain data, and the core objects they make (no ROS here).
 
 ``PARAMETERS`` is the one table of names, defaults, units and ranges: the node declares it,
-``config/params.yaml`` lists it (a test checks they match), and ``configuration_from`` turns a
+``config/params.yaml`` lists it (a test checks they match), and ``node_config`` turns a
 set of values into validated core objects, raising ValueError with the reason otherwise: one
 line that names the parameter and shows values as plain numbers and lists.
 
@@ -15,14 +15,14 @@ import math
 from typing import Any, Mapping, NamedTuple, Optional, Tuple
 
 from .physics import BodyState, MouseConstraint, RigidBody, Settings
+from .physics.algebra import multiply, rotation_matrix, Vector3
 from .physics.limits import (MAX_ACCELERATION, MAX_CONDITION, MAX_DISTANCE, MAX_MASS,
                              MAX_MOMENT, MIN_MASS, MIN_MOMENT)
-from .physics.rotation import multiply, rotation_matrix, Vector3
 from .physics.simulation import check_lever
 from .physics.validation import finite_vector, scalar, shown
 
 
-class Parameter(NamedTuple):
+class ParameterSpec(NamedTuple):
     """One parameter: its default, what it means, and its range (for numbers) if any."""
 
     name: str
@@ -32,72 +32,77 @@ class Parameter(NamedTuple):
 
 
 PARAMETERS = (
-    Parameter('rate_hz', 1000.0, 'Physics and publishing rate (Hz); dt = 1 / rate_hz.',
-              (1.0, 10000.0)),
-    Parameter('substeps', 2, 'Equal solver substeps per tick.', (1, 1000)),
-    Parameter('frame_id', 'world',
-              'Frame of targets (empty frame_id is taken as this) and of pose and twist; no '
-              'leading slash (tf2 refuses it).'),
-    Parameter('mass', 2.0,
-              f'Body mass (kg), {MIN_MASS:g} .. {MAX_MASS:g}: beyond, the effective mass '
-              '(1 / m) or the impulses and energies (m) of the step overflow.', (0.0, math.inf)),
-    Parameter('box_size', [0.4, 0.2, 0.1],
-              f'Edge lengths of the body box (m), each in (0, {MAX_DISTANCE:g}]; gives the '
-              'inertia when inertia is all zeros, which must then be valid as below.'),
-    Parameter('inertia', [0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-              'Inertia about the COM, body frame, URDF order ixx ixy ixz iyy iyz izz (kg m^2); '
-              'all zeros: a solid box of box_size and mass. Physical (positive definite, '
-              f'I1 + I2 >= I3), principal moments {MIN_MOMENT:g} .. {MAX_MOMENT:g} (the '
-              'gyroscopic step multiplies three of them), the largest at most '
-              f'{MAX_CONDITION:g} times the smallest.'),
-    Parameter('anchor', [0.2, 0.1, 0.05],
-              f'Dragged point in the body frame, from the COM (m), at most {MAX_DISTANCE:g} m '
-              f'and with 1 + mass |anchor|^2 / I_min <= {MAX_CONDITION:g}, the condition '
-              'number of the effective mass the step solves.'),
-    Parameter('initial_position', [0.0, 0.0, 1.0],
-              'COM position at start and after ~/reset (m, frame_id), at most '
-              f'{MAX_DISTANCE:g} m from the origin.'),
-    Parameter('initial_orientation', [0.0, 0.0, 0.0, 1.0],
-              'Orientation at start and after ~/reset, unit quaternion x y z w.'),
-    Parameter('hold_initial_anchor', True,
-              'At start and after ~/reset, hold the anchor where it starts until a target '
-              'arrives; false: start as a free body.'),
-    Parameter('gravity', [0.0, 0.0, -9.80665],
-              'Gravitational acceleration (m/s^2, frame_id), norm at most '
-              f'{MAX_ACCELERATION:g} (about the surface gravity of a neutron star).'),
-    Parameter('baumgarte', 0.2, 'Rigid mode: fraction of the anchor error removed per substep.',
-              (0.0, 1.0)),
-    Parameter('frequency_hz', 0.0, 'Soft mode: natural frequency of the anchor (Hz); 0 = rigid.',
-              (0.0, 1e6)),
-    Parameter('damping_ratio', 1.0, 'Soft mode: damping ratio (1 = critical).', (0.0, 1e6)),
-    Parameter('max_force', math.inf, 'Bound on the constraint force (N); .inf = unlimited.',
-              (0.0, math.inf)),
-    Parameter('linear_damping', 0.0, 'Linear velocity decay rate (1/s).', (0.0, math.inf)),
-    Parameter('angular_damping', 0.0, 'Angular velocity decay rate (1/s).', (0.0, math.inf)),
-    Parameter('workspace_radius', 10000.0,
-              'Targets farther than this from the origin of frame_id are ignored, like '
-              'non-finite ones (m): beyond it a drag would wreck the precision of the state.',
-              (0.0, MAX_DISTANCE)),
-    Parameter('target_timeout', 0.0,
-              'Release the body when no target arrived for this long (s); 0 = hold forever.',
-              (0.0, math.inf)),
-    Parameter('marker_rate_hz', 30.0,
-              'Rate of the RViz markers on ~/markers (Hz), on their own timer; 0 = none.',
-              (0.0, 100.0)),
-    Parameter('diagnostics_rate_hz', 1.0,
-              'Rate of /diagnostics (Hz), on its own timer; the achieved tick rate is measured '
-              'over one period. 0 = none.', (0.0, 100.0)),
-    Parameter('diagnostics_anchor_warn', 0.05,
-              'Anchor error (m) from which /diagnostics reports WARN.', (0.0, math.inf)),
-    Parameter('diagnostics_anchor_error', 0.5,
-              'Anchor error (m) from which /diagnostics reports ERROR, >= '
-              'diagnostics_anchor_warn.', (0.0, math.inf)),
+    ParameterSpec('rate_hz', 1000.0, 'Physics and publishing rate (Hz); dt = 1 / rate_hz.',
+                  (1.0, 10000.0)),
+    ParameterSpec('substeps', 2, 'Equal solver substeps per tick.', (1, 1000)),
+    ParameterSpec('frame_id', 'world',
+                  'Frame of targets (empty frame_id is taken as this) and of pose and twist; no '
+                  'leading slash (tf2 refuses it).'),
+    ParameterSpec('mass', 2.0,
+                  f'Body mass (kg), {MIN_MASS:g} .. {MAX_MASS:g}: beyond, the effective mass '
+                  '(1 / m) or the impulses and energies (m) of the step overflow.',
+                  (0.0, math.inf)),
+    ParameterSpec('box_size', [0.4, 0.2, 0.1],
+                  f'Edge lengths of the body box (m), each in (0, {MAX_DISTANCE:g}]; gives the '
+                  'inertia when inertia is all zeros, which must then be valid as below.'),
+    ParameterSpec('inertia', [0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                  'Inertia about the COM, body frame, URDF order ixx ixy ixz iyy iyz izz '
+                  '(kg m^2); '
+                  'all zeros: a solid box of box_size and mass. Physical (positive definite, '
+                  f'I1 + I2 >= I3), principal moments {MIN_MOMENT:g} .. {MAX_MOMENT:g} (the '
+                  'gyroscopic step multiplies three of them), the largest at most '
+                  f'{MAX_CONDITION:g} times the smallest.'),
+    ParameterSpec('anchor', [0.2, 0.1, 0.05],
+                  f'Dragged point in the body frame, from the COM (m), at most {MAX_DISTANCE:g} m '
+                  f'and with 1 + mass |anchor|^2 / I_min <= {MAX_CONDITION:g}, the condition '
+                  'number of the effective mass the step solves.'),
+    ParameterSpec('initial_position', [0.0, 0.0, 1.0],
+                  'COM position at start and after ~/reset (m, frame_id), at most '
+                  f'{MAX_DISTANCE:g} m from the origin.'),
+    ParameterSpec('initial_orientation', [0.0, 0.0, 0.0, 1.0],
+                  'Orientation at start and after ~/reset, unit quaternion x y z w.'),
+    ParameterSpec('hold_initial_anchor', True,
+                  'At start and after ~/reset, hold the anchor where it starts until a target '
+                  'arrives; false: start as a free body.'),
+    ParameterSpec('gravity', [0.0, 0.0, -9.80665],
+                  'Gravitational acceleration (m/s^2, frame_id), norm at most '
+                  f'{MAX_ACCELERATION:g} (about the surface gravity of a neutron star).'),
+    ParameterSpec('baumgarte', 0.2,
+                  'Rigid mode: fraction of the anchor error removed per substep.',
+                  (0.0, 1.0)),
+    ParameterSpec('frequency_hz', 0.0,
+                  'Soft mode: natural frequency of the anchor (Hz); 0 = rigid.',
+                  (0.0, 1e6)),
+    ParameterSpec('damping_ratio', 1.0, 'Soft mode: damping ratio (1 = critical).', (0.0, 1e6)),
+    ParameterSpec('max_force', math.inf, 'Bound on the constraint force (N); .inf = unlimited.',
+                  (0.0, math.inf)),
+    ParameterSpec('linear_damping', 0.0, 'Linear velocity decay rate (1/s).', (0.0, math.inf)),
+    ParameterSpec('angular_damping', 0.0, 'Angular velocity decay rate (1/s).', (0.0, math.inf)),
+    ParameterSpec('workspace_radius', 10000.0,
+                  'Targets farther than this from the origin of frame_id are ignored, like '
+                  'non-finite ones (m): beyond it a drag would wreck the precision of the state.',
+                  (0.0, MAX_DISTANCE)),
+    ParameterSpec('target_timeout', 0.0,
+                  'Release the body when no target arrived for this long (s); 0 = hold forever.',
+                  (0.0, math.inf)),
+    ParameterSpec('marker_rate_hz', 30.0,
+                  'Rate of the RViz markers on ~/markers (Hz), on their own timer; 0 = none.',
+                  (0.0, 100.0)),
+    ParameterSpec('diagnostics_rate_hz', 1.0,
+                  'Rate of /diagnostics (Hz), on its own timer; the achieved tick rate is '
+                  'measured '
+                  'over one period. 0 = none.', (0.0, 100.0)),
+    ParameterSpec('diagnostics_anchor_warn', 0.05,
+                  'Anchor error (m) from which /diagnostics reports WARN.', (0.0, math.inf)),
+    ParameterSpec('diagnostics_anchor_error', 0.5,
+                  'Anchor error (m) from which /diagnostics reports ERROR, >= '
+                  'diagnostics_anchor_warn.', (0.0, math.inf)),
 )
 
 DEFAULTS = {p.name: p.default for p in PARAMETERS}
 
 
-class Configuration(NamedTuple):
+class NodeConfig(NamedTuple):
     """What the node runs with, built from its parameters and valid as a whole."""
 
     settings: Settings
@@ -120,7 +125,7 @@ class Configuration(NamedTuple):
         return (state.position[0] + r[0], state.position[1] + r[1], state.position[2] + r[2])
 
 
-def configuration_from(values: Mapping[str, Any]) -> Configuration:
+def node_config(values: Mapping[str, Any]) -> NodeConfig:
     """
     Return the configuration for parameter ``values``; raise ValueError naming what is wrong.
 
@@ -133,7 +138,7 @@ def configuration_from(values: Mapping[str, Any]) -> Configuration:
         raise ValueError(' '.join(str(error).splitlines())) from None
 
 
-def _configuration_from(values: Mapping[str, Any]) -> Configuration:
+def _configuration_from(values: Mapping[str, Any]) -> NodeConfig:
     rate_hz = _bounded('rate_hz', values['rate_hz'])
     substeps = values['substeps']
     # Settings checks that substeps is an integer >= 1; the node also bounds it above.
@@ -170,7 +175,7 @@ def _configuration_from(values: Mapping[str, Any]) -> Configuration:
     anchor_warn = scalar('diagnostics_anchor_warn', values['diagnostics_anchor_warn'], above=0.0)
     anchor_error = scalar('diagnostics_anchor_error', values['diagnostics_anchor_error'],
                           at_least=anchor_warn)
-    return Configuration(
+    return NodeConfig(
         settings=settings,
         initial_state=initial_state,
         rate_hz=rate_hz,

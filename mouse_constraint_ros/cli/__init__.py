@@ -1,0 +1,1 @@
+"""The package's command-line tools: ``mouse_target`` and ``mouse_record``."""

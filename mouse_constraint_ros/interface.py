@@ -1,0 +1,33 @@
+"""
+The node's ROS interface: its name, topic and service names, and QoS, shared by node and CLIs.
+
+Names are relative (namespaces and remaps apply) except ``/diagnostics``, the absolute topic
+that ``rqt_runtime_monitor`` and ``diagnostic_aggregator`` read. Importing this module loads no
+node, executor or physics, so a CLI that talks to the node imports only this.
+
+QoS: the target subscription is RELIABLE so that ``ros2 topic pub``, RViz's Publish Point tool
+and ``mouse_target`` (all RELIABLE) connect and a one-shot target is acknowledged; depth 1
+because only the newest target matters. Pose and twist are RELIABLE, which any subscriber,
+RELIABLE or BEST_EFFORT, can match, with depth 100 so that a catch-up burst (up to 0.1 s of
+ticks at 1 kHz) is not overwritten in the writer's history before a reliable reader has it.
+"""
+
+from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+
+NODE_NAME = 'mouse_constraint'
+
+TARGET_TOPIC = 'target'
+POSE_TOPIC = 'pose'
+TWIST_TOPIC = 'twist'
+MARKERS_TOPIC = '~/markers'
+DIAGNOSTICS_TOPIC = '/diagnostics'
+
+RESET_SERVICE = '~/reset'
+RELEASE_SERVICE = '~/release'
+
+TARGET_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
+                        reliability=ReliabilityPolicy.RELIABLE)
+STATE_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
+                       reliability=ReliabilityPolicy.RELIABLE)
+# Markers and diagnostics: a few per second, latest first.
+MONITOR_DEPTH = 10
