@@ -3,17 +3,16 @@ The bring-up files: the launch file and the RViz configuration, as colcon instal
 
 One colcon build per module (as in ``test_processes``) gives the install the tests read. What
 needs the ROS ``launch`` packages is skipped where they are not importable (the PyPI wheels do
-not ship them); the rest reads the installed launch file with small stand-ins for ``launch``
-and ``launch_ros`` that record what the file builds.
+not ship them, and nothing stands in for them); the rest reads the installed launch file's
+source and checks what it names against the colcon install.
 """
 
-import importlib.util
+import ast
 import os
 from pathlib import Path
 import signal
 import subprocess
 import sys
-import types
 
 from geometry_msgs.msg import PoseStamped
 import pytest
@@ -28,8 +27,6 @@ NODE_NAME = 'mouse_constraint'
 # The node's topics for an empty namespace: what the RViz configuration must name.
 NODE_TOPICS = {'markers': f'/{NODE_NAME}/markers', 'pose': '/pose', 'grab': '/grab',
                'target': '/target'}
-LAUNCH_MODULES = ('launch', 'launch.actions', 'launch.conditions', 'launch.substitutions',
-                  'launch_ros', 'launch_ros.actions')
 SKIP_REASON = ('the ROS launch and launch_ros packages are not importable here (no wheel ships '
                'them; an apt ROS install or their sources provide them)')
 
@@ -54,33 +51,29 @@ def share(prefix: Path) -> Path:
     return prefix / 'share' / PACKAGE
 
 
-class Recorded:
-    """A stand-in for a launch class: keeps its constructor arguments."""
-
-    def __init__(self, *args, **kwargs) -> None:
-        """Record the arguments."""
-        self.args, self.kwargs = args, kwargs
-
-
-def stand_in_module(name: str) -> types.ModuleType:
-    """Return a module whose every attribute is a ``Recorded`` subclass of that name."""
-    module = types.ModuleType(name)
-    module.__getattr__ = lambda attribute: type(attribute, (Recorded,), {})
-    return module
+def launch_calls(path: Path, name: str) -> list:
+    """Return the calls of ``name`` (``DeclareLaunchArgument``, ``Node``) in a launch file."""
+    tree = ast.parse(path.read_text())
+    return [node for node in ast.walk(tree) if isinstance(node, ast.Call)
+            and getattr(node.func, 'id', getattr(node.func, 'attr', None)) == name]
 
 
-def describe_with_stand_ins(path: Path, prefix: Path, monkeypatch) -> list:
-    """Load the launch file at ``path`` over stand-ins, ament index at ``prefix``; its entities."""
-    for name in LAUNCH_MODULES:
-        monkeypatch.setitem(sys.modules, name, stand_in_module(name))
-    monkeypatch.setenv('AMENT_PREFIX_PATH', str(prefix))
-    spec = importlib.util.spec_from_file_location('mouse_constraint_launch', path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    description = module.generate_launch_description()
-    assert type(description).__name__ == 'LaunchDescription'
-    (entities,) = description.args
-    return entities
+def keywords(call: ast.Call) -> dict:
+    """Return a call's keyword arguments as AST nodes."""
+    return {keyword.arg: keyword.value for keyword in call.keywords}
+
+
+def share_path(expression: ast.AST, share_directory: Path) -> Path:
+    """
+    Return the path an ``os.path.join(share, 'a', 'b')`` expression of the launch file names.
+
+    ``share`` is the package's share directory, which the launch file asks the ament index for
+    (``get_package_share_directory``) and the test resolves with the same index.
+    """
+    assert isinstance(expression, ast.Call) and ast.unparse(expression.func) == 'os.path.join'
+    first, *parts = expression.args
+    assert ast.unparse(first) == 'share'
+    return share_directory.joinpath(*(ast.literal_eval(part) for part in parts))
 
 
 def test_colcon_installs_the_launch_and_the_rviz_files(install):
@@ -92,30 +85,51 @@ def test_colcon_installs_the_launch_and_the_rviz_files(install):
 
 
 def test_launch_file_names_the_installed_params_and_rviz_files(install, monkeypatch):
-    """The installed launch file defaults to the installed params.yaml and .rviz (ament index)."""
-    entities = describe_with_stand_ins(share(install) / 'launch' / LAUNCH_FILE, install,
-                                       monkeypatch)
-    arguments = {e.args[0]: e.kwargs for e in entities
-                 if type(e).__name__ == 'DeclareLaunchArgument'}
+    """
+    The installed launch file's defaults are the installed params.yaml and .rviz (ament index).
+
+    Read from its source (``launch`` itself is not importable here): the share directory it asks
+    the ament index for is resolved with the same index over the colcon install, and the files it
+    names there exist; the node it starts is the installed executable.
+    """
+    path = share(install) / 'launch' / LAUNCH_FILE
+    source = path.read_text()
+    assert f"PACKAGE = '{PACKAGE}'" in source
+    assert 'share = get_package_share_directory(PACKAGE)' in source
+    monkeypatch.setenv('AMENT_PREFIX_PATH', str(install))
+    from ament_index_python.packages import get_package_share_directory
+    share_directory = Path(get_package_share_directory(PACKAGE))
+    assert share_directory == share(install)
+    arguments = {ast.literal_eval(call.args[0]): keywords(call)
+                 for call in launch_calls(path, 'DeclareLaunchArgument')}
     assert list(arguments) == ['namespace', 'params_file', 'use_sim_time', 'rviz']
-    params_file = arguments['params_file']['default_value']
-    assert params_file == str(share(install) / 'config' / 'params.yaml')
-    assert Path(params_file).is_file()
-    assert all(argument['description'] for argument in arguments.values())
-    nodes = {e.kwargs['package']: e.kwargs for e in entities if type(e).__name__ == 'Node'}
-    node = nodes[PACKAGE]
-    assert (node['executable'], node['name']) == ('mouse_constraint_node', NODE_NAME)
-    assert (share(install).parent.parent / 'lib' / PACKAGE / node['executable']).is_file()
-    (params_configuration, overrides) = node['parameters']
-    assert params_configuration.args == ('params_file',)
-    assert overrides['use_sim_time'].args == ('use_sim_time',)
+    assert all(ast.literal_eval(argument['description']) for argument in arguments.values())
+    params_file = share_path(arguments['params_file']['default_value'], share_directory)
+    assert params_file == share(install) / 'config' / 'params.yaml'
+    assert params_file.is_file()
+    nodes = {ast.literal_eval(keywords(call)['package']) if isinstance(
+        keywords(call)['package'], ast.Constant) else ast.unparse(keywords(call)['package']):
+        keywords(call) for call in launch_calls(path, 'Node')}
+    node = nodes['PACKAGE']
+    executable = ast.literal_eval(node['executable'])
+    assert executable == 'mouse_constraint_node'
+    assert ast.unparse(node['name']) == 'NODE_NAME' and f"NODE_NAME = '{NODE_NAME}'" in source
+    assert (install / 'lib' / PACKAGE / executable).is_file()
+    assert "LaunchConfiguration('params_file')" in ast.unparse(node['parameters'])
     rviz = nodes['rviz2']
-    rviz_file = rviz['arguments'][rviz['arguments'].index('-d') + 1]
-    assert rviz_file == str(share(install) / 'rviz' / RVIZ_FILE)
-    assert rviz['condition'].args[0].args == ('rviz',)
-    # RViz's absolute topic names follow the launch namespace.
-    assert dict(rviz['remappings']) == {
-        topic: topic.lstrip('/') for topic in NODE_TOPICS.values()}
+    rviz_arguments = rviz['arguments']
+    assert ast.literal_eval(rviz_arguments.elts[0]) == '-d'
+    rviz_file = share_path(rviz_arguments.elts[1], share_directory)
+    assert rviz_file == share(install) / 'rviz' / RVIZ_FILE and rviz_file.is_file()
+    assert ast.unparse(rviz['condition']) == "IfCondition(LaunchConfiguration('rviz'))"
+    # RViz's absolute topic names follow the launch namespace: each is remapped to its relative
+    # name, and they are the node's topics.
+    assert ast.unparse(rviz['remappings']) == "[('/' + topic, topic) for topic in RVIZ_TOPICS]"
+    (assignment,) = [node for node in ast.walk(ast.parse(source)) if isinstance(node, ast.Assign)
+                     and ast.unparse(node.targets[0]) == 'RVIZ_TOPICS']
+    topics = eval(compile(ast.Expression(assignment.value), str(path), 'eval'),
+                  {'NODE_NAME': NODE_NAME})
+    assert sorted('/' + topic for topic in topics) == sorted(NODE_TOPICS.values())
 
 
 def test_rviz_configuration_names_the_node_topics_and_the_world_frame():
