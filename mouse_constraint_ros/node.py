@@ -521,9 +521,10 @@ class MouseConstraintNode(Node):
         """Publish the markers of the latest tick, stamped as its pose."""
         simulation = self._simulation
         self._marker_publisher.publish(marker_array(
-            self._config.frame_id, stamp_nanoseconds(self._pose.header.stamp),
-            self._config.box_size, simulation.state, simulation.anchor_position(),
-            simulation.target, simulation.constraint_force, reference_force(simulation.settings)))
+            frame_id=self._config.frame_id, stamp_ns=stamp_nanoseconds(self._pose.header.stamp),
+            box_size=self._config.box_size, state=simulation.state,
+            anchor=simulation.anchor_position(), target=simulation.target,
+            force=simulation.constraint_force, reference=reference_force(simulation.settings)))
 
     def _publish_diagnostics(self) -> None:
         """
@@ -551,13 +552,16 @@ class MouseConstraintNode(Node):
             kind, age = (NO_TARGET if simulation.target is None else INITIAL_ANCHOR), None
         name = hardware_id = self.get_fully_qualified_name()
         self._diagnostics_publisher.publish(diagnostic_array(now, [
-            rate_status(f'{name}: rate', hardware_id, config.rate_hz, window, counters,
-                        thresholds, drop_cause=self.drop_cause,
+            rate_status(f'{name}: rate', hardware_id, rate_hz=config.rate_hz, window=window,
+                        totals=counters, thresholds=thresholds, drop_cause=self.drop_cause,
                         waiting_for=self.waiting_for_clock()),
-            constraint_status(f'{name}: constraint', hardware_id, kind, simulation.target,
-                              None if error is None else math.hypot(*error),
-                              simulation.constraint_force, config.settings.constraint.max_force,
-                              age, config.target_timeout, thresholds),
+            constraint_status(f'{name}: constraint', hardware_id, target_kind=kind,
+                              target=simulation.target,
+                              anchor_error=None if error is None else math.hypot(*error),
+                              force=simulation.constraint_force,
+                              max_force=config.settings.constraint.max_force,
+                              target_age=age, target_timeout=config.target_timeout,
+                              thresholds=thresholds),
         ]))
 
 
