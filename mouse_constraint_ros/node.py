@@ -25,7 +25,6 @@ from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescr
 import rclpy
 from rclpy.clock import Clock, ClockType
 from rclpy.exceptions import ParameterException
-from rclpy.executors import ExternalShutdownException
 from rclpy.experimental import EventsExecutor
 from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
@@ -43,7 +42,7 @@ from .markers import marker_array, reference_force
 from .messages import fill_pose, fill_twist, point_from_message, set_stamp, stamp_nanoseconds
 from .parameters import node_config, PARAMETERS, ParameterSpec
 from .physics import MouseSimulation
-from .spin import StopRequest
+from .spin import spin_until, StopRequest
 from .tick_grid import TickGrid
 
 # Catch up on at most this much missed time in one timer callback; older ticks are dropped.
@@ -616,14 +615,8 @@ def main(args: Optional[List[str]] = None) -> int:
             node = MouseConstraintNode()
             executor = EventsExecutor(context=node.context)
             executor.add_node(node)
-            # Not executor.spin(): in this rclpy (7.1.6) the EventsExecutor's spin() busy-waits
-            # at a full core and never returns to Python. Nor spin_until_future_complete, which
-            # saves a little CPU but leaks 32 B per call here (bench/spin_leak.py). spin_once
-            # with a timeout does neither and lets the loop see the stop flag.
-            while not stop and node.context.ok():
-                executor.spin_once(timeout_sec=0.1)
-    except ExternalShutdownException:
-        pass
+            # Until a signal or the context's shutdown: both end the node normally.
+            spin_until(executor, stop)
     except StartupRefusal as error:
         rclpy.logging.get_logger(error.logger_name).fatal(f'invalid parameters: {error}')
         return 1
