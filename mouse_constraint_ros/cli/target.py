@@ -127,8 +127,9 @@ class TargetPublisher(Node):
         """
         Wait until every subscriber has acknowledged what was published, or ``deadline``.
 
-        Waits in slices of ``POLL_PERIOD``: Python runs signal handlers between calls, so one
-        long ``wait_for_all_acked`` would hold Ctrl-C back until it returned.
+        Waits in slices of ``POLL_PERIOD``, spinning ``executor`` between them: Python runs
+        signal handlers between calls, so one long ``wait_for_all_acked`` would hold Ctrl-C
+        back until it returned.
 
         :raises Interrupted: on Ctrl-C or SIGTERM.
         """
