@@ -123,15 +123,15 @@ def _value(number: Optional[float], digits: int = 6) -> str:
     return 'n/a' if number is None else f'{number:.{digits}g}'
 
 
-def _status(name: str, hardware_id: str, level: bytes, problems: List[str], fine: str,
+def _status(name: str, hardware_id: str, *, level: bytes, problems: List[str], fine: str,
             values: Sequence[KeyValue]) -> DiagnosticStatus:
     return DiagnosticStatus(level=level, name=name, hardware_id=hardware_id,
                             message='; '.join(problems) if problems else fine,
                             values=list(values))
 
 
-def rate_status(name: str, hardware_id: str, rate_hz: float, window: Optional[Window],
-                totals: TickCounters, thresholds: Thresholds = Thresholds(), *,
+def rate_status(name: str, hardware_id: str, *, rate_hz: float, window: Optional[Window],
+                totals: TickCounters, thresholds: Thresholds = Thresholds(),
                 drop_cause: Optional[str] = None,
                 waiting_for: Optional[str] = None) -> DiagnosticStatus:
     """
@@ -182,12 +182,12 @@ def rate_status(name: str, hardware_id: str, rate_hz: float, window: Optional[Wi
         KeyValue(key='clock restarts since start', value=str(totals.clock_restarts)),
         KeyValue(key='last drop cause', value=drop_cause or 'n/a'),
     ]
-    return _status(name, hardware_id, level, problems, fine, values)
+    return _status(name, hardware_id, level=level, problems=problems, fine=fine, values=values)
 
 
-def constraint_status(name: str, hardware_id: str, target_kind: str, target: Optional[Vector3],
-                      anchor_error: Optional[float], force: Vector3, max_force: float,
-                      target_age: Optional[float], target_timeout: float,
+def constraint_status(name: str, hardware_id: str, *, target_kind: str,
+                      target: Optional[Vector3], anchor_error: Optional[float], force: Vector3,
+                      max_force: float, target_age: Optional[float], target_timeout: float,
                       thresholds: Thresholds = Thresholds()) -> DiagnosticStatus:
     """
     Return the constraint status: anchor error, constraint force, target and its age.
@@ -233,7 +233,7 @@ def constraint_status(name: str, hardware_id: str, target_kind: str, target: Opt
         KeyValue(key='max force (N)', value=_value(max_force)),
         KeyValue(key='target timeout (s)', value=_value(target_timeout)),
     ]
-    return _status(name, hardware_id, level, problems, fine, values)
+    return _status(name, hardware_id, level=level, problems=problems, fine=fine, values=values)
 
 
 def diagnostic_array(stamp_ns: int, statuses: Sequence[DiagnosticStatus]) -> DiagnosticArray:

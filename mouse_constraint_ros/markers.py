@@ -77,7 +77,7 @@ def _marker(namespace: str, kind: int, frame_id: str, stamp_ns: int) -> Marker:
     return marker
 
 
-def _sphere(namespace: str, frame_id: str, stamp_ns: int, center: Vector3, diameter: float,
+def _sphere(namespace: str, *, frame_id: str, stamp_ns: int, center: Vector3, diameter: float,
             rgba: Sequence[float]) -> Marker:
     marker = _marker(namespace, Marker.SPHERE, frame_id, stamp_ns)
     fill_point(marker.pose.position, center)
@@ -92,7 +92,7 @@ def _deleted(namespace: str, frame_id: str, stamp_ns: int) -> Marker:
     return marker
 
 
-def marker_array(frame_id: str, stamp_ns: int, box_size: Vector3, state: BodyState,
+def marker_array(*, frame_id: str, stamp_ns: int, box_size: Vector3, state: BodyState,
                  anchor: Vector3, target: Optional[Vector3], force: Vector3,
                  reference: float) -> MarkerArray:
     """
@@ -112,12 +112,14 @@ def marker_array(frame_id: str, stamp_ns: int, box_size: Vector3, state: BodySta
     fill_point(body.scale, box_size)
     body.color = _color(BODY_COLOR)
     diameter = SPHERE_FRACTION * max(box_size)
-    markers = [body, _sphere('anchor', frame_id, stamp_ns, anchor, diameter, ANCHOR_COLOR)]
+    markers = [body, _sphere('anchor', frame_id=frame_id, stamp_ns=stamp_ns, center=anchor,
+                             diameter=diameter, rgba=ANCHOR_COLOR)]
     if target is None:
         markers += [_deleted('target', frame_id, stamp_ns),
                     _deleted('constraint', frame_id, stamp_ns)]
     else:
-        markers.append(_sphere('target', frame_id, stamp_ns, target, diameter, TARGET_COLOR))
+        markers.append(_sphere('target', frame_id=frame_id, stamp_ns=stamp_ns, center=target,
+                               diameter=diameter, rgba=TARGET_COLOR))
         line = _marker('constraint', Marker.LINE_LIST, frame_id, stamp_ns)
         start, end = Point(), Point()
         fill_point(start, anchor)

@@ -25,7 +25,6 @@ from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescr
 import rclpy
 from rclpy.clock import Clock, ClockType
 from rclpy.exceptions import ParameterException
-from rclpy.executors import ExternalShutdownException
 from rclpy.experimental import EventsExecutor
 from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
@@ -43,7 +42,7 @@ from .markers import marker_array, reference_force
 from .messages import fill_pose, fill_twist, point_from_message, set_stamp, stamp_nanoseconds
 from .parameters import node_config, PARAMETERS, ParameterSpec
 from .physics import MouseSimulation
-from .spin import StopRequest
+from .spin import spin_until, StopRequest
 from .tick_grid import TickGrid
 
 # Catch up on at most this much missed time in one timer callback; older ticks are dropped.
@@ -521,9 +520,10 @@ class MouseConstraintNode(Node):
         """Publish the markers of the latest tick, stamped as its pose."""
         simulation = self._simulation
         self._marker_publisher.publish(marker_array(
-            self._config.frame_id, stamp_nanoseconds(self._pose.header.stamp),
-            self._config.box_size, simulation.state, simulation.anchor_position(),
-            simulation.target, simulation.constraint_force, reference_force(simulation.settings)))
+            frame_id=self._config.frame_id, stamp_ns=stamp_nanoseconds(self._pose.header.stamp),
+            box_size=self._config.box_size, state=simulation.state,
+            anchor=simulation.anchor_position(), target=simulation.target,
+            force=simulation.constraint_force, reference=reference_force(simulation.settings)))
 
     def _publish_diagnostics(self) -> None:
         """
@@ -551,13 +551,16 @@ class MouseConstraintNode(Node):
             kind, age = (NO_TARGET if simulation.target is None else INITIAL_ANCHOR), None
         name = hardware_id = self.get_fully_qualified_name()
         self._diagnostics_publisher.publish(diagnostic_array(now, [
-            rate_status(f'{name}: rate', hardware_id, config.rate_hz, window, counters,
-                        thresholds, drop_cause=self.drop_cause,
+            rate_status(f'{name}: rate', hardware_id, rate_hz=config.rate_hz, window=window,
+                        totals=counters, thresholds=thresholds, drop_cause=self.drop_cause,
                         waiting_for=self.waiting_for_clock()),
-            constraint_status(f'{name}: constraint', hardware_id, kind, simulation.target,
-                              None if error is None else math.hypot(*error),
-                              simulation.constraint_force, config.settings.constraint.max_force,
-                              age, config.target_timeout, thresholds),
+            constraint_status(f'{name}: constraint', hardware_id, target_kind=kind,
+                              target=simulation.target,
+                              anchor_error=None if error is None else math.hypot(*error),
+                              force=simulation.constraint_force,
+                              max_force=config.settings.constraint.max_force,
+                              target_age=age, target_timeout=config.target_timeout,
+                              thresholds=thresholds),
         ]))
 
 
@@ -612,14 +615,8 @@ def main(args: Optional[List[str]] = None) -> int:
             node = MouseConstraintNode()
             executor = EventsExecutor(context=node.context)
             executor.add_node(node)
-            # Not executor.spin(): in this rclpy (7.1.6) the EventsExecutor's spin() busy-waits
-            # at a full core and never returns to Python. Nor spin_until_future_complete, which
-            # saves a little CPU but leaks 32 B per call here (bench/spin_leak.py). spin_once
-            # with a timeout does neither and lets the loop see the stop flag.
-            while not stop and node.context.ok():
-                executor.spin_once(timeout_sec=0.1)
-    except ExternalShutdownException:
-        pass
+            # Until a signal or the context's shutdown: both end the node normally.
+            spin_until(executor, stop)
     except StartupRefusal as error:
         rclpy.logging.get_logger(error.logger_name).fatal(f'invalid parameters: {error}')
         return 1

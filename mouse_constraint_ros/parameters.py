@@ -15,7 +15,7 @@ import math
 from typing import Any, Mapping, NamedTuple, Optional, Tuple
 
 from .physics import BodyState, MouseConstraint, RigidBody, Settings
-from .physics.algebra import multiply, rotation_matrix, Vector3
+from .physics.algebra import Vector3
 from .physics.limits import (MAX_ACCELERATION, MAX_CONDITION, MAX_DISTANCE, MAX_MASS,
                              MAX_MOMENT, MIN_MASS, MIN_MOMENT)
 from .physics.simulation import check_lever
@@ -120,9 +120,7 @@ class NodeConfig(NamedTuple):
 
     def initial_anchor(self) -> Vector3:
         """Return the anchor's world position in the initial state."""
-        state = self.initial_state
-        r = multiply(self.settings.constraint.anchor, rotation_matrix(state.orientation))
-        return (state.position[0] + r[0], state.position[1] + r[1], state.position[2] + r[2])
+        return self.initial_state.world_point(self.settings.constraint.anchor)
 
 
 def node_config(values: Mapping[str, Any]) -> NodeConfig:

@@ -1,18 +1,34 @@
 """
-Ctrl-C, SIGTERM and SIGHUP as a request to stop, for the executables' spin loops.
+Ctrl-C, SIGTERM and SIGHUP as a request to stop, and the one spin loop of the executables.
 
 rclpy's own handlers shut the context down from the signal, while a timer callback may be
-publishing: the publish then raises with a traceback. Here the signal only sets a flag; the
-spin loop sees it within one ``spin_once`` timeout and the node is torn down in order. SIGHUP
-(the terminal closed) ends the node like SIGTERM: Python's default for it kills the process with
-no clean-up.
+publishing: the publish then raises with a traceback. Here the signal only sets a flag
+(``StopRequest``); the spin loop sees it within one ``POLL_PERIOD`` and the node is torn down
+in order. SIGHUP (the terminal closed) ends the node like SIGTERM: Python's default for it kills
+the process with no clean-up.
+
+``spin_until`` is the loop of ``mouse_constraint``, ``mouse_target`` and ``mouse_record``: it
+spins an executor with ``spin_once`` until a condition holds, a stop is requested, a deadline
+passes or the context is shut down, and returns which (a ``SpinEnd``). ``wait_until`` is the
+same loop for waits inside a command, where a stop is an ``Interrupted`` and a deadline False.
+
+Not ``executor.spin()``: in this rclpy (7.1.6) the EventsExecutor's ``spin()`` busy-waits at a
+full core and never returns to Python. Nor ``spin_until_future_complete``, which saves a little
+CPU but leaks 32 B per call here (bench/spin_leak.py). ``spin_once`` with a timeout does neither
+and lets the loop see the stop flag.
 """
 
+import enum
 import signal
+import time
 from types import FrameType
-from typing import Optional
+from typing import Callable, Optional
+
+from rclpy.executors import Executor, ExternalShutdownException
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+# Longest one spin_once blocks before the loop looks at the stop flag and the clock again (s).
+POLL_PERIOD = 0.05
 
 
 class StopRequest:
@@ -40,3 +56,70 @@ class StopRequest:
         """Restore the previous handlers."""
         for signum, handler in self._previous.items():
             signal.signal(signum, handler)
+
+
+class SpinEnd(enum.Enum):
+    """Why ``spin_until`` returned."""
+
+    CONDITION = 'the condition held'
+    STOPPED = 'a stop was requested'
+    DEADLINE = 'the deadline passed'
+    SHUTDOWN = 'the context was shut down'
+
+
+class Interrupted(Exception):
+    """A stop was requested while waiting; ``signal`` is its number."""
+
+    def __init__(self, signum: int) -> None:
+        """Record the signal."""
+        super().__init__(signal.Signals(signum).name)
+        self.signal = signum
+
+
+def spin_until(executor: Executor, stop: StopRequest, *,
+               condition: Optional[Callable[[], bool]] = None,
+               deadline: Optional[float] = None, period: float = POLL_PERIOD) -> SpinEnd:
+    """
+    Spin ``executor`` with ``spin_once`` until one of the ends, and return which.
+
+    Before each ``spin_once`` it looks, in this order, at ``condition()``, at ``stop``, at the
+    executor's context and at the deadline: a condition that holds wins over a stop that came
+    at the same time, and nothing is spun once the context is shut down.
+
+    :param executor: the executor, its nodes added; it blocks at most ``period`` per call.
+    :param stop: the stop request (a signal came when it is true).
+    :param condition: spin until it returns true; None to spin until another end.
+    :param deadline: ``time.monotonic()`` after which to give up; None for none.
+    :param period: the ``spin_once`` timeout (s), the longest a stop goes unseen.
+    """
+    context = executor.context
+    while True:
+        if condition is not None and condition():
+            return SpinEnd.CONDITION
+        if stop:
+            return SpinEnd.STOPPED
+        if not context.ok():
+            return SpinEnd.SHUTDOWN
+        if deadline is not None and time.monotonic() > deadline:
+            return SpinEnd.DEADLINE
+        try:
+            executor.spin_once(timeout_sec=period)
+        except ExternalShutdownException:
+            return SpinEnd.SHUTDOWN
+
+
+def wait_until(executor: Executor, stop: StopRequest, condition: Callable[[], bool], *,
+               deadline: float) -> bool:
+    """
+    Spin ``executor`` until ``condition()`` holds; return whether it did before ``deadline``.
+
+    :param deadline: ``time.monotonic()`` after which to return False.
+    :raises Interrupted: as soon as ``stop`` is requested.
+    :raises ExternalShutdownException: when the context is shut down meanwhile.
+    """
+    end = spin_until(executor, stop, condition=condition, deadline=deadline)
+    if end is SpinEnd.STOPPED:
+        raise Interrupted(stop.signal)
+    if end is SpinEnd.SHUTDOWN:
+        raise ExternalShutdownException()
+    return end is SpinEnd.CONDITION

@@ -54,7 +54,8 @@ def test_tick_window_takes_differences_between_samples():
 ])
 def test_rate_levels(ticks, late, restarts, level, message):
     """Achieved vs requested rate, late ticks and clock restarts by the documented thresholds."""
-    status = rate_status('n: rate', '/n', 1000.0, Window(1.0, ticks, late, 0, restarts), TOTALS)
+    status = rate_status('n: rate', '/n', rate_hz=1000.0,
+                         window=Window(1.0, ticks, late, 0, restarts), totals=TOTALS)
     assert (status.level, status.message) == (level, message)
     assert status.name == 'n: rate' and status.hardware_id == '/n'
     assert values(status)['requested rate (Hz)'] == '1000'
@@ -63,8 +64,10 @@ def test_rate_levels(ticks, late, restarts, level, message):
 
 def test_rate_allows_one_tick_of_jitter_and_reports_drops():
     """At a low rate one tick less is not a shortfall; dropped ticks are named."""
-    assert rate_status('n', '', 2.0, Window(1.0, 1, 0, 0, 0), TOTALS).level == OK
-    status = rate_status('n', '', 100.0, Window(1.0, 50, 0, 50, 0), TickCounters(90, 0, 60, 0))
+    assert rate_status('n', '', rate_hz=2.0, window=Window(1.0, 1, 0, 0, 0),
+                       totals=TOTALS).level == OK
+    status = rate_status('n', '', rate_hz=100.0, window=Window(1.0, 50, 0, 50, 0),
+                         totals=TickCounters(90, 0, 60, 0))
     assert status.level == ERROR
     assert status.message == 'achieved 50.0 of 100 Hz (50 ticks dropped)'
     assert values(status)['dropped ticks'] == '50'
@@ -75,11 +78,11 @@ def test_rate_allows_one_tick_of_jitter_and_reports_drops():
 def test_rate_names_the_drop_cause_and_what_the_clock_waits_for():
     """The cause of dropped ticks is in the message; a clock that never came is a WARN."""
     cause = 'a tick takes too long'
-    status = rate_status('n', '', 100.0, Window(1.0, 50, 0, 50, 0), TickCounters(90, 0, 60, 0),
-                         drop_cause=cause)
+    status = rate_status('n', '', rate_hz=100.0, window=Window(1.0, 50, 0, 50, 0),
+                         totals=TickCounters(90, 0, 60, 0), drop_cause=cause)
     assert status.message == f'achieved 50.0 of 100 Hz (50 ticks dropped: {cause})'
     assert values(status)['last drop cause'] == cause
-    waiting = rate_status('n', '', 100.0, None, TickCounters(0, 0, 0, 0),
+    waiting = rate_status('n', '', rate_hz=100.0, window=None, totals=TickCounters(0, 0, 0, 0),
                           waiting_for='/clock on /sim/clock')
     assert waiting.level == WARN
     assert waiting.message == 'waiting for /clock on /sim/clock: no tick runs until it comes'
@@ -87,7 +90,7 @@ def test_rate_names_the_drop_cause_and_what_the_clock_waits_for():
 
 def test_rate_without_a_window_is_measuring():
     """No window yet: OK, 'measuring', the window's values n/a."""
-    status = rate_status('n', '', 100.0, None, TOTALS)
+    status = rate_status('n', '', rate_hz=100.0, window=None, totals=TOTALS)
     assert (status.level, status.message) == (OK, 'measuring')
     assert values(status)['achieved rate (Hz)'] == values(status)['ticks run'] == 'n/a'
     assert values(status)['late ticks since start'] == '3'
@@ -99,8 +102,10 @@ def test_rate_without_a_window_is_measuring():
 ])
 def test_anchor_error_levels(error, level):
     """The anchor error grades OK / WARN / ERROR at anchor_warn and anchor_error."""
-    status = constraint_status('n: constraint', '/n', USER_TARGET, (0.0, 0.0, 1.0), error,
-                               (0.0, 0.0, 19.6), math.inf, 0.2, 0.0)
+    status = constraint_status('n: constraint', '/n', target_kind=USER_TARGET,
+                               target=(0.0, 0.0, 1.0), anchor_error=error,
+                               force=(0.0, 0.0, 19.6), max_force=math.inf, target_age=0.2,
+                               target_timeout=0.0)
     assert status.level == level
     assert values(status)['anchor error (m)'] == f'{error:.6g}'
     if level != OK:
@@ -110,31 +115,47 @@ def test_anchor_error_levels(error, level):
 def test_anchor_thresholds_come_from_the_parameters():
     """Thresholds(anchor_warn, anchor_error) move the levels."""
     thresholds = Thresholds(anchor_warn=0.001, anchor_error=0.01)
-    levels = [constraint_status('n', '', USER_TARGET, (0.0, 0.0, 0.0), error, (0.0, 0.0, 0.0),
-                                math.inf, 0.0, 0.0, thresholds).level
+    levels = [constraint_status('n', '', target_kind=USER_TARGET, target=(0.0, 0.0, 0.0),
+                                anchor_error=error, force=(0.0, 0.0, 0.0), max_force=math.inf,
+                                target_age=0.0, target_timeout=0.0,
+                                thresholds=thresholds).level
               for error in (0.0005, 0.005, 0.05)]
     assert levels == [OK, WARN, ERROR]
 
 
 def test_saturated_force_and_old_target_warn():
     """A force at max_force warns; so does a target older than half of target_timeout."""
-    at_bound = constraint_status('n', '', USER_TARGET, (0.0, 0.0, 1.0), 0.01, (0.0, 6.0, 8.0),
-                                 10.0, 0.1, 0.0)
+    at_bound = constraint_status('n', '', target_kind=USER_TARGET, target=(0.0, 0.0, 1.0),
+                                 anchor_error=0.01, force=(0.0, 6.0, 8.0), max_force=10.0,
+                                 target_age=0.1, target_timeout=0.0)
     assert (at_bound.level, at_bound.message) == (WARN, 'force at max_force 10 N')
-    below = constraint_status('n', '', USER_TARGET, (0.0, 0.0, 1.0), 0.01, (0.0, 6.0, 7.9),
-                              10.0, 0.1, 0.0)
+    below = constraint_status('n', '', target_kind=USER_TARGET, target=(0.0, 0.0, 1.0),
+                              anchor_error=0.01, force=(0.0, 6.0, 7.9), max_force=10.0,
+                              target_age=0.1, target_timeout=0.0)
     assert below.level == OK
-    old = constraint_status('n', '', USER_TARGET, (0.0, 0.0, 1.0), 0.01, (0.0, 0.0, 1.0),
-                            math.inf, 0.6, 1.0)
+    old = constraint_status('n', '', target_kind=USER_TARGET, target=(0.0, 0.0, 1.0),
+                            anchor_error=0.01, force=(0.0, 0.0, 1.0), max_force=math.inf,
+                            target_age=0.6, target_timeout=1.0)
     assert old.level == WARN and old.message.startswith('no target for 0.60 s')
     assert values(old)['target age (s)'] == '0.6'
-    assert constraint_status('n', '', USER_TARGET, (0.0, 0.0, 1.0), 0.01, (0.0, 0.0, 1.0),
-                             math.inf, 60.0, 0.0).level == OK
+    assert constraint_status('n', '', target_kind=USER_TARGET, target=(0.0, 0.0, 1.0),
+                             anchor_error=0.01, force=(0.0, 0.0, 1.0), max_force=math.inf,
+                             target_age=60.0, target_timeout=0.0).level == OK
+
+
+def test_statuses_take_their_values_by_keyword_only():
+    """Ten numbers and vectors in a row are easy to shift: only the name and id go by position."""
+    with pytest.raises(TypeError, match='positional'):
+        constraint_status('n', '', NO_TARGET, None, None, (0.0, 0.0, 0.0), 5.0, None, 1.0)
+    with pytest.raises(TypeError, match='positional'):
+        rate_status('n', '', 100.0, None, TOTALS)
 
 
 def test_free_body_is_ok_with_values_not_applicable():
     """No target: OK, its position, age and anchor error n/a."""
-    status = constraint_status('n', '', NO_TARGET, None, None, (0.0, 0.0, 0.0), 5.0, None, 1.0)
+    status = constraint_status('n', '', target_kind=NO_TARGET, target=None, anchor_error=None,
+                               force=(0.0, 0.0, 0.0), max_force=5.0, target_age=None,
+                               target_timeout=1.0)
     assert (status.level, status.message) == (OK, NO_TARGET)
     assert values(status)['target position (m)'] == values(status)['anchor error (m)'] == 'n/a'
 

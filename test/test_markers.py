@@ -43,7 +43,8 @@ def xyz(vector) -> tuple:
 def test_markers_show_body_anchor_target_and_a_force_coloured_line():
     """The box at the pose with box_size, spheres at anchor and target, the line between."""
     anchor, target = (0.3, 0.25, 0.95), (0.5, 0.25, 1.0)
-    array = marker_array('map', 1_500_000_123, BOX, STATE, anchor, target, (0.0, 0.0, 19.6), 39.2)
+    array = marker_array(frame_id='map', stamp_ns=1_500_000_123, box_size=BOX, state=STATE,
+                         anchor=anchor, target=target, force=(0.0, 0.0, 19.6), reference=39.2)
     markers = by_namespace(array)
     for marker in array.markers:
         assert marker.header.frame_id == 'map'
@@ -72,10 +73,17 @@ def test_markers_show_body_anchor_target_and_a_force_coloured_line():
 
 def test_a_free_body_deletes_target_and_line():
     """Without a target the body and anchor stay; target and line markers are deleted."""
-    markers = by_namespace(marker_array('world', 0, BOX, STATE, (0.0, 0.0, 1.0), None,
-                                        (0.0, 0.0, 0.0), 10.0))
+    markers = by_namespace(marker_array(frame_id='world', stamp_ns=0, box_size=BOX, state=STATE,
+                                        anchor=(0.0, 0.0, 1.0), target=None,
+                                        force=(0.0, 0.0, 0.0), reference=10.0))
     assert markers['body'].action == markers['anchor'].action == Marker.ADD
     assert markers['target'].action == markers['constraint'].action == Marker.DELETE
+
+
+def test_marker_array_takes_keyword_arguments_only():
+    """Anchor, target and force are all 3-vectors: passed by position they could be swapped."""
+    with pytest.raises(TypeError, match='positional'):
+        marker_array('world', 0, BOX, STATE, (0.0, 0.0, 1.0), None, (0.0, 0.0, 0.0), 10.0)
 
 
 @pytest.mark.parametrize('force, rgb', [

@@ -31,21 +31,21 @@ from scipy.spatial.transform import Rotation
 from visualization_msgs.msg import Marker
 import yaml
 
-from mouse_constraint_ros.cli.record import check_writable
-from mouse_constraint_ros.cli.record import COLUMNS
-from mouse_constraint_ros.cli.record import FIGURE_DPI
-from mouse_constraint_ros.cli.record import FIGURE_INCHES
-from mouse_constraint_ros.cli.record import message_definition
-from mouse_constraint_ros.cli.record import output_paths
 from mouse_constraint_ros.cli.record import parse_arguments
-from mouse_constraint_ros.cli.record import Progress
-from mouse_constraint_ros.cli.record import progress_bar
-from mouse_constraint_ros.cli.record import Received
-from mouse_constraint_ros.cli.record import schema_name
-from mouse_constraint_ros.cli.record import tick_rows
 from mouse_constraint_ros.messages import point_message
 from mouse_constraint_ros.messages import stamp_nanoseconds
 from mouse_constraint_ros.node import MouseConstraintNode
+from mouse_constraint_ros.recording.capture import Progress
+from mouse_constraint_ros.recording.capture import progress_bar
+from mouse_constraint_ros.recording.figure import FIGURE_DPI
+from mouse_constraint_ros.recording.figure import FIGURE_INCHES
+from mouse_constraint_ros.recording.mcap_file import message_definition
+from mouse_constraint_ros.recording.mcap_file import schema_name
+from mouse_constraint_ros.recording.outputs import check_writable
+from mouse_constraint_ros.recording.outputs import output_paths
+from mouse_constraint_ros.recording.received import Received
+from mouse_constraint_ros.recording.rows import COLUMNS
+from mouse_constraint_ros.recording.rows import tick_rows
 from test_support.ros_harness import RosHarness
 
 BIN = Path(sys.executable).parent

@@ -14,10 +14,9 @@ ROS arguments work as for any node: ``--ros-args -r __ns:=/robot -r target:=/cli
 
 import argparse
 import math
-import signal
 import sys
 import time
-from typing import Callable, List, Optional
+from typing import List, Optional
 
 from geometry_msgs.msg import PointStamped
 from rcl_interfaces.msg import ParameterType
@@ -31,13 +30,11 @@ from rclpy.utilities import remove_ros_args
 
 from ..interface import NODE_NAME, TARGET_QOS, TARGET_TOPIC
 from ..messages import point_message
-from ..spin import StopRequest
+from ..spin import Interrupted, POLL_PERIOD, spin_until, SpinEnd, StopRequest, wait_until
 from ..target_gate import TargetGate
 
 # The frame of the targets when the node's frame_id cannot be read.
 FALLBACK_FRAME = 'world'
-# Longest a wait blocks before it looks at the clock and at Ctrl-C again (s).
-POLL_PERIOD = 0.05
 
 
 def plain_text(text: str) -> str:
@@ -104,32 +101,6 @@ def circle_point(center: List[float], radius: float, period: float, t: float) ->
             center[2]]
 
 
-class Interrupted(Exception):
-    """SIGINT or SIGTERM came while waiting; ``signal`` is its number."""
-
-    def __init__(self, signum: int) -> None:
-        """Record the signal."""
-        super().__init__(signal.Signals(signum).name)
-        self.signal = signum
-
-
-def wait_until(condition: Callable[[], bool], deadline: float, stop: StopRequest,
-               step: Callable[[], None]) -> bool:
-    """
-    Call ``step`` (which blocks at most ``POLL_PERIOD``) until ``condition()`` holds.
-
-    :returns: whether it held before ``deadline`` (``time.monotonic()``).
-    :raises Interrupted: as soon as ``stop`` is requested.
-    """
-    while not condition():
-        if stop:
-            raise Interrupted(stop.signal)
-        if time.monotonic() > deadline:
-            return False
-        step()
-    return True
-
-
 class TargetPublisher(Node):
     """A node with one publisher on ``target``, QoS-compatible with ``mouse_constraint``."""
 
@@ -149,24 +120,23 @@ class TargetPublisher(Node):
 
         :raises Interrupted: on Ctrl-C or SIGTERM.
         """
-        return wait_until(lambda: self.publisher.get_subscription_count() > 0, deadline, stop,
-                          lambda: executor.spin_once(timeout_sec=POLL_PERIOD))
+        return wait_until(executor, stop, lambda: self.publisher.get_subscription_count() > 0,
+                          deadline=deadline)
 
-    def wait_for_ack(self, deadline: float, stop: StopRequest) -> bool:
+    def wait_for_ack(self, executor, deadline: float, stop: StopRequest) -> bool:
         """
         Wait until every subscriber has acknowledged what was published, or ``deadline``.
 
-        Waits in slices of ``POLL_PERIOD``: Python runs signal handlers between calls, so one
-        long ``wait_for_all_acked`` would hold Ctrl-C back until it returned.
+        Waits in slices of ``POLL_PERIOD``, spinning ``executor`` between them: Python runs
+        signal handlers between calls, so one long ``wait_for_all_acked`` would hold Ctrl-C
+        back until it returned.
 
         :raises Interrupted: on Ctrl-C or SIGTERM.
         """
-        while not self.publisher.wait_for_all_acked(Duration(seconds=POLL_PERIOD)):
-            if stop:
-                raise Interrupted(stop.signal)
-            if time.monotonic() > deadline:
-                return False
-        return True
+        return wait_until(
+            executor, stop,
+            lambda: self.publisher.wait_for_all_acked(Duration(seconds=POLL_PERIOD)),
+            deadline=deadline)
 
     def fetch_gate(self, executor, target_node: str, deadline: float,
                    stop: StopRequest) -> TargetGate:
@@ -178,13 +148,11 @@ class TargetPublisher(Node):
         """
         client = self.create_client(GetParameters, f'{target_node}/get_parameters')
         try:
-            def spin() -> None:
-                executor.spin_once(timeout_sec=POLL_PERIOD)
-            if not wait_until(client.service_is_ready, deadline, stop, spin):
+            if not wait_until(executor, stop, client.service_is_ready, deadline=deadline):
                 raise RuntimeError(f'no parameter service {client.srv_name}')
             future = client.call_async(
                 GetParameters.Request(names=['frame_id', 'workspace_radius']))
-            if not wait_until(future.done, deadline, stop, spin):
+            if not wait_until(executor, stop, future.done, deadline=deadline):
                 raise RuntimeError(f'{client.srv_name} did not answer')
             values = future.result().values
             if len(values) != 2 or values[0].type != ParameterType.PARAMETER_STRING \
@@ -241,7 +209,7 @@ def main(args: Optional[List[str]] = None) -> int:
                         return 1
                 if not options.circle:
                     node.publish_point(options.point, frame)
-                    if not node.wait_for_ack(deadline, stop):
+                    if not node.wait_for_ack(executor, deadline, stop):
                         logger.error(f'target on {topic} was not acknowledged in '
                                      f'{options.timeout:g} s')
                         return 1
@@ -263,9 +231,8 @@ def main(args: Optional[List[str]] = None) -> int:
             node.create_timer(1.0 / options.rate, tick)
             tick()
             # Ctrl-C is how a moving target ends: exit 0.
-            while not stop and time.monotonic() - start < options.duration:
-                executor.spin_once(timeout_sec=0.1)
-            return 0
+            end = spin_until(executor, stop, deadline=start + options.duration)
+            return 1 if end is SpinEnd.SHUTDOWN else 0
     except ExternalShutdownException:
         return 1
     finally:

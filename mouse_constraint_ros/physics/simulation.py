@@ -177,9 +177,7 @@ class MouseSimulation:
 
     def anchor_position(self) -> Vector3:
         """Return the anchor's world position x + R r_local."""
-        x, q = self._state.position, self._state.orientation
-        r = multiply(self._settings.constraint.anchor, rotation_matrix(q))
-        return (x[0] + r[0], x[1] + r[1], x[2] + r[2])
+        return self._state.world_point(self._settings.constraint.anchor)
 
     def anchor_error(self) -> Optional[Vector3]:
         """Return C = x + r - x_mouse (eq. 1.1), or None without a target."""

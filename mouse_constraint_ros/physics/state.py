@@ -3,7 +3,7 @@
 import math
 from typing import NamedTuple
 
-from .algebra import IDENTITY_QUATERNION, Quaternion, Vector3
+from .algebra import IDENTITY_QUATERNION, multiply, Quaternion, rotation_matrix, Vector3
 from .limits import MAX_DISTANCE
 from .validation import finite_vector, shown
 
@@ -22,6 +22,17 @@ class BodyState(NamedTuple):
     orientation: Quaternion = IDENTITY_QUATERNION
     linear_velocity: Vector3 = (0.0, 0.0, 0.0)
     angular_velocity: Vector3 = (0.0, 0.0, 0.0)
+
+    def world_point(self, local: Vector3) -> Vector3:
+        """
+        Return the world position x + R(q) r of the body-frame point ``local`` (m).
+
+        The one place the anchor's world position is computed: the simulation's anchor, the
+        initial anchor a node holds, and the recorder's anchor column all come from here.
+        """
+        x = self.position
+        r = multiply(local, rotation_matrix(self.orientation))
+        return (x[0] + r[0], x[1] + r[1], x[2] + r[2])
 
     def validated(self, *, prefix: str = '') -> 'BodyState':
         """

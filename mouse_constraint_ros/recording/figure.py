@@ -1,0 +1,81 @@
+"""
+The figure of a recording: anchor and target paths, anchor error, speed and angular speed.
+
+matplotlib is imported when a figure is drawn, with its Agg canvas: no display is needed.
+"""
+
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+
+from .rows import Row
+from ..physics.algebra import Vector3
+
+# The figure: FIGURE_INCHES at FIGURE_DPI, i.e. 1500 x 1000 pixels.
+FIGURE_INCHES = (15.0, 10.0)
+FIGURE_DPI = 100
+# Anchor errors below this are drawn at it on the logarithmic axis (m).
+ERROR_FLOOR = 1e-9
+
+
+def write_figure(path: Path, rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
+                 title: str = 'mouse_constraint') -> None:
+    """
+    Draw the recording into a PNG of ``FIGURE_INCHES`` at ``FIGURE_DPI`` (Agg, no display).
+
+    Top left the paths seen from above (x, y), top right from the side (x, z); bottom left the
+    anchor error on a log scale, bottom right speed and angular speed.
+
+    :param rows: the ticks, at least one.
+    :param anchor: the anchor in the body frame (m), named in the title.
+    :param frame_id: the frame of the positions, named on the axes.
+    :raises ValueError: without rows.
+    """
+    from matplotlib.figure import Figure
+
+    if not rows:
+        raise ValueError('no ticks to draw')
+    t = np.array([row.time for row in rows])
+    anchors = np.array([row.anchor for row in rows])
+    targets = np.array([row.target if row.target is not None else (np.nan,) * 3
+                        for row in rows])
+    errors = np.array([np.nan if row.anchor_error is None else row.anchor_error
+                       for row in rows])
+    figure = Figure(figsize=FIGURE_INCHES, dpi=FIGURE_DPI, layout='constrained')
+    (top, side), (error_axes, speed_axes) = figure.subplots(2, 2)
+    for axes, (i, j), view in ((top, (0, 1), 'top view'), (side, (0, 2), 'side view')):
+        axes.plot(anchors[:, i], anchors[:, j], color='tab:orange', linewidth=1.2,
+                  label='anchor')
+        axes.plot(targets[:, i], targets[:, j], color='tab:purple', linestyle='--',
+                  linewidth=1.0, label='target')
+        axes.plot(anchors[0, i], anchors[0, j], 'o', color='tab:orange', label='anchor start')
+        axes.plot(anchors[-1, i], anchors[-1, j], 's', color='tab:orange', label='anchor end')
+        axes.set_aspect('equal', adjustable='datalim')
+        axes.set_xlabel(f'{"xyz"[i]} (m, {frame_id})')
+        axes.set_ylabel(f'{"xyz"[j]} (m, {frame_id})')
+        axes.set_title(f'Anchor and target paths, {view}')
+        axes.grid(True, alpha=0.3)
+        axes.legend(loc='best', fontsize='small')
+    error_axes.semilogy(t, np.maximum(errors, ERROR_FLOOR), color='tab:red', linewidth=0.8)
+    error_axes.set_xlim(0.0, max(t[-1], 1e-3))
+    error_axes.set_xlabel('time (s)')
+    error_axes.set_ylabel('anchor error |anchor - target| (m)')
+    error_axes.set_title('Anchor error')
+    error_axes.grid(True, which='both', alpha=0.3)
+    speed_axes.plot(t, [row.speed for row in rows], color='tab:blue', label='speed |v| (m/s)')
+    speed_axes.set_xlim(0.0, max(t[-1], 1e-3))
+    speed_axes.set_xlabel('time (s)')
+    speed_axes.set_ylabel('speed of the COM (m/s)', color='tab:blue')
+    spin_axes = speed_axes.twinx()
+    spin_axes.plot(t, [row.angular_speed for row in rows], color='tab:green', linewidth=1.0,
+                   label='angular speed |w| (rad/s)')
+    spin_axes.set_ylabel('angular speed (rad/s)', color='tab:green')
+    speed_axes.set_title('Speed and angular speed')
+    speed_axes.grid(True, alpha=0.3)
+    lines = speed_axes.get_lines() + spin_axes.get_lines()
+    speed_axes.legend(lines, [line.get_label() for line in lines], loc='upper right',
+                      fontsize='small')
+    figure.suptitle(f'{title}: {t[-1]:.1f} s, {len(rows)} ticks, anchor '
+                    f'({", ".join(f"{c:g}" for c in anchor)}) m in the body frame')
+    figure.savefig(path, dpi=FIGURE_DPI)

@@ -1,0 +1,111 @@
+"""
+The MCAP file of a recording: the messages as received (CDR) on ``ros2msg`` schemas.
+
+Foxglove and ``ros2 bag info/play`` open it: the ``ros2`` profile, one channel per recorded topic
+with the publishers' QoS as rosbag2 writes it (``offered_qos_profiles``), and schemas generated
+from the message classes (``message_definition``), so that no ``.msg`` files are needed.
+"""
+
+import importlib
+from pathlib import Path
+import re
+from typing import List, Mapping, Sequence
+
+from rclpy.qos import QoSProfile
+import yaml
+
+from .received import Received, TOPICS
+
+
+def schema_name(message_type) -> str:
+    """Return the ROS 2 type name of a message class, e.g. ``geometry_msgs/msg/PointStamped``."""
+    return f'{message_type.__module__.split(".")[0]}/msg/{message_type.__name__}'
+
+
+_BASIC_TYPES = {'double': 'float64', 'float': 'float32', 'boolean': 'bool', 'octet': 'byte'}
+
+
+def _field_type(idl_type: str, nested: List[str]) -> str:
+    sequence = re.fullmatch(r'sequence<(.+?)(?:, (\d+))?>', idl_type)
+    if sequence:
+        base = _field_type(sequence.group(1), nested)
+        return f'{base}[<={sequence.group(2)}]' if sequence.group(2) else f'{base}[]'
+    array = re.fullmatch(r'(.+)\[(\d+)\]', idl_type)
+    if array:
+        return f'{_field_type(array.group(1), nested)}[{array.group(2)}]'
+    bounded = re.fullmatch(r'(w?string)<(\d+)>', idl_type)
+    if bounded:
+        return f'{bounded.group(1)}<={bounded.group(2)}'
+    if '/' in idl_type:
+        nested.append(idl_type)
+    return _BASIC_TYPES.get(idl_type, idl_type)
+
+
+def message_definition(message_type) -> str:
+    """
+    Return the ``ros2msg`` schema of a message class: its fields, then each nested type once.
+
+    It is built from the class's own field list, so it needs no ``.msg`` files; it has the
+    fields (all that decoding needs) but not the comments or constants of the ``.msg`` files.
+    """
+    sections, done, queue = [], set(), [None]
+    while queue:
+        name = queue.pop(0)
+        if name is None:
+            current = message_type
+        else:
+            if name in done:
+                continue
+            done.add(name)
+            package, type_name = name.split('/')
+            current = getattr(importlib.import_module(f'{package}.msg'), type_name)
+        nested: List[str] = []
+        lines = [f'{_field_type(kind, nested)} {field}'
+                 for field, kind in current.get_fields_and_field_types().items()]
+        header = '' if name is None else '=' * 80 + f'\nMSG: {name}\n'
+        sections.append(header + '\n'.join(lines) + '\n')
+        queue.extend(nested)
+    return ''.join(sections)
+
+
+def write_mcap(path: Path, received: Sequence[Received], *, topic_names: Mapping[str, str],
+               offered_qos: Mapping[str, str]) -> None:
+    """
+    Write the messages as received into an MCAP file with the ``ros2`` profile.
+
+    :param received: the messages, in the order they came; each its own sequence number.
+    :param topic_names: the resolved topic name of each key of ``TOPICS``.
+    :param offered_qos: the publishers' QoS of each key (``offered_qos_yaml``), '' if unknown.
+    """
+    from mcap.writer import Writer
+
+    with open(path, 'wb') as stream:
+        writer = Writer(stream)
+        writer.start(profile='ros2', library='mouse_constraint_ros mouse_record')
+        channels = {}
+        for key, message_type in TOPICS.items():
+            schema = writer.register_schema(name=schema_name(message_type), encoding='ros2msg',
+                                            data=message_definition(message_type).encode())
+            channels[key] = writer.register_channel(
+                topic=topic_names[key], message_encoding='cdr', schema_id=schema,
+                metadata={'offered_qos_profiles': offered_qos.get(key, '')})
+        for sequence, message in enumerate(received):
+            writer.add_message(channel_id=channels[message.topic], log_time=message.log_time,
+                               publish_time=message.log_time, data=message.data,
+                               sequence=sequence)
+        writer.finish()
+
+
+def offered_qos_yaml(profiles: Sequence[QoSProfile]) -> str:
+    """Return the publishers' QoS profiles as rosbag2 (Jazzy, metadata version 9) writes them."""
+    def duration(value) -> dict:
+        sec, nsec = divmod(value.nanoseconds, 1_000_000_000)
+        return {'sec': sec, 'nsec': nsec}
+    return yaml.safe_dump([{
+        'history': p.history.name.lower(), 'depth': p.depth,
+        'reliability': p.reliability.name.lower(), 'durability': p.durability.name.lower(),
+        'deadline': duration(p.deadline), 'lifespan': duration(p.lifespan),
+        'liveliness': p.liveliness.name.lower(),
+        'liveliness_lease_duration': duration(p.liveliness_lease_duration),
+        'avoid_ros_namespace_conventions': p.avoid_ros_namespace_conventions,
+    } for p in profiles], sort_keys=False) if profiles else ''

@@ -1,0 +1,102 @@
+"""
+Messages to CSV rows: one row per tick, pose and twist of one stamp, and the CSV file.
+
+The anchor column is the body-frame anchor placed by the pose (``BodyState.world_point``); the
+target of a row is the latest target received before its pose.
+"""
+
+import csv
+import math
+from pathlib import Path
+from typing import Dict, List, NamedTuple, Optional, Sequence, Tuple
+
+from geometry_msgs.msg import PoseStamped, TwistStamped
+from rclpy.serialization import deserialize_message
+
+from .received import Received, TOPICS
+from ..interface import POSE_TOPIC, TARGET_TOPIC
+from ..messages import point_from_message, stamp_nanoseconds, state_from_messages
+from ..physics.algebra import Vector3
+
+COLUMNS = ('time', 'stamp_ns', 'x', 'y', 'z', 'qx', 'qy', 'qz', 'qw', 'vx', 'vy', 'vz', 'wx', 'wy',
+           'wz', 'anchor_x', 'anchor_y', 'anchor_z', 'target_x', 'target_y', 'target_z',
+           'anchor_error', 'speed', 'angular_speed')
+
+
+class Row(NamedTuple):
+    """One tick of the CSV, see ``COLUMNS``; the target fields are None before any target."""
+
+    time: float
+    stamp_ns: int
+    position: Vector3
+    orientation: Tuple[float, float, float, float]
+    linear_velocity: Vector3
+    angular_velocity: Vector3
+    anchor: Vector3
+    target: Optional[Vector3]
+    anchor_error: Optional[float]
+    speed: float
+    angular_speed: float
+
+    def fields(self) -> list:
+        """Return the row's values in ``COLUMNS`` order; '' where there is no target."""
+        target = self.target if self.target is not None else ('', '', '')
+        error = '' if self.anchor_error is None else self.anchor_error
+        return [self.time, self.stamp_ns, *self.position, *self.orientation,
+                *self.linear_velocity, *self.angular_velocity, *self.anchor, *target, error,
+                self.speed, self.angular_speed]
+
+
+def tick_rows(received: Sequence[Received], anchor: Vector3) -> List[Row]:
+    """
+    Return one row per stamp that has both a pose and a twist, in the order the poses came.
+
+    The target of a row is the latest target received before its pose; there is none (None)
+    until the first target, e.g. while the node holds its initial anchor.
+
+    :param received: the messages as received, in order.
+    :param anchor: the anchor in the body frame (m).
+    """
+    target: Optional[Vector3] = None
+    poses: Dict[int, Tuple[PoseStamped, Optional[Vector3]]] = {}
+    twists: Dict[int, TwistStamped] = {}
+    for message in received:
+        decoded = deserialize_message(message.data, TOPICS[message.topic])
+        if message.topic == TARGET_TOPIC:
+            target = point_from_message(decoded)
+        elif message.topic == POSE_TOPIC:
+            poses.setdefault(stamp_nanoseconds(decoded.header.stamp), (decoded, target))
+        else:
+            twists.setdefault(stamp_nanoseconds(decoded.header.stamp), decoded)
+    rows: List[Row] = []
+    for stamp, (pose, pose_target) in poses.items():
+        twist = twists.get(stamp)
+        if twist is None:
+            continue
+        state = state_from_messages(pose, twist)
+        world_anchor = state.world_point(anchor)
+        start = rows[0].stamp_ns if rows else stamp
+        rows.append(Row(
+            time=(stamp - start) * 1e-9, stamp_ns=stamp, position=state.position,
+            orientation=state.orientation, linear_velocity=state.linear_velocity,
+            angular_velocity=state.angular_velocity, anchor=world_anchor, target=pose_target,
+            anchor_error=None if pose_target is None else math.dist(world_anchor, pose_target),
+            speed=math.hypot(*state.linear_velocity),
+            angular_speed=math.hypot(*state.angular_velocity)))
+    return rows
+
+
+def write_csv(path: Path, rows: Sequence[Row]) -> None:
+    """Write ``rows`` under a ``COLUMNS`` header; floats keep every digit (repr)."""
+    with open(path, 'w', newline='') as stream:
+        writer = csv.writer(stream)
+        writer.writerow(COLUMNS)
+        writer.writerows(row.fields() for row in rows)
+
+
+def frame_of(received: Sequence[Received]) -> str:
+    """Return the frame_id of the first pose, or '' without one."""
+    for message in received:
+        if message.topic == POSE_TOPIC:
+            return deserialize_message(message.data, PoseStamped).header.frame_id
+    return ''

@@ -1,0 +1,106 @@
+"""
+The executables' one spin loop: it ends on a condition, a stop, a deadline or a shutdown.
+
+Both executors the package uses are tried: the EventsExecutor (node, recorder) and the
+SingleThreadedExecutor (``mouse_target``).
+"""
+
+import os
+import signal
+import threading
+import time
+
+import pytest
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.experimental import EventsExecutor
+from rclpy.node import Node
+
+from mouse_constraint_ros.spin import Interrupted
+from mouse_constraint_ros.spin import spin_until
+from mouse_constraint_ros.spin import SpinEnd
+from mouse_constraint_ros.spin import STOP_SIGNALS
+from mouse_constraint_ros.spin import StopRequest
+from mouse_constraint_ros.spin import wait_until
+
+
+@pytest.fixture(params=[EventsExecutor, SingleThreadedExecutor], ids=['events', 'single'])
+def spinning(request, ros):
+    """Return an executor of each kind on the test's context, with one node added."""
+    executor = request.param(context=ros.context)
+    node = Node('spin_test', context=ros.context)
+    executor.add_node(node)
+    yield executor, node
+    executor.shutdown()
+    node.destroy_node()
+
+
+def requested(signum: int) -> StopRequest:
+    """Return a stop request as a handled ``signum`` leaves it, without installing handlers."""
+    stop = StopRequest()
+    stop.signal = signum
+    return stop
+
+
+def test_spins_callbacks_until_the_condition_holds(spinning):
+    """A timer's callbacks run inside the loop; it returns once they made the condition true."""
+    executor, node = spinning
+    calls = []
+    node.create_timer(0.01, lambda: calls.append(None))
+    assert spin_until(executor, StopRequest(), condition=lambda: len(calls) >= 3) \
+        is SpinEnd.CONDITION
+    assert len(calls) == 3
+
+
+def test_a_signal_stops_the_loop_and_the_handlers_are_restored(spinning):
+    """SIGINT sent from a callback ends the loop with STOPPED; the handlers go back on exit."""
+    executor, node = spinning
+    before = {signum: signal.getsignal(signum) for signum in STOP_SIGNALS}
+    node.create_timer(0.05, lambda: os.kill(os.getpid(), signal.SIGINT))
+    with StopRequest() as stop:
+        assert spin_until(executor, stop) is SpinEnd.STOPPED
+    assert stop.signal == signal.SIGINT
+    assert {signum: signal.getsignal(signum) for signum in STOP_SIGNALS} == before
+
+
+def test_a_condition_that_holds_wins_over_a_stop(spinning):
+    """Both at once: the condition (e.g. the recording is complete) is what ended the loop."""
+    executor, _ = spinning
+    assert spin_until(executor, requested(signal.SIGTERM), condition=lambda: True) \
+        is SpinEnd.CONDITION
+    assert spin_until(executor, requested(signal.SIGTERM), condition=lambda: False) \
+        is SpinEnd.STOPPED
+
+
+def test_the_deadline_ends_the_loop_once_passed(spinning):
+    """Nothing happens: DEADLINE, not before the deadline."""
+    executor, _ = spinning
+    deadline = time.monotonic() + 0.2
+    assert spin_until(executor, StopRequest(), condition=lambda: False, deadline=deadline) \
+        is SpinEnd.DEADLINE
+    assert time.monotonic() > deadline
+
+
+def test_a_shutdown_context_ends_the_loop_without_an_exception(spinning, ros):
+    """The context shut down from another thread while spinning, or before: SHUTDOWN."""
+    executor, _ = spinning
+    shutdown = threading.Timer(0.2, ros.context.shutdown)
+    shutdown.start()
+    try:
+        assert spin_until(executor, StopRequest()) is SpinEnd.SHUTDOWN
+    finally:
+        shutdown.join()
+    assert spin_until(executor, StopRequest()) is SpinEnd.SHUTDOWN
+
+
+def test_wait_until_says_whether_the_condition_held_and_raises_on_a_stop(spinning, ros):
+    """True on the condition, False at the deadline, Interrupted with the signal on a stop."""
+    executor, _ = spinning
+    deadline = time.monotonic() + 0.1
+    assert wait_until(executor, StopRequest(), lambda: True, deadline=deadline)
+    assert not wait_until(executor, StopRequest(), lambda: False, deadline=deadline)
+    with pytest.raises(Interrupted) as interrupted:
+        wait_until(executor, requested(signal.SIGHUP), lambda: False, deadline=deadline + 60.0)
+    assert interrupted.value.signal == signal.SIGHUP
+    ros.context.shutdown()
+    with pytest.raises(ExternalShutdownException):
+        wait_until(executor, StopRequest(), lambda: False, deadline=deadline + 60.0)
