@@ -1,16 +1,26 @@
 #!/usr/bin/env bash
-# `make demo`: start the node, record it with mouse_record while mouse_target drives a circle and
-# then a jump, and leave the figure in demo/figure.png (the CSV and MCAP in demo/output/).
+# `make demo`: start the node, record it with mouse_record while mouse_target grabs the body at
+# the centre of one face, drags that point around a circle and then clicks a jump, and leave the
+# figure in demo/figure.png (the CSV and MCAP in demo/output/).
+#
+# The body starts hanging at rest from its anchor, a corner (initial_orientation puts the COM
+# below it), so the grab point's world position is known exactly, as a click on the body in RViz
+# would give it. The figure follows the grabbed point (mouse_record --anchor GRAB_POINT): until
+# the grab it stays still, and from the grab on it is the anchor: its path goes on without a
+# step, since the point becomes the anchor where it is, and its error stays near zero while the
+# body swings down from it. The drag keeps the point on the circle, and the jump shows the
+# catch-up.
 #
 # It runs in your ROS_DOMAIN_ID, so RViz (Fixed Frame `world`, a MarkerArray display on
 # /mouse_constraint/markers) can watch it; nothing else named mouse_constraint should be running
-# there. DEMO_SECONDS sets the recording's length (default 12).
+# there. The recording ends SETTLE_SECONDS (default 3) after the jump.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 BIN=.venv/bin
 OUT=demo/output
-SECONDS_TO_RECORD=${DEMO_SECONDS:-12}
+SETTLE_SECONDS=${SETTLE_SECONDS:-3}
+RADIUS=0.3
 mkdir -p "$OUT"
 rm -f "$OUT"/recording.* "$OUT"/*.log
 
@@ -21,14 +31,39 @@ cleanup() {
 }
 trap cleanup EXIT
 
-# The node: defaults with the settings README recommends for dragging (baumgarte 1, angular
-# damping 5/s), so the anchor follows the circle without lag and the spin dies out.
+# The pose: the body hangs at rest from the corner anchor of config/params.yaml, its COM below
+# the anchor (the shortest turn of anchor-to-COM onto straight down), and the grab point, the
+# centre of its -y face, in the body frame and in the world.
+read -r qx qy qz qw gx gy gz lx ly lz < <("$BIN/python" - <<'PYTHON'
+import numpy as np
+import yaml
+
+values = yaml.safe_load(open('config/params.yaml'))['/**']['ros__parameters']
+anchor, position = np.array(values['anchor']), np.array(values['initial_position'])
+local = np.array([0.0, -0.5 * values['box_size'][1], 0.0])
+to_com, down = -anchor / np.linalg.norm(anchor), np.array([0.0, 0.0, -1.0])
+axis = np.cross(to_com, down)
+angle = np.arctan2(np.linalg.norm(axis), to_com @ down)
+x, y, z = np.sin(angle / 2.0) * axis / np.linalg.norm(axis)
+w = np.cos(angle / 2.0)
+rotation = np.array([
+    [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+    [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+    [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+grab = position + rotation @ local
+print(*(repr(float(c)) for c in (x, y, z, w, *grab, *local)))
+PYTHON
+)
+
+# The node: the defaults, with the settings README recommends for dragging (baumgarte 1,
+# angular damping 5/s) so that the anchor follows the circle without lag and the spin dies out.
 "$BIN/mouse_constraint_node" --ros-args --params-file config/params.yaml \
-  -p baumgarte:=1.0 -p angular_damping:=5.0 2> "$OUT/node.log" &
+  -p baumgarte:=1.0 -p angular_damping:=5.0 \
+  -p "initial_orientation:=[$qx, $qy, $qz, $qw]" 2> "$OUT/node.log" &
 pids+=($!)
 
-# The recorder reads the anchor from the node's parameter and starts at its first pose.
-"$BIN/mouse_record" --duration "$SECONDS_TO_RECORD" --output "$OUT/recording" --mcap \
+# The recorder draws the grabbed point (see above) and starts at the first pose; SIGINT ends it.
+"$BIN/mouse_record" --duration 600 --output "$OUT/recording" --mcap --anchor "$lx" "$ly" "$lz" \
   2> >(tee "$OUT/record.log" >&2) &
 record=$!
 pids+=($record)
@@ -40,9 +75,21 @@ for _ in $(seq 200); do
 done
 grep -q '^recording' "$OUT/record.log" || { echo 'demo: mouse_record did not start' >&2; exit 1; }
 
-sleep 1   # the body held at its initial anchor
-"$BIN/mouse_target" --circle --center 0 0 1 --radius 0.3 --period 2 --duration 4 2> /dev/null
-"$BIN/mouse_target" 0.5 0.3 1.2 2> /dev/null   # the jump
+sleep 1   # the body hangs at rest from its corner
+"$BIN/mouse_target" --grab "$gx" "$gy" "$gz" 2> /dev/null   # the grab
+# The mouse holds still where it grabbed: a target at the same point changes nothing in the node
+# and gives mouse_record, which records target (not grab), the target from here on.
+"$BIN/mouse_target" "$gx" "$gy" "$gz" 2> /dev/null
+sleep 1   # the body swings down from the grabbed point, which stays where it was grabbed
+# The drag: a circle through the grabbed point (it starts at centre + radius x).
+cx=$("$BIN/python" -c "print($gx - $RADIUS)")
+"$BIN/mouse_target" --circle --center "$cx" "$gy" "$gz" --radius "$RADIUS" --period 2 \
+  --duration 4 2> /dev/null
+# The click jump: 0.3 m aside and 0.2 m up from where the grab was.
+read -r jx jy jz < <("$BIN/python" -c "print($gx + 0.3, $gy + 0.3, $gz + 0.2)")
+"$BIN/mouse_target" "$jx" "$jy" "$jz" 2> /dev/null
+sleep "$SETTLE_SECONDS"
+kill -INT "$record"
 wait "$record"
 cp "$OUT/recording.png" demo/figure.png
 echo "demo: figure in demo/figure.png; CSV and MCAP in $OUT/"

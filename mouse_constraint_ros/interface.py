@@ -31,3 +31,6 @@ STATE_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
                        reliability=ReliabilityPolicy.RELIABLE)
 # Markers and diagnostics: a few per second, latest first.
 MONITOR_DEPTH = 10
+
+# A point on the body (PointStamped, QoS and frame as ``target``): it becomes the anchor.
+GRAB_TOPIC = 'grab'

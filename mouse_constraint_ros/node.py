@@ -16,7 +16,7 @@ import math
 import re
 import sys
 import time
-from typing import Any, Callable, Dict, List, NoReturn, Optional, Sequence, Tuple
+from typing import Any, Callable, List, NoReturn, Optional, Sequence
 
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
@@ -35,14 +35,18 @@ from visualization_msgs.msg import MarkerArray
 
 from .diagnostics import (constraint_status, diagnostic_array, INITIAL_ANCHOR, NO_TARGET,
                           rate_status, Thresholds, TickCounters, TickWindow, USER_TARGET)
-from .interface import (DIAGNOSTICS_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH, NODE_NAME,
+from .grab import grab
+from .interface import (DIAGNOSTICS_TOPIC, GRAB_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH, NODE_NAME,
                         POSE_TOPIC, RELEASE_SERVICE, RESET_SERVICE, STATE_QOS, TARGET_QOS,
                         TARGET_TOPIC, TWIST_TOPIC)
 from .markers import marker_array, reference_force
 from .messages import fill_pose, fill_twist, point_from_message, set_stamp, stamp_nanoseconds
 from .parameters import node_config, PARAMETERS, ParameterSpec
 from .physics import MouseSimulation
+from .physics.algebra import Vector3
 from .spin import spin_until, StopRequest
+from .target_gate import TargetGate
+from .throttle import Throttle
 from .tick_grid import TickGrid
 
 # Catch up on at most this much missed time in one timer callback; older ticks are dropped.
@@ -167,6 +171,12 @@ class MouseConstraintNode(Node):
 
     Subscribes ``target`` (PointStamped), publishes ``pose`` (PoseStamped) and ``twist``
     (TwistStamped) every tick, offers ``~/reset`` and ``~/release`` (Trigger).
+
+    A point on ``grab`` (PointStamped) that lies on the body's box (``grab`` module) becomes the
+    anchor and the target: the node sets its own ``anchor`` parameter to it, so that the
+    configuration, ``ros2 param get`` and the markers all show the grabbed point. Targets then
+    drag that point, ``~/release`` lets go of it, ``~/reset`` restores the configured anchor:
+    the one the node started with or was last given through its parameters.
     """
 
     def __init__(self, **kwargs: Any) -> None:
@@ -187,8 +197,12 @@ class MouseConstraintNode(Node):
         self._simulation = MouseSimulation(self._config.settings, self._config.initial_state)
         self._user_target = False
         self._last_target_ns: Optional[int] = None
-        # Per warning reason: when it was last logged (monotonic s) and how many were not since.
-        self._warnings: Dict[str, Tuple[float, int]] = {}
+        self._gate = TargetGate(self._config.frame_id, self._config.workspace_radius)
+        # The anchor of the parameters (start or ros2 param set), which ~/reset restores.
+        self._configured_anchor = self._config.settings.constraint.anchor
+        # True while the node sets its own anchor parameter for a grab or a reset.
+        self._setting_anchor = False
+        self._throttle = Throttle(self.get_logger().warning, period=WARN_PERIOD)
         self._hold_initial_anchor()
         self.ticks_run = 0
         self.late_ticks = 0
@@ -211,6 +225,7 @@ class MouseConstraintNode(Node):
         self._pose_publisher = self.create_publisher(PoseStamped, POSE_TOPIC, STATE_QOS)
         self._twist_publisher = self.create_publisher(TwistStamped, TWIST_TOPIC, STATE_QOS)
         self.create_subscription(PointStamped, TARGET_TOPIC, self._on_target, TARGET_QOS)
+        self.create_subscription(PointStamped, GRAB_TOPIC, self._on_grab, TARGET_QOS)
         self.create_service(Trigger, RESET_SERVICE, self._on_reset)
         self.create_service(Trigger, RELEASE_SERVICE, self._on_release)
         self._timer = None
@@ -287,42 +302,54 @@ class MouseConstraintNode(Node):
                                    if self._config.hold_initial_anchor else None)
 
     def _warn(self, reason: str, message: Callable[[], str]) -> None:
-        """
-        Log ``message()`` at most once per WARN_PERIOD for each ``reason``, counting the rest.
-
-        Throttled here rather than by rclpy's ``throttle_duration_sec``, which inspects the
-        caller's frame on every call (some 100 us: a flood of bad targets then cost the node its
-        rate) and shares one throttle between all the warnings of one call site.
-        """
-        now = time.monotonic()
-        last, suppressed = self._warnings.get(reason, (-math.inf, 0))
-        if now - last < WARN_PERIOD:
-            self._warnings[reason] = (last, suppressed + 1)
-            return
-        more = f' ({suppressed} more since the last one)' if suppressed else ''
-        self.get_logger().warning(message() + more)
-        self._warnings[reason] = (now, 0)
+        """Log ``message()`` at most once per WARN_PERIOD for each ``reason`` (``throttle``)."""
+        self._throttle(reason, message)
 
     def _on_target(self, message: PointStamped) -> None:
-        frame = message.header.frame_id
-        if frame and frame != self._config.frame_id:
-            self._warn('frame', lambda: (
-                f'ignoring target in frame {frame!r}: this node works in '
-                f'{self._config.frame_id!r} (no tf lookup is made)'))
-            return
         point = point_from_message(message)
-        if not all(math.isfinite(c) for c in point):
-            self._warn('finite', lambda: f'ignoring non-finite target {point}')
-            return
-        if math.hypot(*point) > self._config.workspace_radius:
-            self._warn('workspace', lambda: (
-                f'ignoring target {point}: farther than workspace_radius '
-                f'{self._config.workspace_radius:g} m from the origin of '
-                f'{self._config.frame_id!r}'))
+        refusal = self._gate.refusal(message.header.frame_id, point)
+        if refusal is not None:
+            self._warn(refusal.key, lambda: f'ignoring target {refusal.reason}')
             return
         self._simulation.target = point
         self._user_target = True
         self._last_target_ns = self.get_clock().now().nanoseconds
+
+    def _on_grab(self, message: PointStamped) -> None:
+        """Make a point on the body the anchor and the target; ignore (and say) any other."""
+        point = point_from_message(message)
+        refusal = self._gate.refusal(message.header.frame_id, point)
+        if refusal is not None:
+            self._warn('grab ' + refusal.key, lambda: f'ignoring grab {refusal.reason}')
+            return
+        landed = grab(self._simulation.state, self._config.box_size, point)
+        margin = self._config.grab_margin
+        if not landed.taken(margin):
+            self._warn('grab off body', lambda: (
+                f'ignoring grab {point}: {landed.distance:.6g} m off the body, farther than '
+                f'grab_margin {margin:g} m from its box'))
+            return
+        reason = self._set_anchor(landed.anchor)
+        if reason is not None:
+            self._warn('grab anchor', lambda: f'ignoring grab {point}: {reason}')
+            return
+        self._simulation.target = point
+        self._user_target = True
+        self._last_target_ns = self.get_clock().now().nanoseconds
+
+    def _set_anchor(self, anchor: Vector3) -> Optional[str]:
+        """
+        Set the node's own ``anchor`` parameter, validated as any change; None or the reason.
+
+        The parameter callback builds the configuration with it, so later changes of other
+        parameters keep it; it does not count as the configured anchor.
+        """
+        self._setting_anchor = True
+        try:
+            [result] = self.set_parameters([Parameter('anchor', value=list(anchor))])
+        finally:
+            self._setting_anchor = False
+        return None if result.successful else result.reason
 
     def _on_timer(self) -> None:
         clock = self.get_clock()
@@ -447,6 +474,14 @@ class MouseConstraintNode(Node):
             self.get_logger().info(f'no target for {timeout:g} s: releasing the body')
 
     def _on_reset(self, _request: Trigger.Request, response: Trigger.Response):
+        configured = self._configured_anchor
+        if self._config.settings.constraint.anchor != configured:
+            reason = self._set_anchor(configured)
+            if reason is not None:
+                response.success = False
+                response.message = (f'cannot restore the configured anchor {list(configured)}:'
+                                    f' {reason}; nothing reset')
+                return response
         self._simulation.reset()
         self._hold_initial_anchor()
         response.success = True
@@ -469,10 +504,15 @@ class MouseConstraintNode(Node):
         except ValueError as error:
             return SetParametersResult(successful=False, reason=str(error))
         previous, self._config = self._config, config
+        if not self._setting_anchor and any(p.name == 'anchor' for p in changes):
+            self._configured_anchor = config.settings.constraint.anchor
         self._simulation.settings = config.settings
         self._simulation.initial_state = config.initial_state
         if config.frame_id != previous.frame_id:
             self._set_frame(config.frame_id)
+        if (config.frame_id, config.workspace_radius) != (
+                previous.frame_id, previous.workspace_radius):
+            self._gate = TargetGate(config.frame_id, config.workspace_radius)
         if config.rate_hz != previous.rate_hz:
             self._start_timer()
         if (config.marker_rate_hz, config.diagnostics_rate_hz) != (

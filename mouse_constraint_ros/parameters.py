@@ -97,6 +97,10 @@ PARAMETERS = (
     ParameterSpec('diagnostics_anchor_error', 0.5,
                   'Anchor error (m) from which /diagnostics reports ERROR, >= '
                   'diagnostics_anchor_warn.', (0.0, math.inf)),
+    ParameterSpec('grab_margin', 0.01,
+                  'A grab within this distance (m) of the body box (box_size at the pose) is '
+                  'taken, for clicks on markers that trail the body; farther ones are ignored.',
+                  (0.0, MAX_DISTANCE)),
 )
 
 DEFAULTS = {p.name: p.default for p in PARAMETERS}
@@ -117,6 +121,7 @@ class NodeConfig(NamedTuple):
     diagnostics_rate_hz: float
     diagnostics_anchor_warn: float
     diagnostics_anchor_error: float
+    grab_margin: float
 
     def initial_anchor(self) -> Vector3:
         """Return the anchor's world position in the initial state."""
@@ -188,6 +193,8 @@ def _configuration_from(values: Mapping[str, Any]) -> NodeConfig:
                                    at_least=0.0),
         diagnostics_anchor_warn=anchor_warn,
         diagnostics_anchor_error=anchor_error,
+        grab_margin=scalar('grab_margin', values['grab_margin'], at_least=0.0,
+                           at_most=MAX_DISTANCE),
     )
 
 

@@ -171,3 +171,48 @@ def test_help_is_plain_text_and_names_every_default(module, executable):
         for value in defaults:
             if isinstance(value, float) and math.isfinite(value):
                 assert f'{value:g}' in text, action.dest
+
+
+def test_grab_goes_out_on_grab_and_the_node_makes_the_point_its_anchor(ros):
+    """--grab X Y Z: one message on grab (none on target); the point becomes the anchor."""
+    start = (0.0, 0.0, 1.0)
+    node = ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
+        Parameter('rate_hz', value=100.0), Parameter('frame_id', value=FRAME),
+        Parameter('gravity', value=[0.0, 0.0, 0.0]),
+        Parameter('hold_initial_anchor', value=False),
+        Parameter('initial_position', value=list(start)),
+        Parameter('marker_rate_hz', value=0.0), Parameter('diagnostics_rate_hz', value=0.0)]))
+    grabs = ros.collect(PointStamped, 'grab')
+    targets = ros.collect(PointStamped, 'target')
+    # The centre of the box's -x face, on the body at rest where it starts.
+    half = [0.5 * size for size in node.get_parameter('box_size').value]
+    point = (start[0] - half[0], start[1], start[2])
+    result = run_while_spinning(ros, [str(BIN / 'mouse_target'), '--grab',
+                                      *(repr(c) for c in point)])
+    assert result.returncode == 0, result.stderr
+    assert 'grab (' in result.stderr and f"in '{FRAME}' received on /grab" in result.stderr
+    assert ros.spin_until(lambda: node.simulation.target == point)
+    assert len(grabs) == 1 and targets == [] and grabs[0].header.frame_id == FRAME
+    assert list(node.get_parameter('anchor').value) == pytest.approx(
+        [p - s for p, s in zip(point, start)], abs=1e-9)
+
+
+def test_grab_the_node_would_ignore_is_refused_with_the_reason(ros, node):
+    """The target checks hold for --grab: exit 1, the gate's reason, nothing on grab."""
+    grabs = ros.collect(PointStamped, 'grab')
+    before = node.get_parameter('anchor').value
+    result = run_while_spinning(ros, [str(BIN / 'mouse_target'), '--grab', '1e9', '0', '0',
+                                      '--timeout', str(LONG)])
+    ros.spin_for(0.2)
+    refusal = TargetGate(FRAME, RADIUS).refusal(FRAME, (1e9, 0.0, 0.0))
+    assert result.returncode == 1, result.stderr
+    [line] = error_lines(result.stderr)
+    assert f'would ignore grab {refusal.reason}; nothing published' in line
+    assert grabs == [] and node.get_parameter('anchor').value == before
+
+
+def test_grab_takes_one_point_not_a_circle():
+    """--grab with --circle is a usage error (exit 2)."""
+    with pytest.raises(SystemExit) as exit_info:
+        target_cli.parse_arguments(['--grab', '--circle'])
+    assert exit_info.value.code == 2

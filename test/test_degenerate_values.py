@@ -309,6 +309,7 @@ INVALID = {
     'diagnostics_rate_hz': -1.0,
     'diagnostics_anchor_warn': 0.0,
     'diagnostics_anchor_error': 0.01,
+    'grab_margin': -1.0,
 }
 
 

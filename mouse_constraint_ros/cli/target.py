@@ -2,11 +2,13 @@
 The ``mouse_target`` command: publish mouse targets on the relative topic ``target``.
 
 ``mouse_target X Y Z`` publishes one target and exits once a subscriber has acknowledged it;
-``mouse_target --circle`` moves the target around a circle until Ctrl-C (or ``--duration``).
+``mouse_target --circle`` moves the target around a circle until Ctrl-C (or ``--duration``);
+``mouse_target --grab X Y Z`` publishes one grab on ``grab`` instead: the node makes that point of
+the body the anchor (and says so when the point is off the body, which this command cannot see).
 Before publishing it reads the node's ``frame_id`` and ``workspace_radius`` parameters
 (``--node``, default ``mouse_constraint`` in this command's namespace) and refuses, with the
-reason and exit status 1, a target the node would ignore: another frame, or beyond the
-workspace (for ``--circle``, any point of the circle). When the parameter service does not
+reason and exit status 1, a target (or grab) the node would ignore: another frame, or beyond
+the workspace (for ``--circle``, any point of the circle). When the parameter service does not
 answer within ``--timeout`` it says so and publishes the target unchecked, since the subscriber
 need not be ``mouse_constraint``. Ctrl-C or SIGTERM stops it at once, also while waiting.
 ROS arguments work as for any node: ``--ros-args -r __ns:=/robot -r target:=/clicked_point``.
@@ -28,7 +30,7 @@ from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
-from ..interface import NODE_NAME, TARGET_QOS, TARGET_TOPIC
+from ..interface import GRAB_TOPIC, NODE_NAME, TARGET_QOS, TARGET_TOPIC
 from ..messages import point_message
 from ..spin import Interrupted, POLL_PERIOD, spin_until, SpinEnd, StopRequest, wait_until
 from ..target_gate import TargetGate
@@ -47,9 +49,13 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog='mouse_target', description=plain_text(__doc__.split('\n\n')[0]),
         epilog='examples: mouse_target 0.5 0 1 | mouse_target --circle --center 0 0 1 '
-               '--radius 0.3 --period 2 | add --ros-args -r target:=/clicked_point to remap')
+               '--radius 0.3 --period 2 | mouse_target --grab -0.2 0 1 | add --ros-args -r '
+               'target:=/clicked_point to remap')
     parser.add_argument('point', nargs='*', type=float, metavar='X Y Z',
                         help='one target (m), published once (default: none, give --circle)')
+    parser.add_argument('--grab', action='store_true',
+                        help='publish X Y Z once on grab instead of target: a point on the body '
+                             'becomes its anchor (default: off)')
     parser.add_argument('--frame', default=None,
                         help="frame_id of the targets (default: the node's frame_id parameter, "
                              f'{FALLBACK_FRAME} if it cannot be read)')
@@ -82,6 +88,8 @@ def parse_arguments(argv: List[str]) -> argparse.Namespace:
     options = parser.parse_args(argv)
     if options.circle == bool(options.point):
         parser.error('give either X Y Z or --circle')
+    if options.grab and options.circle:
+        parser.error('--grab takes X Y Z, not --circle')
     if options.point and len(options.point) != 3:
         parser.error(f'a target needs 3 coordinates, got {len(options.point)}')
     numbers = [*options.point, *options.center, options.radius, options.period, options.rate]
@@ -102,12 +110,16 @@ def circle_point(center: List[float], radius: float, period: float, t: float) ->
 
 
 class TargetPublisher(Node):
-    """A node with one publisher on ``target``, QoS-compatible with ``mouse_constraint``."""
+    """
+    A node with one publisher, QoS-compatible with ``mouse_constraint``'s subscriptions.
 
-    def __init__(self, **kwargs) -> None:
-        """Create the node ``mouse_target`` and its publisher."""
+    :param topic: ``target`` (default) or ``grab``.
+    """
+
+    def __init__(self, topic: str = TARGET_TOPIC, **kwargs) -> None:
+        """Create the node ``mouse_target`` and its publisher on ``topic``."""
         super().__init__('mouse_target', **kwargs)
-        self.publisher = self.create_publisher(PointStamped, TARGET_TOPIC, TARGET_QOS)
+        self.publisher = self.create_publisher(PointStamped, topic, TARGET_QOS)
 
     def publish_point(self, point: List[float], frame_id: str) -> None:
         """Publish ``point`` in ``frame_id``, stamped now."""
@@ -174,7 +186,8 @@ def main(args: Optional[List[str]] = None) -> int:
     argv = sys.argv if args is None else args
     options = parse_arguments(remove_ros_args(argv)[1:])
     rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
-    node = TargetPublisher()
+    node = TargetPublisher(GRAB_TOPIC if options.grab else TARGET_TOPIC)
+    what = 'grab' if options.grab else 'target'
     logger = node.get_logger()
     executor = SingleThreadedExecutor(context=node.context)
     executor.add_node(node)
@@ -194,7 +207,7 @@ def main(args: Optional[List[str]] = None) -> int:
                 try:
                     gate = node.fetch_gate(executor, options.node, deadline, stop)
                 except RuntimeError as error:
-                    logger.warning(f'cannot check the target against {options.node}: {error} '
+                    logger.warning(f'cannot check the {what} against {options.node}: {error} '
                                    f'within {options.timeout:g} s (is --node right?); '
                                    'publishing it unchecked')
                     gate = None
@@ -204,16 +217,16 @@ def main(args: Optional[List[str]] = None) -> int:
                     refusal = (gate.circle_refusal(frame, options.center, options.radius)
                                if options.circle else gate.refusal(frame, options.point))
                     if refusal is not None:
-                        logger.error(f'{options.node} would ignore target {refusal.reason}; '
+                        logger.error(f'{options.node} would ignore {what} {refusal.reason}; '
                                      'nothing published')
                         return 1
                 if not options.circle:
                     node.publish_point(options.point, frame)
                     if not node.wait_for_ack(executor, deadline, stop):
-                        logger.error(f'target on {topic} was not acknowledged in '
+                        logger.error(f'{what} on {topic} was not acknowledged in '
                                      f'{options.timeout:g} s')
                         return 1
-                    logger.info(f'target {tuple(options.point)} in {frame!r} received on '
+                    logger.info(f'{what} {tuple(options.point)} in {frame!r} received on '
                                 f'{topic}')
                     return 0
             except Interrupted as interrupted:

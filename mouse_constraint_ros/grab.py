@@ -1,0 +1,66 @@
+"""
+Where a grab lands on the body: the distance from a point to the body's box, and the anchor.
+
+A grab is a world point, such as one clicked on the body's box in RViz. It is taken when it lies
+on or inside the box of ``box_size`` centred at the COM and turned with the body, or at most
+``margin`` outside it: a click lands on the box as drawn, by markers that trail the latest tick
+and a depth buffer of limited precision. The point, expressed in the body frame, is then the new
+anchor, unchanged (not projected onto the box): its world position is the grabbed point, so the
+anchor error C = x + R r - x_mouse (seed eq. 1.1) is zero when the target is set there and
+nothing jumps. Plain floats; no ROS here.
+"""
+
+import math
+from typing import NamedTuple, Sequence
+
+from .physics import BodyState
+from .physics.algebra import multiply_transposed, rotation_matrix, Vector3
+
+
+def to_body_frame(state: BodyState, point: Sequence[float]) -> Vector3:
+    """
+    Return the world ``point`` in the body frame of ``state``: R^T (point - x), from the COM.
+
+    :param state: the body's pose (position and unit orientation x y z w).
+    :param point: x, y, z in the world frame (m).
+    """
+    x, y, z = state.position
+    offset = (float(point[0]) - x, float(point[1]) - y, float(point[2]) - z)
+    return multiply_transposed(offset, rotation_matrix(state.orientation))
+
+
+def box_distance(local: Sequence[float], box_size: Sequence[float]) -> float:
+    """
+    Return the distance (m) from a body-frame point to the box, 0 on or inside it.
+
+    The box has edges ``box_size`` along the body axes and its centre at the COM: the distance
+    is the norm of the excess of |local_i| over the half edges, where there is one.
+
+    :param local: the point in the body frame, from the COM (m).
+    :param box_size: the box's full edge lengths (m).
+    """
+    excess = [max(0.0, abs(c) - 0.5 * size) for c, size in zip(local, box_size)]
+    return math.hypot(*excess)
+
+
+class Grab(NamedTuple):
+    """What a grab gives: the body-frame point and its distance off the box (m, 0 on it)."""
+
+    anchor: Vector3
+    distance: float
+
+    def taken(self, margin: float) -> bool:
+        """Return whether the point is within ``margin`` (m) of the box."""
+        return self.distance <= margin
+
+
+def grab(state: BodyState, box_size: Sequence[float], point: Sequence[float]) -> Grab:
+    """
+    Return the body-frame anchor for the world ``point`` and how far off the box it is.
+
+    :param state: the body's pose when the grab arrives.
+    :param box_size: the box's full edge lengths (m).
+    :param point: the grabbed point in the world frame (m), finite.
+    """
+    local = to_body_frame(state, point)
+    return Grab(local, box_distance(local, box_size))

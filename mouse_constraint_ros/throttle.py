@@ -1,0 +1,56 @@
+"""
+Throttled warnings: at most one line per period for each reason, counting the ones held back.
+
+The node logs a warning for each bad input it ignores and for each missed rate; a flood of
+them must neither flood the log nor cost the node its rate. ``Throttle`` logs the first
+warning of a reason, then holds back the others of that reason for ``period`` seconds and says
+how many it held back in the next line it logs. The message is a callable, built only when it
+is logged. Pure Python: it takes the log function and the clock, so it runs without rclpy.
+
+Throttled here rather than by rclpy's ``throttle_duration_sec``, which inspects the caller's
+frame on every call (some 100 us: a flood of bad targets then cost the node its rate) and
+shares one throttle between all the warnings of one call site.
+"""
+
+import math
+import time
+from typing import Callable, Dict, Tuple
+
+
+class Throttle:
+    """
+    Log at most once per ``period`` for each reason, and count what was held back.
+
+    :param log: takes one line and logs it (e.g. the node logger's ``warning``).
+    :param period: the least time (s, of ``clock``) between two lines of one reason.
+    :param clock: returns the time in seconds; monotonic, so that clock jumps do not matter.
+    """
+
+    def __init__(self, log: Callable[[str], object], *, period: float,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        """Start with nothing logged for any reason."""
+        self._log = log
+        self._period = period
+        self._clock = clock
+        # Per reason: when it was last logged and how many were held back since.
+        self._last: Dict[str, Tuple[float, int]] = {}
+
+    def __call__(self, reason: str, message: Callable[[], str]) -> bool:
+        """
+        Log ``message()`` unless ``reason`` was logged less than ``period`` ago.
+
+        A line that follows held-back ones ends with ``(N more since the last one)``.
+
+        :param reason: the key of the throttle; each reason has its own.
+        :param message: returns the line; called only when it is logged.
+        :returns: whether it was logged.
+        """
+        now = self._clock()
+        last, held_back = self._last.get(reason, (-math.inf, 0))
+        if now - last < self._period:
+            self._last[reason] = (last, held_back + 1)
+            return False
+        more = f' ({held_back} more since the last one)' if held_back else ''
+        self._log(message() + more)
+        self._last[reason] = (now, 0)
+        return True
