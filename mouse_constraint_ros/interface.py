@@ -31,3 +31,6 @@ STATE_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
                        reliability=ReliabilityPolicy.RELIABLE)
 # Markers and diagnostics: a few per second, latest first.
 MONITOR_DEPTH = 10
+
+# nav_msgs/Odometry of the body, when publish_odometry is true (same QoS as pose and twist).
+ODOM_TOPIC = 'odom'
