@@ -2,7 +2,9 @@
 The ``mouse_constraint`` node: parameters, topics, services and the fixed-rate timer.
 
 It holds no physics: a ``MouseSimulation`` does the stepping, ``TickGrid`` says which ticks are
-due, ``configuration`` validates parameters and ``conversions`` fills the messages.
+due, ``PublishTicks`` which of them publish (``publish_rate_hz``), ``StatePublishers`` sends
+pose, twist, TF and odometry (raw CDR), ``configuration`` validates parameters and
+``conversions`` fills the messages.
 
 Start-up refuses what it cannot run with one FATAL line tagged with the node's real name and
 exit 1: a parameter of the wrong type or out of its declared range, a configuration that is not
@@ -227,6 +229,7 @@ class MouseConstraintNode(Node):
         self._state_publishers = StatePublishers(
             self, broadcaster_factory=factory, unavailable=unavailable,
             **self._publishing(self._config))
+        # The publishers themselves, for tools that wrap their publish (bench/node_variant.py).
         self._pose_publisher = self._state_publishers.pose_publisher
         self._twist_publisher = self._state_publishers.twist_publisher
         self.create_subscription(PointStamped, TARGET_TOPIC, self._on_target, TARGET_QOS)

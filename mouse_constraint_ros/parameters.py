@@ -32,7 +32,9 @@ class ParameterSpec(NamedTuple):
 
 
 PARAMETERS = (
-    ParameterSpec('rate_hz', 1000.0, 'Physics and publishing rate (Hz); dt = 1 / rate_hz.',
+    ParameterSpec('rate_hz', 1000.0,
+                  'Physics rate (Hz), and publishing rate unless publish_rate_hz; dt = 1 / '
+                  'rate_hz.',
                   (1.0, 10000.0)),
     ParameterSpec('substeps', 2, 'Equal solver substeps per tick.', (1, 1000)),
     ParameterSpec('frame_id', 'world',
