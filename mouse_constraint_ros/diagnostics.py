@@ -27,6 +27,9 @@ callback that reached its wall-time budget (a tick costs more than the node can 
 ``rate_hz``, e.g. many substeps). With ``use_sim_time`` and no /clock yet the node's clock reads
 zero and no tick runs: the rate status says what it waits for instead of "measuring".
 
+The rate status also carries what is published (``publishing_values``): the publish rate,
+whether TF is broadcast (and why not), and the odometry topic.
+
 ``anchor_warn`` and ``anchor_error`` come from the node's parameters (``diagnostics_anchor_warn``,
 ``diagnostics_anchor_error``); a non-finite anchor error is an ERROR. The anchor error, force and
 target age are those of the latest tick; the rate, late and dropped ticks are over the window.
@@ -183,6 +186,27 @@ def rate_status(name: str, hardware_id: str, *, rate_hz: float, window: Optional
         KeyValue(key='last drop cause', value=drop_cause or 'n/a'),
     ]
     return _status(name, hardware_id, level=level, problems=problems, fine=fine, values=values)
+
+
+def publishing_values(publish_rate_hz: float, tf_status: str,
+                      odometry_topic: Optional[str]) -> List[KeyValue]:
+    """
+    Return the rate status's lines on publishing: the publish rate, TF and odometry.
+
+    Informational, they leave the level as it is: TF off (publish_tf false, or tf2_ros not
+    importable) is a configuration, which the ``tf`` line names with its reason.
+
+    :param publish_rate_hz: the ``publish_rate_hz`` parameter (0 = every tick).
+    :param tf_status: ``'<frame_id> -> <body_frame_id>'`` while TF is broadcast, else
+        ``'off: <why>'``.
+    :param odometry_topic: the odometry topic's resolved name, or None when it is off.
+    """
+    return [
+        KeyValue(key='publish rate (Hz)',
+                 value='every tick' if publish_rate_hz == 0.0 else _value(publish_rate_hz)),
+        KeyValue(key='tf', value=tf_status),
+        KeyValue(key='odometry', value='off' if odometry_topic is None else odometry_topic),
+    ]
 
 
 def constraint_status(name: str, hardware_id: str, *, target_kind: str,

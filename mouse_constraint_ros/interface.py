@@ -34,3 +34,5 @@ MONITOR_DEPTH = 10
 
 # A point on the body (PointStamped, QoS and frame as ``target``): it becomes the anchor.
 GRAB_TOPIC = 'grab'
+# nav_msgs/Odometry of the body, when publish_odometry is true (same QoS as pose and twist).
+ODOM_TOPIC = 'odom'

@@ -5,6 +5,8 @@ The publishers reuse one message of each type and overwrite its fields every tic
 per-tick path builds no message objects (rclpy serializes on ``publish``, so reuse is safe).
 """
 
+from typing import Tuple
+
 from builtin_interfaces.msg import Time
 from geometry_msgs.msg import Point, PointStamped, PoseStamped, TransformStamped, TwistStamped
 from nav_msgs.msg import Odometry
@@ -112,10 +114,20 @@ def fill_odometry(message: Odometry, state: BodyState) -> None:
     position, orientation = pose.position, pose.orientation
     position.x, position.y, position.z = state.position
     orientation.x, orientation.y, orientation.z, orientation.w = state.orientation
-    rotation = rotation_matrix(state.orientation)
     linear, angular = message.twist.twist.linear, message.twist.twist.angular
-    linear.x, linear.y, linear.z = multiply_transposed(state.linear_velocity, rotation)
-    angular.x, angular.y, angular.z = multiply_transposed(state.angular_velocity, rotation)
+    (linear.x, linear.y, linear.z), (angular.x, angular.y, angular.z) = body_frame_twist(state)
+
+
+def body_frame_twist(state: BodyState) -> Tuple[Vector3, Vector3]:
+    """
+    Return the linear and angular velocity of ``state`` in the body frame.
+
+    v_body = R^T v_world and w_body = R^T w_world, with R the rotation matrix of the body's
+    orientation: the twist of nav_msgs/Odometry, which is expressed in ``child_frame_id``.
+    """
+    rotation = rotation_matrix(state.orientation)
+    return (multiply_transposed(state.linear_velocity, rotation),
+            multiply_transposed(state.angular_velocity, rotation))
 
 
 def odometry_message(state: BodyState, *, frame_id: str, body_frame_id: str,

@@ -2,7 +2,9 @@
 The ``mouse_constraint`` node: parameters, topics, services and the fixed-rate timer.
 
 It holds no physics: a ``MouseSimulation`` does the stepping, ``TickGrid`` says which ticks are
-due, ``configuration`` validates parameters and ``conversions`` fills the messages.
+due, ``PublishTicks`` which of them publish (``publish_rate_hz``), ``StatePublishers`` sends
+pose, twist, TF and odometry (raw CDR), ``configuration`` validates parameters and
+``conversions`` fills the messages.
 
 Start-up refuses what it cannot run with one FATAL line tagged with the node's real name and
 exit 1: a parameter of the wrong type or out of its declared range, a configuration that is not
@@ -19,7 +21,7 @@ import time
 from typing import Any, Callable, List, NoReturn, Optional, Sequence
 
 from diagnostic_msgs.msg import DiagnosticArray
-from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
+from geometry_msgs.msg import PointStamped
 from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescriptor,
                                 SetParametersResult)
 import rclpy
@@ -34,17 +36,20 @@ from std_srvs.srv import Trigger
 from visualization_msgs.msg import MarkerArray
 
 from .diagnostics import (constraint_status, diagnostic_array, INITIAL_ANCHOR, NO_TARGET,
-                          rate_status, Thresholds, TickCounters, TickWindow, USER_TARGET)
+                          publishing_values, rate_status, Thresholds, TickCounters, TickWindow,
+                          USER_TARGET)
 from .grab import grab
 from .interface import (DIAGNOSTICS_TOPIC, GRAB_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH, NODE_NAME,
-                        POSE_TOPIC, RELEASE_SERVICE, RESET_SERVICE, STATE_QOS, TARGET_QOS,
-                        TARGET_TOPIC, TWIST_TOPIC)
+                        RELEASE_SERVICE, RESET_SERVICE, TARGET_QOS, TARGET_TOPIC)
 from .markers import marker_array, reference_force
-from .messages import fill_pose, fill_twist, point_from_message, set_stamp, stamp_nanoseconds
+from .messages import point_from_message
 from .parameters import node_config, PARAMETERS, ParameterSpec
 from .physics import MouseSimulation
 from .physics.algebra import Vector3
+from .publish_ticks import PublishTicks
 from .spin import spin_until, StopRequest
+from .state_publishers import (BroadcasterFactory, DEFAULT_BROADCASTER, StatePublishers,
+                               TF_UNAVAILABLE)
 from .target_gate import TargetGate
 from .throttle import Throttle
 from .tick_grid import TickGrid
@@ -64,6 +69,8 @@ TICK_COST_WEIGHT = 0.25
 WARN_PERIOD = 2.0
 # Period (s, steady clock) of the check that a simulated clock has started.
 CLOCK_WATCH_PERIOD = 1.0
+# The node's transform_broadcaster when none is given: tf2_ros's, where importable.
+_DEFAULT_BROADCASTER = object()
 # Parameters rclpy declares or reads by itself; not unknown keys.
 RCLPY_PARAMETER_PREFIXES = ('use_sim_time', 'start_type_description_service', 'qos_overrides.')
 
@@ -170,7 +177,8 @@ class MouseConstraintNode(Node):
     Serves one rigid body dragged by the mouse constraint.
 
     Subscribes ``target`` (PointStamped), publishes ``pose`` (PoseStamped) and ``twist``
-    (TwistStamped) every tick, offers ``~/reset`` and ``~/release`` (Trigger).
+    (TwistStamped) at the publish rate (every tick by default), TF and ``odom`` (Odometry) when
+    on, offers ``~/reset`` and ``~/release`` (Trigger).
 
     A point on ``grab`` (PointStamped) that lies on the body's box (``grab`` module) becomes the
     anchor and the target: the node sets its own ``anchor`` parameter to it, so that the
@@ -179,10 +187,16 @@ class MouseConstraintNode(Node):
     the one the node started with or was last given through its parameters.
     """
 
-    def __init__(self, **kwargs: Any) -> None:
+    def __init__(self, *, transform_broadcaster: Optional[BroadcasterFactory] = (
+            _DEFAULT_BROADCASTER), **kwargs: Any) -> None:
         """
         Declare parameters and build the simulation.
 
+        :param transform_broadcaster: makes the TF broadcaster from the node (anything with
+            ``sendTransform(TransformStamped)`` that sends before it returns); by default
+            ``tf2_ros.TransformBroadcaster``, or none when tf2_ros is not importable; None: no
+            TF.
+        :param kwargs: passed to ``rclpy.node.Node``.
         :raises StartupRefusal: (a ValueError) a parameter or the configuration is invalid; the
             node is destroyed then.
         """
@@ -219,11 +233,18 @@ class MouseConstraintNode(Node):
         # Timers that must run while a simulated clock stands still or has not started.
         self._steady_clock = Clock(clock_type=ClockType.STEADY_TIME)
 
-        self._pose = PoseStamped()
-        self._twist = TwistStamped()
-        self._set_frame(self._config.frame_id)
-        self._pose_publisher = self.create_publisher(PoseStamped, POSE_TOPIC, STATE_QOS)
-        self._twist_publisher = self.create_publisher(TwistStamped, TWIST_TOPIC, STATE_QOS)
+        # The stamp of the latest tick (ns), which the markers carry.
+        self._stamp_ns = 0
+        if transform_broadcaster is _DEFAULT_BROADCASTER:
+            factory, unavailable = DEFAULT_BROADCASTER, TF_UNAVAILABLE
+        else:
+            factory, unavailable = transform_broadcaster, None
+        self._state_publishers = StatePublishers(
+            self, broadcaster_factory=factory, unavailable=unavailable,
+            **self._publishing(self._config))
+        # The publishers themselves, for tools that wrap their publish (bench/node_variant.py).
+        self._pose_publisher = self._state_publishers.pose_publisher
+        self._twist_publisher = self._state_publishers.twist_publisher
         self.create_subscription(PointStamped, TARGET_TOPIC, self._on_target, TARGET_QOS)
         self.create_subscription(PointStamped, GRAB_TOPIC, self._on_grab, TARGET_QOS)
         self.create_service(Trigger, RESET_SERVICE, self._on_reset)
@@ -234,6 +255,8 @@ class MouseConstraintNode(Node):
         self.create_timer(CLOCK_WATCH_PERIOD, self._watch_clock, clock=self._steady_clock)
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.get_logger().info(self._describe())
+        if not self._state_publishers.tf_on:
+            self.get_logger().info(f'TF {self._state_publishers.tf_status}')
 
     def _declare(self, parameter: ParameterSpec) -> None:
         try:
@@ -284,15 +307,17 @@ class MouseConstraintNode(Node):
                 f'{s.linear_damping:g}/{s.angular_damping:g} 1/s, target timeout '
                 f'{c.target_timeout:g} s')
 
-    def _set_frame(self, frame_id: str) -> None:
-        self._pose.header.frame_id = frame_id
-        self._twist.header.frame_id = frame_id
+    @staticmethod
+    def _publishing(config) -> dict:
+        return {'frame_id': config.frame_id, 'body_frame_id': config.body_frame_id,
+                'publish_tf': config.publish_tf, 'publish_odometry': config.publish_odometry}
 
     def _start_timer(self) -> None:
         if self._timer is not None:
             self.destroy_timer(self._timer)
         rate = self._config.rate_hz
         self._grid = TickGrid(rate, math.ceil(MAX_CATCH_UP_SECONDS * rate))
+        self._publish_ticks = PublishTicks(rate, self._config.publish_rate_hz)
         self._dt = 1.0 / rate
         self._timer = self.create_timer(self._dt, self._on_timer)
 
@@ -421,26 +446,27 @@ class MouseConstraintNode(Node):
 
     def _run_ticks(self, first: int, count: int) -> int:
         """
-        Step and publish ticks ``first`` on, until ``count`` ran or the wall budget is spent.
+        Step ticks ``first`` on, until ``count`` ran or the wall budget is spent.
+
+        The ticks that ``PublishTicks`` picks publish their state, stamped on the grid.
 
         :returns: how many ran (at least one when ``count`` > 0).
         """
-        simulation, dt = self._simulation, self._dt
-        started = time.perf_counter()
+        simulation, dt, stamp = self._simulation, self._dt, self._grid.stamp
+        publish = self._state_publishers.publish
+        due = None if self._publish_ticks.every_tick else self._publish_ticks.due
+        clock = time.perf_counter
+        started = clock()
         ran = 0
         for tick in range(first, first + count):
             state = simulation.step(dt)
-            stamp = self._grid.stamp(tick)
-            set_stamp(self._pose.header.stamp, stamp)
-            set_stamp(self._twist.header.stamp, stamp)
-            fill_pose(self._pose, state)
-            fill_twist(self._twist, state)
-            self._pose_publisher.publish(self._pose)
-            self._twist_publisher.publish(self._twist)
+            if due is None or due(tick):
+                publish(stamp(tick), state)
             ran += 1
-            if time.perf_counter() - started > CALLBACK_BUDGET_SECONDS:
+            if clock() - started > CALLBACK_BUDGET_SECONDS:
                 break
         if ran:
+            self._stamp_ns = stamp(first + ran - 1)
             cost = (time.perf_counter() - started) / ran
             self._tick_seconds = (cost if self._tick_seconds == 0.0 else
                                   self._tick_seconds + TICK_COST_WEIGHT * (
@@ -508,13 +534,18 @@ class MouseConstraintNode(Node):
             self._configured_anchor = config.settings.constraint.anchor
         self._simulation.settings = config.settings
         self._simulation.initial_state = config.initial_state
-        if config.frame_id != previous.frame_id:
-            self._set_frame(config.frame_id)
         if (config.frame_id, config.workspace_radius) != (
                 previous.frame_id, previous.workspace_radius):
             self._gate = TargetGate(config.frame_id, config.workspace_radius)
+        if self._publishing(config) != self._publishing(previous):
+            tf_status = self._state_publishers.tf_status
+            self._state_publishers.configure(**self._publishing(config))
+            if self._state_publishers.tf_status != tf_status:
+                self.get_logger().info(f'TF {self._state_publishers.tf_status}')
         if config.rate_hz != previous.rate_hz:
             self._start_timer()
+        elif config.publish_rate_hz != previous.publish_rate_hz:
+            self._publish_ticks = PublishTicks(config.rate_hz, config.publish_rate_hz)
         if (config.marker_rate_hz, config.diagnostics_rate_hz) != (
                 previous.marker_rate_hz, previous.diagnostics_rate_hz):
             self._start_monitor_timers()
@@ -557,10 +588,10 @@ class MouseConstraintNode(Node):
                             self.clock_restarts)
 
     def _publish_markers(self) -> None:
-        """Publish the markers of the latest tick, stamped as its pose."""
+        """Publish the markers of the latest tick, with its stamp."""
         simulation = self._simulation
         self._marker_publisher.publish(marker_array(
-            frame_id=self._config.frame_id, stamp_ns=stamp_nanoseconds(self._pose.header.stamp),
+            frame_id=self._config.frame_id, stamp_ns=self._stamp_ns,
             box_size=self._config.box_size, state=simulation.state,
             anchor=simulation.anchor_position(), target=simulation.target,
             force=simulation.constraint_force, reference=reference_force(simulation.settings)))
@@ -590,10 +621,16 @@ class MouseConstraintNode(Node):
         else:
             kind, age = (NO_TARGET if simulation.target is None else INITIAL_ANCHOR), None
         name = hardware_id = self.get_fully_qualified_name()
+        rate = rate_status(f'{name}: rate', hardware_id, rate_hz=config.rate_hz, window=window,
+                           totals=counters, thresholds=thresholds, drop_cause=self.drop_cause,
+                           waiting_for=self.waiting_for_clock())
+        publishers = self._state_publishers
+        rate.values.extend(publishing_values(
+            config.publish_rate_hz, publishers.tf_status,
+            None if publishers.odometry_publisher is None
+            else publishers.odometry_publisher.topic_name))
         self._diagnostics_publisher.publish(diagnostic_array(now, [
-            rate_status(f'{name}: rate', hardware_id, rate_hz=config.rate_hz, window=window,
-                        totals=counters, thresholds=thresholds, drop_cause=self.drop_cause,
-                        waiting_for=self.waiting_for_clock()),
+            rate,
             constraint_status(f'{name}: constraint', hardware_id, target_kind=kind,
                               target=simulation.target,
                               anchor_error=None if error is None else math.hypot(*error),

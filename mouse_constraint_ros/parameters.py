@@ -32,7 +32,9 @@ class ParameterSpec(NamedTuple):
 
 
 PARAMETERS = (
-    ParameterSpec('rate_hz', 1000.0, 'Physics and publishing rate (Hz); dt = 1 / rate_hz.',
+    ParameterSpec('rate_hz', 1000.0,
+                  'Physics rate (Hz), and publishing rate unless publish_rate_hz; dt = 1 / '
+                  'rate_hz.',
                   (1.0, 10000.0)),
     ParameterSpec('substeps', 2, 'Equal solver substeps per tick.', (1, 1000)),
     ParameterSpec('frame_id', 'world',
@@ -101,6 +103,22 @@ PARAMETERS = (
                   'A grab within this distance (m) of the body box (box_size at the pose) is '
                   'taken, for clicks on markers that trail the body; farther ones are ignored.',
                   (0.0, MAX_DISTANCE)),
+    ParameterSpec('publish_rate_hz', 0.0,
+                  'Rate of pose, twist, TF and odometry (Hz); 0 = every tick, else at most '
+                  'rate_hz. The physics still steps every tick; the publishing ticks are those '
+                  'where floor(n publish_rate_hz / rate_hz) changes, n the tick number: every '
+                  '(rate_hz / publish_rate_hz)-th tick when that divides, else gaps of the two '
+                  'nearest whole ticks, so the mean rate is exact and stamps lie on the grid.',
+                  (0.0, 10000.0)),
+    ParameterSpec('publish_tf', True,
+                  'Broadcast the transform frame_id -> body_frame_id on /tf at the publish '
+                  'rate. Needs tf2_ros; without it TF is off, said at start and in /diagnostics.'),
+    ParameterSpec('publish_odometry', False,
+                  'Publish nav_msgs/Odometry on odom at the publish rate: pose in frame_id, '
+                  'twist in body_frame_id (the body frame), zero covariances.'),
+    ParameterSpec('body_frame_id', 'body',
+                  'Frame attached to the body at its COM: the child of TF and of odometry. Not '
+                  'empty, no leading slash, not frame_id.'),
 )
 
 DEFAULTS = {p.name: p.default for p in PARAMETERS}
@@ -122,6 +140,10 @@ class NodeConfig(NamedTuple):
     diagnostics_anchor_warn: float
     diagnostics_anchor_error: float
     grab_margin: float
+    publish_rate_hz: float = 0.0
+    publish_tf: bool = True
+    publish_odometry: bool = False
+    body_frame_id: str = 'body'
 
     def initial_anchor(self) -> Vector3:
         """Return the anchor's world position in the initial state."""
@@ -195,7 +217,31 @@ def _configuration_from(values: Mapping[str, Any]) -> NodeConfig:
         diagnostics_anchor_error=anchor_error,
         grab_margin=scalar('grab_margin', values['grab_margin'], at_least=0.0,
                            at_most=MAX_DISTANCE),
+        **_publishing(values, rate_hz, frame_id),
     )
+
+
+def _publishing(values: Mapping[str, Any], rate_hz: float, frame_id: str) -> dict:
+    """Return the checked publish_rate_hz, publish_tf, publish_odometry and body_frame_id."""
+    publish_rate = scalar('publish_rate_hz', values['publish_rate_hz'], at_least=0.0)
+    if publish_rate > rate_hz:
+        raise ValueError(f'publish_rate_hz must be 0.0 (every tick) or within (0, rate_hz] = '
+                         f'(0, {rate_hz!r}], got {publish_rate!r}')
+    switches = {}
+    for name in ('publish_tf', 'publish_odometry'):
+        if not isinstance(values[name], bool):
+            raise ValueError(f'{name} must be true or false, got {shown(values[name])}')
+        switches[name] = values[name]
+    body = values['body_frame_id']
+    if not isinstance(body, str) or not body:
+        raise ValueError(f'body_frame_id must be a non-empty string, got {shown(body)}')
+    if body.startswith('/'):
+        raise ValueError(f'body_frame_id must not start with a slash, got {shown(body)}: tf2 '
+                         f'refuses such frame ids (use {shown(body.lstrip("/"))})')
+    if body == frame_id:
+        raise ValueError(f'body_frame_id must differ from frame_id, both are {shown(body)}: '
+                         'tf2 refuses a transform from a frame to itself')
+    return {'publish_rate_hz': publish_rate, 'body_frame_id': body, **switches}
 
 
 def _bounded(name: str, value: Any) -> float:

@@ -310,6 +310,10 @@ INVALID = {
     'diagnostics_anchor_warn': 0.0,
     'diagnostics_anchor_error': 0.01,
     'grab_margin': -1.0,
+    'publish_rate_hz': 2000.0,
+    'publish_tf': 1,
+    'publish_odometry': 'yes',
+    'body_frame_id': 'world',
 }
 
 

@@ -1,0 +1,147 @@
+"""
+The node's state outputs: pose, twist, TF and odometry of one tick, published as raw CDR.
+
+Pose and twist (and odometry) go to the middleware as the bytes of a precompiled layout
+(``cdr_layouts``): ``Publisher.publish(bytes)`` sends them as they are, which skips the
+conversion of a Python message into C and rmw's serialization. The bytes are those rclpy would
+send for the message ``fill_pose`` / ``fill_twist`` / ``fill_odometry`` fill (the layouts check
+that when they are compiled, and a test compares what a subscriber receives). Where a layout
+reports that it does not apply (``precompiled`` is False: a frame id holding a NUL, a
+middleware that writes other bytes) the message itself is filled and published instead.
+
+TF: the transform ``frame_id`` -> ``body_frame_id`` (``fill_transform``) goes to a broadcaster
+made by a factory the node is given, by default ``tf2_ros.TransformBroadcaster`` when tf2_ros
+is importable. It is sent as one reused ``TransformStamped``, so a broadcaster must send it
+before it returns (tf2_ros's does: it publishes, and rclpy serializes on publish). Without a
+broadcaster TF is off and ``tf_status`` says why.
+
+Odometry (``odom``): nav_msgs/Odometry with the pose in ``frame_id`` and the twist in
+``body_frame_id`` (``body_frame_twist``), zero covariances: the state is exact.
+"""
+
+from typing import Any, Callable, Optional
+
+from geometry_msgs.msg import PoseStamped, TransformStamped, TwistStamped
+from nav_msgs.msg import Odometry
+from rclpy.node import Node
+
+from .cdr_layouts import OdometryLayout, PoseStampedLayout, TwistStampedLayout
+from .interface import ODOM_TOPIC, POSE_TOPIC, STATE_QOS, TWIST_TOPIC
+from .messages import (body_frame_twist, fill_odometry, fill_pose, fill_transform, fill_twist,
+                       set_stamp)
+from .physics import BodyState
+
+BroadcasterFactory = Callable[[Node], Any]
+
+try:
+    from tf2_ros import TransformBroadcaster as _TransformBroadcaster
+except ImportError as error:
+    _TransformBroadcaster = None
+    TF_UNAVAILABLE: Optional[str] = f'tf2_ros is not importable ({error})'
+else:
+    TF_UNAVAILABLE = None
+
+# The broadcaster factory the node uses unless it is given one: tf2_ros's, or None without it.
+DEFAULT_BROADCASTER: Optional[BroadcasterFactory] = _TransformBroadcaster
+
+
+class StatePublishers:
+    """
+    The publishers of pose, twist, TF and odometry, and what one publish sends.
+
+    :param node: the node that owns the publishers.
+    :param broadcaster_factory: makes the TF broadcaster from ``node`` (called once, when TF is
+        first on), or None: TF is off then.
+    :param unavailable: why there is no broadcaster factory, for ``tf_status``.
+    :param frame_id: the frame of pose and twist, TF's and odometry's parent.
+    :param body_frame_id: the frame attached to the body, TF's and odometry's child.
+    :param publish_tf: whether TF is wanted.
+    :param publish_odometry: whether odometry is published.
+    """
+
+    def __init__(self, node: Node, *, broadcaster_factory: Optional[BroadcasterFactory],
+                 unavailable: Optional[str], frame_id: str, body_frame_id: str,
+                 publish_tf: bool, publish_odometry: bool) -> None:
+        """Create the pose and twist publishers and apply the rest with ``configure``."""
+        self._node = node
+        self._factory = broadcaster_factory
+        self._unavailable = unavailable or 'no transform broadcaster was given'
+        self.pose_publisher = node.create_publisher(PoseStamped, POSE_TOPIC, STATE_QOS)
+        self.twist_publisher = node.create_publisher(TwistStamped, TWIST_TOPIC, STATE_QOS)
+        self.odometry_publisher = None
+        self._pose_layout = PoseStampedLayout(frame_id)
+        self._twist_layout = TwistStampedLayout(frame_id)
+        self._odometry_layout = OdometryLayout(frame_id, body_frame_id)
+        # The messages of the fallback path and of TF, reused.
+        self._pose, self._twist = PoseStamped(), TwistStamped()
+        self._odometry, self._transform = Odometry(), TransformStamped()
+        self._broadcaster = None
+        self._send_transform = None
+        self.tf_status = ''
+        self.configure(frame_id=frame_id, body_frame_id=body_frame_id, publish_tf=publish_tf,
+                       publish_odometry=publish_odometry)
+
+    def configure(self, *, frame_id: str, body_frame_id: str, publish_tf: bool,
+                  publish_odometry: bool) -> None:
+        """Apply new frames and switches; layouts compile again only if a frame changed."""
+        self._pose_layout.frame_id = frame_id
+        self._twist_layout.frame_id = frame_id
+        self._odometry_layout.configure(frame_id=frame_id, child_frame_id=body_frame_id)
+        self._raw_pose = self._pose_layout.precompiled
+        self._raw_twist = self._twist_layout.precompiled
+        self._raw_odometry = self._odometry_layout.precompiled
+        for message in (self._pose, self._twist, self._odometry, self._transform):
+            message.header.frame_id = frame_id
+        self._odometry.child_frame_id = self._transform.child_frame_id = body_frame_id
+        if publish_odometry and self.odometry_publisher is None:
+            self.odometry_publisher = self._node.create_publisher(Odometry, ODOM_TOPIC,
+                                                                  STATE_QOS)
+        elif not publish_odometry and self.odometry_publisher is not None:
+            self._node.destroy_publisher(self.odometry_publisher)
+            self.odometry_publisher = None
+        if not publish_tf:
+            self._send_transform = None
+            self.tf_status = 'off: publish_tf is false'
+        elif self._factory is None:
+            self._send_transform = None
+            self.tf_status = f'off: {self._unavailable}'
+        else:
+            if self._broadcaster is None:
+                self._broadcaster = self._factory(self._node)
+            self._send_transform = self._broadcaster.sendTransform
+            self.tf_status = f'{frame_id} -> {body_frame_id}'
+
+    @property
+    def tf_on(self) -> bool:
+        """Whether ``publish`` sends the transform."""
+        return self._send_transform is not None
+
+    def publish(self, stamp_ns: int, state: BodyState) -> None:
+        """Publish the pose, twist and, where on, the transform and odometry of ``state``."""
+        if self._raw_pose:
+            self.pose_publisher.publish(
+                self._pose_layout.pack(stamp_ns, state.position, state.orientation))
+        else:
+            set_stamp(self._pose.header.stamp, stamp_ns)
+            fill_pose(self._pose, state)
+            self.pose_publisher.publish(self._pose)
+        if self._raw_twist:
+            self.twist_publisher.publish(
+                self._twist_layout.pack(stamp_ns, state.linear_velocity, state.angular_velocity))
+        else:
+            set_stamp(self._twist.header.stamp, stamp_ns)
+            fill_twist(self._twist, state)
+            self.twist_publisher.publish(self._twist)
+        if self._send_transform is not None:
+            set_stamp(self._transform.header.stamp, stamp_ns)
+            fill_transform(self._transform, state)
+            self._send_transform(self._transform)
+        if self.odometry_publisher is not None:
+            if self._raw_odometry:
+                linear, angular = body_frame_twist(state)
+                self.odometry_publisher.publish(self._odometry_layout.pack(
+                    stamp_ns, state.position, state.orientation, linear, angular))
+            else:
+                set_stamp(self._odometry.header.stamp, stamp_ns)
+                fill_odometry(self._odometry, state)
+                self.odometry_publisher.publish(self._odometry)

@@ -1,0 +1,190 @@
+"""
+TF and odometry: what the node broadcasts and publishes, and when TF is off and why.
+
+The broadcaster is a test double that records copies of what it is given, as
+``tf2_ros.TransformBroadcaster`` would send them (tf2_ros is not among the wheels here).
+"""
+
+import copy
+
+from diagnostic_msgs.msg import DiagnosticArray
+from geometry_msgs.msg import PoseStamped, TwistStamped
+from nav_msgs.msg import Odometry
+import numpy as np
+import pytest
+from rclpy.parameter import Parameter
+from scipy.spatial.transform import Rotation
+from test_publish_path import SimClock, stamp_of, START
+
+from mouse_constraint_ros.messages import odometry_message, state_from_messages
+from mouse_constraint_ros.node import MouseConstraintNode
+from mouse_constraint_ros.state_publishers import TF_UNAVAILABLE
+
+NS = 1_000_000_000
+
+
+class RecordingBroadcaster:
+    """A TransformBroadcaster double: keeps a copy of every transform it is sent."""
+
+    def __init__(self) -> None:
+        """Start with nothing sent and no node."""
+        self.sent = []
+        self.nodes = []
+
+    def factory(self, node):
+        """Play ``tf2_ros.TransformBroadcaster(node)``: remember the node, return self."""
+        self.nodes.append(node)
+        return self
+
+    def sendTransform(self, transform) -> None:  # noqa: N802 (tf2_ros's name)
+        """Record a copy (the node reuses its message)."""
+        self.sent.append(copy.deepcopy(transform))
+
+
+def start(ros, broadcaster=None, **overrides) -> MouseConstraintNode:
+    """Start the node with ``overrides``, markers off, TF to ``broadcaster`` if given."""
+    values = dict(marker_rate_hz=0.0, **overrides)
+    kwargs = {} if broadcaster is None else {'transform_broadcaster': broadcaster.factory}
+    return ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
+        Parameter(name, value=value) for name, value in values.items()], **kwargs))
+
+
+def by_stamp(messages) -> dict:
+    """Return ``messages`` keyed by their header stamp (ns)."""
+    return {stamp_of(m): m for m in messages}
+
+
+def test_tf_carries_the_pose_from_frame_id_to_body_frame_id(ros):
+    """Every published pose has its transform, same stamp, translation and rotation."""
+    broadcaster = RecordingBroadcaster()
+    node = start(ros, broadcaster, rate_hz=200.0,
+                 initial_orientation=[0.0, 0.0, 0.3826834323650898, 0.9238795325112867])
+    assert broadcaster.nodes == [node]
+    poses = ros.collect(PoseStamped, 'pose')
+    assert ros.spin_until(lambda: len(poses) >= 50)
+    transforms = by_stamp(broadcaster.sent)
+    assert len(transforms) == len(broadcaster.sent)
+    for pose in poses:
+        transform = transforms[stamp_of(pose)]
+        assert (transform.header.frame_id, transform.child_frame_id) == ('world', 'body')
+        t, r = transform.transform.translation, transform.transform.rotation
+        p, q = pose.pose.position, pose.pose.orientation
+        assert (t.x, t.y, t.z, r.x, r.y, r.z, r.w) == (p.x, p.y, p.z, q.x, q.y, q.z, q.w)
+    # body_frame_id and frame_id changes reach the transform.
+    assert node.set_parameters([Parameter('body_frame_id', value='base_link'),
+                                Parameter('frame_id', value='map')])[0].successful
+    count = len(broadcaster.sent)
+    assert ros.spin_until(lambda: len(broadcaster.sent) > count + 5)
+    assert {(t.header.frame_id, t.child_frame_id) for t in broadcaster.sent[count + 1:]} == {
+        ('map', 'base_link')}
+    assert broadcaster.nodes == [node]
+
+
+def test_tf_off_by_parameter_and_on_again_at_run_time(ros):
+    """publish_tf false: nothing is sent, /diagnostics says so; true: it is sent."""
+    broadcaster = RecordingBroadcaster()
+    node = start(ros, broadcaster, rate_hz=200.0, publish_tf=False, diagnostics_rate_hz=20.0)
+    arrays = ros.collect(DiagnosticArray, '/diagnostics')
+    poses = ros.collect(PoseStamped, 'pose')
+    assert ros.spin_until(lambda: len(poses) >= 20 and len(arrays) >= 2)
+    assert broadcaster.sent == [] and broadcaster.nodes == []
+    assert values(arrays[-1].status[0])['tf'] == 'off: publish_tf is false'
+    assert node.set_parameters([Parameter('publish_tf', value=True)])[0].successful
+    assert ros.spin_until(lambda: len(broadcaster.sent) >= 20)
+    assert broadcaster.nodes == [node]
+    count = len(arrays)
+    assert ros.spin_until(lambda: len(arrays) > count + 1)
+    assert values(arrays[-1].status[0])['tf'] == 'world -> body'
+
+
+def values(status) -> dict:
+    """Return a status's key-values as a dict."""
+    return {kv.key: kv.value for kv in status.values}
+
+
+@pytest.mark.skipif(TF_UNAVAILABLE is None, reason='tf2_ros is importable here')
+def test_without_tf2_ros_tf_is_off_said_once_at_start_and_in_diagnostics(ros, capfd):
+    """The default broadcaster without tf2_ros: one info line, and the diagnostics tf line."""
+    start(ros, rate_hz=100.0, diagnostics_rate_hz=20.0)
+    arrays = ros.collect(DiagnosticArray, '/diagnostics')
+    assert ros.spin_until(lambda: len(arrays) >= 2)
+    status = arrays[-1].status[0]
+    assert values(status)['tf'] == f'off: {TF_UNAVAILABLE}'
+    assert 'tf2_ros is not importable' in TF_UNAVAILABLE
+    lines = [line for line in capfd.readouterr().err.splitlines() if 'TF off' in line]
+    assert len(lines) == 1 and 'INFO' in lines[0] and TF_UNAVAILABLE in lines[0]
+    assert values(status)['publish rate (Hz)'] == 'every tick'
+    assert values(status)['odometry'] == 'off'
+
+
+def test_no_broadcaster_given_means_no_tf(ros):
+    """transform_broadcaster=None: TF off, with that reason."""
+    node = ros.add(MouseConstraintNode(context=ros.context, transform_broadcaster=None))
+    assert not node._state_publishers.tf_on
+    assert node._state_publishers.tf_status == 'off: no transform broadcaster was given'
+
+
+def test_odometry_is_the_pose_with_the_twist_in_the_body_frame(ros):
+    """
+    publish_odometry: odom carries the pose in frame_id and the twist rotated into the body.
+
+    Each odometry message equals ``odometry_message`` of the pose and twist of its stamp, and
+    its twist is R^T of the world twist (checked with scipy, independently).
+    """
+    node = start(ros, rate_hz=200.0, publish_odometry=True, body_frame_id='base_link',
+                 initial_orientation=[0.0, 0.0, 0.3826834323650898, 0.9238795325112867])
+    poses, twists = ros.collect(PoseStamped, 'pose'), ros.collect(TwistStamped, 'twist')
+    odometry = ros.collect(Odometry, 'odom')
+    assert ros.spin_until(lambda: len(odometry) >= 50 and len(poses) >= 50
+                          and len(twists) >= 50)
+    pose_at, twist_at = by_stamp(poses), by_stamp(twists)
+    swinging = 0
+    for message in odometry:
+        stamp = stamp_of(message)
+        if stamp not in pose_at or stamp not in twist_at:
+            continue
+        state = state_from_messages(pose_at[stamp], twist_at[stamp])
+        assert message == odometry_message(state, frame_id='world', body_frame_id='base_link',
+                                           nanoseconds=stamp)
+        inverse = Rotation.from_quat(state.orientation).inv()
+        w = message.twist.twist.angular
+        np.testing.assert_allclose([w.x, w.y, w.z], inverse.apply(state.angular_velocity),
+                                   atol=1e-12)
+        v = message.twist.twist.linear
+        np.testing.assert_allclose([v.x, v.y, v.z], inverse.apply(state.linear_velocity),
+                                   atol=1e-12)
+        swinging += np.linalg.norm(state.angular_velocity) > 1e-3
+    assert swinging > 10
+    assert node.set_parameters([Parameter('publish_odometry', value=False)])[0].successful
+    assert node.count_publishers('odom') == 0
+
+
+def test_odometry_is_off_by_default_and_on_at_run_time(ros):
+    """No odom publisher by default; publish_odometry true at run time creates it."""
+    node = start(ros, rate_hz=200.0)
+    assert node.count_publishers('odom') == 0
+    odometry = ros.collect(Odometry, 'odom')
+    assert node.set_parameters([Parameter('publish_odometry', value=True)])[0].successful
+    assert ros.spin_until(lambda: len(odometry) >= 10)
+    assert {(m.header.frame_id, m.child_frame_id) for m in odometry} == {('world', 'body')}
+
+
+def test_tf_and_odometry_follow_the_publish_rate(ros):
+    """100 Hz at 1 kHz on a simulated clock: TF, odometry and pose share stamps 10 ms apart."""
+    broadcaster = RecordingBroadcaster()
+    rate, publish_rate = 1000.0, 100.0
+    node = start(ros, broadcaster, use_sim_time=True, rate_hz=rate,
+                 publish_rate_hz=publish_rate, publish_odometry=True, diagnostics_rate_hz=0.0)
+    poses, odometry = ros.collect(PoseStamped, 'pose'), ros.collect(Odometry, 'odom')
+    clock = SimClock(ros, node)
+    period = int(NS / publish_rate)
+    clock.advance_to(START)
+    for k in range(1, 21):
+        clock.advance_to(START + k * period)
+    ros.spin_for(0.1)
+    origin = node._grid.origin
+    expected = [origin + k * period for k in range(21)]
+    assert [stamp_of(m) for m in poses] == expected
+    assert [stamp_of(m) for m in odometry] == expected
+    assert [stamp_of(t) for t in broadcaster.sent] == expected
+    assert node.ticks_run == 20 * int(rate / publish_rate) + 1
