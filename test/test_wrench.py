@@ -2,6 +2,8 @@
 
 import copy
 import math
+import subprocess
+import sys
 
 from geometry_msgs.msg import WrenchStamped
 import numpy as np
@@ -248,3 +250,31 @@ def test_markers_show_the_applied_force(ros):
     length = max(BOX) * 9.0 / wrench_reference(node.simulation.settings)
     assert end[2] - start[2] == pytest.approx(length)
     assert ros.spin_until(lambda: arrow().action == Marker.DELETE)
+
+
+def test_the_wrench_cli_pushes_for_its_duration_then_stops(ros):
+    """mouse_wrench: the wrench is applied for --duration, then a zero wrench ends it."""
+    node = start_node(ros, rate_hz=200.0, wrench_timeout=0.0, **FREE)
+    seen = []
+    ros.probe.create_timer(0.01, lambda: seen.append(node.simulation.wrench))
+    process = subprocess.Popen(
+        [sys.executable, '-m', 'mouse_constraint_ros.cli.wrench', '--force', '2', '0', '0',
+         '--torque', '0', '0', '0.5', '--duration', '0.5'],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert ros.spin_until(lambda: process.poll() is not None, timeout=20.0)
+    ros.spin_for(0.2)
+    assert process.returncode == 0, process.stderr.read()
+    pushed = [w for w in seen if w != NO_WRENCH]
+    assert pushed and set(pushed) == {((2.0, 0.0, 0.0), (0.0, 0.0, 0.5))}
+    # About the duration at 10 ms per sample, and nothing after the zero wrench.
+    assert 0.3 <= 0.01 * len(pushed) <= 1.0
+    assert node.simulation.wrench == NO_WRENCH
+    assert 'pushed with force' in process.stdout.read()
+
+
+def test_the_wrench_cli_refuses_what_the_node_would_ignore():
+    """A force over the default max_wrench_force: exit 1 with the reason, nothing sent."""
+    result = subprocess.run(
+        [sys.executable, '-m', 'mouse_constraint_ros.cli.wrench', '--force', '2000', '0', '0'],
+        capture_output=True, text=True, timeout=20.0)
+    assert result.returncode == 1 and 'max_wrench_force' in result.stderr
