@@ -678,7 +678,10 @@ class MouseConstraintNode(Node):
         if refusal is not None:
             self._warn(refusal.key, lambda: f'ignoring wrench {refusal.reason}')
             return
-        self._held_wrench.take(force, torque, self._now_ns())
+        if force == torque == (0.0, 0.0, 0.0):
+            self._held_wrench.clear()  # a zero wrench ends a push: nothing left to time out
+        else:
+            self._held_wrench.take(force, torque, self._now_ns())
         self._simulation.wrench = self._held_wrench.wrench
 
     def _simulator_status(self, name: str, hardware_id: str, now: int):
