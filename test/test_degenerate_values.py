@@ -309,6 +309,11 @@ INVALID = {
     'diagnostics_rate_hz': -1.0,
     'diagnostics_anchor_warn': 0.0,
     'diagnostics_anchor_error': 0.01,
+    'publish_clock': 'yes',
+    'real_time_factor': -1.0,
+    'wrench_timeout': math.nan,
+    'max_wrench_force': -1.0,
+    'max_wrench_torque': -math.inf,
 }
 
 
