@@ -37,6 +37,7 @@ setup(
             'mouse_constraint_node = mouse_constraint_ros.node:main',
             'mouse_target = mouse_constraint_ros.cli.target:main',
             'mouse_record = mouse_constraint_ros.cli.record:main',
+            'mouse_wrench = mouse_constraint_ros.cli.wrench:main',
         ],
     },
 )

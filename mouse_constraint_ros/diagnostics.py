@@ -265,3 +265,60 @@ def diagnostic_array(stamp_ns: int, statuses: Sequence[DiagnosticStatus]) -> Dia
     array = DiagnosticArray(status=list(statuses))
     set_stamp(array.header.stamp, stamp_ns)
     return array
+
+
+class Pacing(NamedTuple):
+    """The clock's side of the simulator status, over the window since the last sample."""
+
+    publish_clock: bool
+    paused: bool
+    real_time_factor: float
+    achieved_factor: Optional[float]
+    slipped: float
+    simulated_time: float
+
+
+def simulator_status(name: str, hardware_id: str, *, pacing: Pacing, force: Vector3,
+                     torque: Vector3, wrench_age: Optional[float],
+                     wrench_timeout: float) -> DiagnosticStatus:
+    """
+    Return the simulator status: clock source, pause, real time factor and the external wrench.
+
+    WARN when the node is the clock and simulated time slipped in the window (the machine did
+    not keep ``real_time_factor``); OK otherwise, paused included (pausing is asked for).
+
+    :param name: the status name, ``<fully qualified node name>: simulator``.
+    :param hardware_id: the status's hardware_id.
+    :param pacing: clock source, pause and factors.
+    :param force: the wrench's force applied now (N, world frame).
+    :param torque: the wrench's torque applied now (N m, world frame).
+    :param wrench_age: seconds since the applied wrench came, or None without one.
+    :param wrench_timeout: the node's ``wrench_timeout`` (s, 0 = never).
+    """
+    level, problems = OK, []
+    if pacing.publish_clock and pacing.slipped > 0.0:
+        level = WARN
+        problems.append(f'real_time_factor {pacing.real_time_factor:g} not kept: simulated '
+                        f'time fell {pacing.slipped:.3g} s behind in the window')
+    parts = ['paused' if pacing.paused else 'running']
+    if pacing.publish_clock:
+        parts.append('publishing /clock' + (
+            f', {pacing.achieved_factor:.3g}x real time' if pacing.achieved_factor is not None
+            else ''))
+    if wrench_age is not None:
+        parts.append(f'wrench {math.hypot(*force):.3g} N, {math.hypot(*torque):.3g} N m')
+    values = [
+        KeyValue(key='clock', value='published (/clock)' if pacing.publish_clock
+                 else "the node's clock"),
+        KeyValue(key='paused', value='true' if pacing.paused else 'false'),
+        KeyValue(key='simulated time (s)', value=_value(pacing.simulated_time, 12)),
+        KeyValue(key='real time factor', value=_value(pacing.real_time_factor)),
+        KeyValue(key='achieved real time factor', value=_value(pacing.achieved_factor, 4)),
+        KeyValue(key='slipped simulated time (s)', value=_value(pacing.slipped, 4)),
+        KeyValue(key='wrench force (N)', value=' '.join(_value(c) for c in force)),
+        KeyValue(key='wrench torque (N m)', value=' '.join(_value(c) for c in torque)),
+        KeyValue(key='wrench age (s)', value=_value(wrench_age, 4)),
+        KeyValue(key='wrench timeout (s)', value=_value(wrench_timeout)),
+    ]
+    return _status(name, hardware_id, level=level, problems=problems, fine=', '.join(parts),
+                   values=values)

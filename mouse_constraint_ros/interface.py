@@ -36,3 +36,14 @@ MONITOR_DEPTH = 10
 GRAB_TOPIC = 'grab'
 # nav_msgs/Odometry of the body, when publish_odometry is true (same QoS as pose and twist).
 ODOM_TOPIC = 'odom'
+# Simulator controls. /clock is absolute: the one clock use_sim_time nodes follow, whatever the
+# node's namespace. It is RELIABLE (which rclpy's and rclcpp's BEST_EFFORT clock readers match)
+# with depth 1: a time source only needs the newest reading. The wrench is like the target:
+# RELIABLE, only the newest matters.
+CLOCK_TOPIC = '/clock'
+WRENCH_TOPIC = 'wrench'
+PAUSE_SERVICE = '~/pause'
+STEP_SERVICE = '~/step'
+CLOCK_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
+                       reliability=ReliabilityPolicy.RELIABLE)
+WRENCH_QOS = TARGET_QOS

@@ -10,6 +10,8 @@ body          CUBE       the body: a box of ``box_size`` at the COM pose
 anchor        SPHERE     the anchor (dragged point) in the world
 target        SPHERE     the target; deleted while the body is free
 constraint    LINE_LIST  anchor to target, green (no force) - yellow - red (``reference_force``)
+wrench        ARROW      the external force from the COM, one longest box edge per body weight
+                         (``wrench_reference``); deleted while no force is applied
 ============  =========  =========================================================================
 
 The spheres' diameter is ``SPHERE_FRACTION`` of the box's longest edge, the line's width a third
@@ -37,6 +39,7 @@ WEIGHTS_FOR_RED = 2.0
 BODY_COLOR = (0.35, 0.55, 0.85, 0.8)
 ANCHOR_COLOR = (1.0, 0.55, 0.0, 1.0)
 TARGET_COLOR = (0.85, 0.1, 0.85, 1.0)
+WRENCH_COLOR = (0.1, 0.8, 0.9, 1.0)
 
 
 def reference_force(settings: Settings) -> float:
@@ -50,6 +53,29 @@ def reference_force(settings: Settings) -> float:
     if math.isfinite(max_force) and max_force > 0.0:
         return max_force
     return WEIGHTS_FOR_RED * settings.body.mass * abs(STANDARD_GRAVITY[2])
+
+
+def wrench_reference(settings: Settings) -> float:
+    """Return the force (N) the wrench arrow shows one longest box edge long: the weight m g0."""
+    return settings.body.mass * abs(STANDARD_GRAVITY[2])
+
+
+def _wrench_arrow(frame_id: str, stamp_ns: int, origin: Vector3, force: Vector3,
+                  length_per_newton: float, width: float) -> Marker:
+    magnitude = math.hypot(*force)
+    if not magnitude > 0.0:
+        marker = _deleted('wrench', frame_id, stamp_ns)
+        marker.type = Marker.ARROW
+        return marker
+    arrow = _marker('wrench', Marker.ARROW, frame_id, stamp_ns)
+    start, end = Point(), Point()
+    fill_point(start, origin)
+    fill_point(end, tuple(o + length_per_newton * f for o, f in zip(origin, force)))
+    arrow.points = [start, end]
+    # ARROW with points: x is the shaft diameter, y the head diameter, z the head length.
+    arrow.scale.x, arrow.scale.y, arrow.scale.z = width, 2.0 * width, 3.0 * width
+    arrow.color = _color(WRENCH_COLOR)
+    return arrow
 
 
 def force_color(force: float, reference: float) -> Tuple[float, float, float, float]:
@@ -94,7 +120,8 @@ def _deleted(namespace: str, frame_id: str, stamp_ns: int) -> Marker:
 
 def marker_array(*, frame_id: str, stamp_ns: int, box_size: Vector3, state: BodyState,
                  anchor: Vector3, target: Optional[Vector3], force: Vector3,
-                 reference: float) -> MarkerArray:
+                 reference: float, wrench_force: Optional[Vector3] = None,
+                 wrench_reference: float = 1.0) -> MarkerArray:
     """
     Return the markers of one moment of the simulation.
 
@@ -106,6 +133,10 @@ def marker_array(*, frame_id: str, stamp_ns: int, box_size: Vector3, state: Body
     :param target: the target (m), or None for a free body (target and line are deleted).
     :param force: the constraint force (N) that colours the line.
     :param reference: the force (N) at which the line is red, see ``reference_force``.
+    :param wrench_force: the external force applied at the COM (N); zero deletes its arrow,
+        None leaves the wrench namespace out.
+    :param wrench_reference: the force (N) whose arrow is the box's longest edge long, see
+        ``wrench_reference``.
     """
     body = _marker('body', Marker.CUBE, frame_id, stamp_ns)
     fill_pose(body, state)
@@ -128,4 +159,9 @@ def marker_array(*, frame_id: str, stamp_ns: int, box_size: Vector3, state: Body
         line.scale.x = LINE_FRACTION * max(box_size)
         line.color = _color(force_color(math.hypot(*force), reference))
         markers.append(line)
+    if wrench_force is None:
+        return MarkerArray(markers=markers)
+    longest = max(box_size)
+    markers.append(_wrench_arrow(frame_id, stamp_ns, state.position, wrench_force,
+                                 longest / wrench_reference, LINE_FRACTION * longest))
     return MarkerArray(markers=markers)

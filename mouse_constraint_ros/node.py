@@ -18,10 +18,10 @@ import math
 import re
 import sys
 import time
-from typing import Any, Callable, List, NoReturn, Optional, Sequence
+from typing import Any, Callable, List, NoReturn, Optional, Sequence, Tuple
 
 from diagnostic_msgs.msg import DiagnosticArray
-from geometry_msgs.msg import PointStamped
+from geometry_msgs.msg import PointStamped, WrenchStamped
 from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescriptor,
                                 SetParametersResult)
 import rclpy
@@ -32,27 +32,31 @@ from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.signals import SignalHandlerOptions
-from std_srvs.srv import Trigger
+from rosgraph_msgs.msg import Clock as ClockMessage
+from std_srvs.srv import SetBool, Trigger
 from visualization_msgs.msg import MarkerArray
 
 from .diagnostics import (constraint_status, diagnostic_array, INITIAL_ANCHOR, NO_TARGET,
-                          publishing_values, rate_status, Thresholds, TickCounters, TickWindow,
-                          USER_TARGET)
+                          Pacing, publishing_values, rate_status, simulator_status, Thresholds,
+                          TickCounters, TickWindow, USER_TARGET)
 from .grab import grab
-from .interface import (DIAGNOSTICS_TOPIC, GRAB_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH, NODE_NAME,
-                        RELEASE_SERVICE, RESET_SERVICE, TARGET_QOS, TARGET_TOPIC)
-from .markers import marker_array, reference_force
-from .messages import point_from_message
+from .interface import (CLOCK_QOS, CLOCK_TOPIC, DIAGNOSTICS_TOPIC, GRAB_TOPIC, MARKERS_TOPIC,
+                        MONITOR_DEPTH, NODE_NAME, PAUSE_SERVICE, RELEASE_SERVICE, RESET_SERVICE,
+                        STEP_SERVICE, TARGET_QOS, TARGET_TOPIC, WRENCH_QOS, WRENCH_TOPIC)
+from .markers import marker_array, reference_force, wrench_reference
+from .messages import point_from_message, set_stamp
 from .parameters import node_config, PARAMETERS, ParameterSpec
 from .physics import MouseSimulation
 from .physics.algebra import Vector3
 from .publish_ticks import PublishTicks
+from .sim_clock import SimulatedClock
 from .spin import spin_until, StopRequest
 from .state_publishers import (BroadcasterFactory, DEFAULT_BROADCASTER, StatePublishers,
                                TF_UNAVAILABLE)
 from .target_gate import TargetGate
 from .throttle import Throttle
 from .tick_grid import TickGrid
+from .wrench_gate import HeldWrench, NO_WRENCH, WrenchGate
 
 # Catch up on at most this much missed time in one timer callback; older ticks are dropped.
 MAX_CATCH_UP_SECONDS = 0.1
@@ -71,6 +75,18 @@ WARN_PERIOD = 2.0
 CLOCK_WATCH_PERIOD = 1.0
 # The node's transform_broadcaster when none is given: tf2_ros's, where importable.
 _DEFAULT_BROADCASTER = object()
+# With publish_clock: the shortest period (s, steady clock) of the tick timer; each call runs
+# the ticks due (at real_time_factor 0, as many as fit in CLOCK_BUDGET_SHARE of the period).
+MIN_CLOCK_PERIOD = 0.001
+# With publish_clock: the share of the tick timer's period one call may run ticks for. The
+# EventsExecutor queues a timer event every period whatever the callback takes: a call that
+# ends within the period leaves no backlog, so services and parameters answer within about a
+# period. Nothing is dropped at the budget; the simulated clock just runs slower.
+CLOCK_BUDGET_SHARE = 0.8
+# Why publish_clock and use_sim_time cannot both be true.
+CLOCK_LOOP = ('publish_clock: true with use_sim_time: true: a node cannot follow the clock it '
+              'publishes itself (set use_sim_time false, or publish_clock false to follow '
+              'another /clock)')
 # Parameters rclpy declares or reads by itself; not unknown keys.
 RCLPY_PARAMETER_PREFIXES = ('use_sim_time', 'start_type_description_service', 'qos_overrides.')
 
@@ -208,6 +224,8 @@ class MouseConstraintNode(Node):
         except ValueError as error:
             self._refuse(str(error))
         self._warn_about_unknown_parameters()
+        if self._config.publish_clock and self.get_parameter('use_sim_time').value:
+            self._refuse(CLOCK_LOOP)
         self._simulation = MouseSimulation(self._config.settings, self._config.initial_state)
         self._user_target = False
         self._last_target_ns: Optional[int] = None
@@ -232,6 +250,7 @@ class MouseConstraintNode(Node):
         self._grid_sim_time = self.get_clock().ros_time_is_active
         # Timers that must run while a simulated clock stands still or has not started.
         self._steady_clock = Clock(clock_type=ClockType.STEADY_TIME)
+        self._simulator_controls_init()
 
         # The stamp of the latest tick (ns), which the markers carry.
         self._stamp_ns = 0
@@ -251,6 +270,7 @@ class MouseConstraintNode(Node):
         self.create_service(Trigger, RELEASE_SERVICE, self._on_release)
         self._timer = None
         self._start_timer()
+        self._simulator_controls_setup()
         self._setup_monitors()
         self.create_timer(CLOCK_WATCH_PERIOD, self._watch_clock, clock=self._steady_clock)
         self.add_on_set_parameters_callback(self._on_set_parameters)
@@ -305,7 +325,9 @@ class MouseConstraintNode(Node):
                 f'mass {s.body.mass:g} kg, inertia {s.body.inertia}, anchor {s.constraint.anchor},'
                 f' {mode}, max force {s.constraint.max_force:g} N, gravity {s.gravity}, damping '
                 f'{s.linear_damping:g}/{s.angular_damping:g} 1/s, target timeout '
-                f'{c.target_timeout:g} s')
+                f'{c.target_timeout:g} s' + (
+                    f', publishing /clock at real time factor {c.real_time_factor:g}'
+                    if c.publish_clock else ''))
 
     @staticmethod
     def _publishing(config) -> dict:
@@ -319,7 +341,10 @@ class MouseConstraintNode(Node):
         self._grid = TickGrid(rate, math.ceil(MAX_CATCH_UP_SECONDS * rate))
         self._publish_ticks = PublishTicks(rate, self._config.publish_rate_hz)
         self._dt = 1.0 / rate
-        self._timer = self.create_timer(self._dt, self._on_timer)
+        if self._config.publish_clock:
+            self._timer = self._start_clock_timer()
+        else:
+            self._timer = self.create_timer(self._dt, self._on_timer)
 
     def _hold_initial_anchor(self) -> None:
         self._user_target = False
@@ -338,7 +363,7 @@ class MouseConstraintNode(Node):
             return
         self._simulation.target = point
         self._user_target = True
-        self._last_target_ns = self.get_clock().now().nanoseconds
+        self._last_target_ns = self._now_ns()
 
     def _on_grab(self, message: PointStamped) -> None:
         """Make a point on the body the anchor and the target; ignore (and say) any other."""
@@ -377,6 +402,8 @@ class MouseConstraintNode(Node):
         return None if result.successful else result.reason
 
     def _on_timer(self) -> None:
+        if self._paused:
+            return
         clock = self.get_clock()
         now = clock.now().nanoseconds
         if clock.ros_time_is_active != self._grid_sim_time:
@@ -452,26 +479,43 @@ class MouseConstraintNode(Node):
 
         :returns: how many ran (at least one when ``count`` > 0).
         """
-        simulation, dt, stamp = self._simulation, self._dt, self._grid.stamp
-        publish = self._state_publishers.publish
-        due = None if self._publish_ticks.every_tick else self._publish_ticks.due
+        stamp = self._grid.stamp
         clock = time.perf_counter
         started = clock()
         ran = 0
         for tick in range(first, first + count):
-            state = simulation.step(dt)
-            if due is None or due(tick):
-                publish(stamp(tick), state)
+            self._tick(stamp(tick), tick)
             ran += 1
             if clock() - started > CALLBACK_BUDGET_SECONDS:
                 break
         if ran:
-            self._stamp_ns = stamp(first + ran - 1)
             cost = (time.perf_counter() - started) / ran
             self._tick_seconds = (cost if self._tick_seconds == 0.0 else
                                   self._tick_seconds + TICK_COST_WEIGHT * (
                                       cost - self._tick_seconds))
         return ran
+
+    def _tick(self, stamp: int, tick: Optional[int] = None) -> None:
+        """
+        Step once; publish /clock (if published) and, on a publishing tick, the state.
+
+        :param stamp: the tick's time (ns): the stamp of /clock and of the state.
+        :param tick: the tick's number on its grid, for ``PublishTicks``; None publishes (a
+            single step asked for by ``~/step``).
+        """
+        if self._held_wrench.applied is not None and self._held_wrench.expired(
+                stamp, self._config.wrench_timeout):
+            self._simulation.wrench = NO_WRENCH
+            self.get_logger().info(f'no wrench for {self._config.wrench_timeout:g} s: '
+                                   'removing it')
+        state = self._simulation.step(self._dt)
+        if self._clock_publisher is not None:
+            set_stamp(self._clock_message.clock, stamp)
+            self._clock_publisher.publish(self._clock_message)
+        self._stamp_ns = stamp
+        publish_ticks = self._publish_ticks
+        if tick is None or publish_ticks.every_tick or publish_ticks.due(tick):
+            self._state_publishers.publish(stamp, state)
 
     def waiting_for_clock(self) -> Optional[str]:
         """
@@ -480,7 +524,8 @@ class MouseConstraintNode(Node):
         The node's clock reads zero until then and no timer on it fires: no tick, no pose.
         """
         clock = self.get_clock()
-        if clock.ros_time_is_active and clock.now().nanoseconds == 0:
+        if self._clock_publisher is None and clock.ros_time_is_active and \
+                clock.now().nanoseconds == 0:
             return f'/clock on {self.resolve_topic_name("/clock")}'
         return None
 
@@ -510,6 +555,8 @@ class MouseConstraintNode(Node):
                 return response
         self._simulation.reset()
         self._hold_initial_anchor()
+        self._held_wrench.clear()
+        self._simulation.wrench = NO_WRENCH
         response.success = True
         response.message = 'back to the initial state' + (
             ', anchor held where it starts' if self._config.hold_initial_anchor else
@@ -529,6 +576,10 @@ class MouseConstraintNode(Node):
             config = node_config(self._parameter_values(changes))
         except ValueError as error:
             return SetParametersResult(successful=False, reason=str(error))
+        use_sim_time = next((p.value for p in changes if p.name == 'use_sim_time'),
+                            self.get_parameter('use_sim_time').value)
+        if config.publish_clock and use_sim_time:
+            return SetParametersResult(successful=False, reason=CLOCK_LOOP)
         previous, self._config = self._config, config
         if not self._setting_anchor and any(p.name == 'anchor' for p in changes):
             self._configured_anchor = config.settings.constraint.anchor
@@ -542,15 +593,191 @@ class MouseConstraintNode(Node):
             self._state_publishers.configure(**self._publishing(config))
             if self._state_publishers.tf_status != tf_status:
                 self.get_logger().info(f'TF {self._state_publishers.tf_status}')
-        if config.rate_hz != previous.rate_hz:
-            self._start_timer()
-        elif config.publish_rate_hz != previous.publish_rate_hz:
+        if (config.rate_hz, config.publish_clock) != (previous.rate_hz, previous.publish_clock):
+            self._switch_clock(previous)
+        elif config.real_time_factor != previous.real_time_factor:
+            self._sim_clock.set_real_time_factor(config.real_time_factor)
+            self._retime_clock_timer()
+        if config.rate_hz == previous.rate_hz and \
+                config.publish_rate_hz != previous.publish_rate_hz:
             self._publish_ticks = PublishTicks(config.rate_hz, config.publish_rate_hz)
         if (config.marker_rate_hz, config.diagnostics_rate_hz) != (
                 previous.marker_rate_hz, previous.diagnostics_rate_hz):
             self._start_monitor_timers()
         self.get_logger().info('parameters changed: ' + self._describe())
         return SetParametersResult(successful=True)
+
+    # Simulator controls: the node as the clock, pause and step, the external wrench. The pacing
+    # is SimulatedClock's, the wrench policy WrenchGate's and HeldWrench's; here is the wiring.
+
+    def _simulator_controls_init(self) -> None:
+        """Create the state the tick timers read: pause, wrench, simulated clock."""
+        self._paused = False
+        self._held_wrench = HeldWrench()
+        # Created once: turning publish_clock off and on goes on from the simulated time reached.
+        self._sim_clock = SimulatedClock(self._config.rate_hz, self._config.real_time_factor,
+                                         max_lag=MAX_CATCH_UP_SECONDS)
+        self._clock_message = ClockMessage()
+        self._clock_publisher = None
+        if self._config.publish_clock:
+            self._clock_publisher = self.create_publisher(ClockMessage, CLOCK_TOPIC, CLOCK_QOS)
+        # (steady ns, simulated ns, slipped ns) at the last diagnostics call.
+        self._pacing_sample: Optional[Tuple[int, int, int]] = None
+
+    def _simulator_controls_setup(self) -> None:
+        self.create_subscription(WrenchStamped, WRENCH_TOPIC, self._on_wrench, WRENCH_QOS)
+        self.create_service(SetBool, PAUSE_SERVICE, self._on_pause)
+        self.create_service(Trigger, STEP_SERVICE, self._on_step)
+
+    def _now_ns(self) -> int:
+        """Return the node's time: the simulated clock with publish_clock, else its clock."""
+        if self._clock_publisher is not None:
+            return self._sim_clock.now_ns
+        return self.get_clock().now().nanoseconds
+
+    def _start_clock_timer(self):
+        """
+        Return the tick timer of publish_clock, on the steady clock.
+
+        The node's own clock is not the simulated one (use_sim_time is false); the period is
+        that of the ticks due in wall time, at least MIN_CLOCK_PERIOD.
+        """
+        factor = self._config.real_time_factor
+        period = (MIN_CLOCK_PERIOD if factor == 0.0 else
+                  max(MIN_CLOCK_PERIOD, 1.0 / (self._config.rate_hz * factor)))
+        self._clock_budget = CLOCK_BUDGET_SHARE * period
+        # perf_counter() until which calls return at once, after one that overran its period.
+        self._clock_rest_until = -math.inf
+        return self.create_timer(period, self._on_clock_timer, clock=self._steady_clock)
+
+    def _on_clock_timer(self) -> None:
+        started = time.perf_counter()
+        if started < self._clock_rest_until:
+            # Clears the events queued while one tick outlasted the period (many substeps).
+            return
+        clock = self._sim_clock
+        due = clock.due(time.monotonic_ns())
+        if due == 0:
+            return
+        self._release_if_timed_out(clock.now_ns)
+        budget = self._clock_budget
+        ran = 0
+        while due is None or ran < due:
+            self._tick(clock.advance(), clock.ticks)
+            ran += 1
+            if time.perf_counter() - started > budget:
+                # The rest stays due: the pacing slips if the lag grows beyond its bound.
+                break
+        self.ticks_run += ran
+        spent = time.perf_counter() - started
+        if spent > budget / CLOCK_BUDGET_SHARE:
+            self._clock_rest_until = started + 2.0 * spent
+
+    def _switch_clock(self, previous) -> None:
+        """Start the tick timer again for a new rate or clock source, re-basing input ages."""
+        config = self._config
+        if config.publish_clock and self._clock_publisher is None:
+            self._clock_publisher = self.create_publisher(ClockMessage, CLOCK_TOPIC, CLOCK_QOS)
+        elif not config.publish_clock and self._clock_publisher is not None:
+            self.destroy_publisher(self._clock_publisher)
+            self._clock_publisher = None
+        self._sim_clock.set_rate(config.rate_hz)
+        self._sim_clock.set_real_time_factor(config.real_time_factor)
+        self._start_timer()
+        if config.publish_clock != previous.publish_clock:
+            # Another time base: the ages of target and wrench start again in it.
+            now = self._now_ns()
+            if self._user_target:
+                self._last_target_ns = now
+            applied = self._held_wrench.applied
+            if applied is not None:
+                self._held_wrench.applied = applied._replace(since_ns=now)
+
+    def _retime_clock_timer(self) -> None:
+        if self._clock_publisher is not None:
+            self.destroy_timer(self._timer)
+            self._timer = self._start_clock_timer()
+
+    def _on_pause(self, request: SetBool.Request, response: SetBool.Response):
+        """
+        Pause (true) or resume (false) the physics.
+
+        Resuming catches nothing up: the simulated clock paces on from where it stood, the
+        node-clock grid starts again at the next timer call.
+        """
+        pause = bool(request.data)
+        response.success = True
+        if pause == self._paused:
+            response.message = 'already paused' if pause else 'already running'
+            return response
+        self._paused = pause
+        if pause:
+            self._sim_clock.pause()
+            response.message = f'paused at {self._now_ns() * 1e-9:.9f} s'
+            return response
+        self._sim_clock.resume()
+        rate = self._config.rate_hz
+        self._grid = TickGrid(rate, math.ceil(MAX_CATCH_UP_SECONDS * rate))
+        self._tick_window = TickWindow()
+        response.message = f'running from {self._now_ns() * 1e-9:.9f} s'
+        return response
+
+    def _on_step(self, _request: Trigger.Request, response: Trigger.Response):
+        """While paused: run exactly one tick and publish it; refused while running."""
+        if not self._paused:
+            response.success = False
+            response.message = ('running: ~/step advances a paused simulation by one tick; '
+                                'pause it first (~/pause with data: true)')
+            return response
+        waiting = self.waiting_for_clock()
+        if waiting is not None:
+            response.success = False
+            response.message = f'waiting for {waiting}: no time to stamp a step with'
+            return response
+        if self._clock_publisher is not None:
+            stamp = self._sim_clock.advance()
+        else:
+            stamp = self.get_clock().now().nanoseconds
+        self._release_if_timed_out(stamp)
+        self._tick(stamp)
+        self.ticks_run += 1
+        response.success = True
+        response.message = f'one tick of {self._dt:g} s, stamped {stamp * 1e-9:.9f} s'
+        return response
+
+    def _on_wrench(self, message: WrenchStamped) -> None:
+        f, t = message.wrench.force, message.wrench.torque
+        force, torque = (f.x, f.y, f.z), (t.x, t.y, t.z)
+        config = self._config
+        refusal = WrenchGate(config.frame_id, config.max_wrench_force,
+                             config.max_wrench_torque).refusal(
+                                 message.header.frame_id, force, torque)
+        if refusal is not None:
+            self._warn(refusal.key, lambda: f'ignoring wrench {refusal.reason}')
+            return
+        if force == torque == (0.0, 0.0, 0.0):
+            self._held_wrench.clear()  # a zero wrench ends a push: nothing left to time out
+        else:
+            self._held_wrench.take(force, torque, self._now_ns())
+        self._simulation.wrench = self._held_wrench.wrench
+
+    def _simulator_status(self, name: str, hardware_id: str, now: int):
+        clock, config = self._sim_clock, self._config
+        wall = time.monotonic_ns()
+        sample = (wall, clock.now_ns, clock.slipped_ns)
+        previous, self._pacing_sample = self._pacing_sample, sample
+        achieved, slipped = None, 0.0
+        if previous is not None and wall > previous[0]:
+            achieved = (sample[1] - previous[1]) / (wall - previous[0])
+            slipped = (sample[2] - previous[2]) * 1e-9
+        publishing = self._clock_publisher is not None
+        applied = self._held_wrench.applied
+        force, torque = self._simulation.wrench
+        age = None if applied is None else max(0.0, (now - applied.since_ns) * 1e-9)
+        pacing = Pacing(publishing, self._paused, config.real_time_factor,
+                        achieved if publishing else None, slipped, now * 1e-9)
+        return simulator_status(name, hardware_id, pacing=pacing, force=force, torque=torque,
+                                wrench_age=age, wrench_timeout=config.wrench_timeout)
 
     # Markers and diagnostics: their own lower-rate timers, nothing on the per-tick path. The
     # messages are built by the markers and diagnostics modules from the simulation's data.
@@ -561,7 +788,8 @@ class MouseConstraintNode(Node):
             DiagnosticArray, DIAGNOSTICS_TOPIC, MONITOR_DEPTH)
         # The first window opens at the first diagnostics call, once the node spins.
         self._tick_window = TickWindow()
-        self._window_sim_time = self.get_clock().ros_time_is_active
+        self._window_sim_time = (self.get_clock().ros_time_is_active,
+                                 self._clock_publisher is not None)
         self._monitor_timers = []
         self._start_monitor_timers()
 
@@ -594,7 +822,9 @@ class MouseConstraintNode(Node):
             frame_id=self._config.frame_id, stamp_ns=self._stamp_ns,
             box_size=self._config.box_size, state=simulation.state,
             anchor=simulation.anchor_position(), target=simulation.target,
-            force=simulation.constraint_force, reference=reference_force(simulation.settings)))
+            force=simulation.constraint_force, reference=reference_force(simulation.settings),
+            wrench_force=simulation.wrench[0],
+            wrench_reference=wrench_reference(simulation.settings)))
 
     def _publish_diagnostics(self) -> None:
         """
@@ -605,14 +835,17 @@ class MouseConstraintNode(Node):
         diagnostic_aggregator needs.
         """
         clock = self.get_clock()
-        now = clock.now().nanoseconds
+        now = self._now_ns()
         config, simulation = self._config, self._simulation
         counters = self._tick_counters()
-        if clock.ros_time_is_active != self._window_sim_time:
+        source = (clock.ros_time_is_active, self._clock_publisher is not None)
+        if source != self._window_sim_time:
             # Another clock: a window across the change would measure nothing real.
-            self._window_sim_time = clock.ros_time_is_active
+            self._window_sim_time = source
             self._tick_window = TickWindow()
-        window = self._tick_window.sample(now, counters, config.rate_hz)
+        # Paused, the ticks stop on purpose: no rate to judge (the window restarts on resume).
+        window = (None if self._paused else
+                  self._tick_window.sample(now, counters, config.rate_hz))
         thresholds = Thresholds(anchor_warn=config.diagnostics_anchor_warn,
                                 anchor_error=config.diagnostics_anchor_error)
         error = simulation.anchor_error()
@@ -638,6 +871,7 @@ class MouseConstraintNode(Node):
                               max_force=config.settings.constraint.max_force,
                               target_age=age, target_timeout=config.target_timeout,
                               thresholds=thresholds),
+            self._simulator_status(f'{name}: simulator', hardware_id, now),
         ]))
 
 

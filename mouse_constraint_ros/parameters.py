@@ -21,6 +21,11 @@ from .physics.limits import (MAX_ACCELERATION, MAX_CONDITION, MAX_DISTANCE, MAX_
 from .physics.simulation import check_lever
 from .physics.validation import finite_vector, scalar, shown
 
+# The largest real_time_factor: a million simulated seconds per wall second is beyond what the
+# step can run (some 1e5 ticks per second), so a larger factor only means "as fast as it can",
+# which is written 0.
+MAX_REAL_TIME_FACTOR = 1e6
+
 
 class ParameterSpec(NamedTuple):
     """One parameter: its default, what it means, and its range (for numbers) if any."""
@@ -119,6 +124,23 @@ PARAMETERS = (
     ParameterSpec('body_frame_id', 'body',
                   'Frame attached to the body at its COM: the child of TF and of odometry. Not '
                   'empty, no leading slash, not frame_id.'),
+    ParameterSpec('publish_clock', False,
+                  'Be the time source: publish /clock at every tick and stamp everything with '
+                  'the simulated time (from 0), paced by real_time_factor; refused with '
+                  'use_sim_time (a node cannot follow its own clock).'),
+    ParameterSpec('real_time_factor', 1.0,
+                  'With publish_clock: simulated seconds per wall second; 0 = as fast as the '
+                  'machine allows. A change goes on from the simulated time it finds.',
+                  (0.0, MAX_REAL_TIME_FACTOR)),
+    ParameterSpec('wrench_timeout', 0.5,
+                  'Stop applying the wrench when no new one came for this long (s, of the '
+                  "node's time); 0 = hold it until one replaces it.", (0.0, math.inf)),
+    ParameterSpec('max_wrench_force', 1000.0,
+                  'Wrenches whose force exceeds this (N) are ignored, like non-finite ones.',
+                  (0.0, math.inf)),
+    ParameterSpec('max_wrench_torque', 100.0,
+                  'Wrenches whose torque exceeds this (N m) are ignored, like non-finite ones.',
+                  (0.0, math.inf)),
 )
 
 DEFAULTS = {p.name: p.default for p in PARAMETERS}
@@ -144,6 +166,11 @@ class NodeConfig(NamedTuple):
     publish_tf: bool = True
     publish_odometry: bool = False
     body_frame_id: str = 'body'
+    publish_clock: bool = False
+    real_time_factor: float = 1.0
+    wrench_timeout: float = 0.5
+    max_wrench_force: float = 1000.0
+    max_wrench_torque: float = 100.0
 
     def initial_anchor(self) -> Vector3:
         """Return the anchor's world position in the initial state."""
@@ -218,6 +245,7 @@ def _configuration_from(values: Mapping[str, Any]) -> NodeConfig:
         grab_margin=scalar('grab_margin', values['grab_margin'], at_least=0.0,
                            at_most=MAX_DISTANCE),
         **_publishing(values, rate_hz, frame_id),
+        **_simulator_controls(values),
     )
 
 
@@ -242,6 +270,22 @@ def _publishing(values: Mapping[str, Any], rate_hz: float, frame_id: str) -> dic
         raise ValueError(f'body_frame_id must differ from frame_id, both are {shown(body)}: '
                          'tf2 refuses a transform from a frame to itself')
     return {'publish_rate_hz': publish_rate, 'body_frame_id': body, **switches}
+
+
+def _simulator_controls(values: Mapping[str, Any]) -> dict:
+    """Return the validated clock and wrench fields of NodeConfig."""
+    publish_clock = values['publish_clock']
+    if not isinstance(publish_clock, bool):
+        raise ValueError(f'publish_clock must be true or false, got {shown(publish_clock)}')
+    return {
+        'publish_clock': publish_clock,
+        'real_time_factor': _bounded('real_time_factor', values['real_time_factor']),
+        'wrench_timeout': scalar('wrench_timeout', values['wrench_timeout'], at_least=0.0),
+        'max_wrench_force': scalar('max_wrench_force', values['max_wrench_force'],
+                                   at_least=0.0),
+        'max_wrench_torque': scalar('max_wrench_torque', values['max_wrench_torque'],
+                                    at_least=0.0),
+    }
 
 
 def _bounded(name: str, value: Any) -> float:

@@ -314,6 +314,11 @@ INVALID = {
     'publish_tf': 1,
     'publish_odometry': 'yes',
     'body_frame_id': 'world',
+    'publish_clock': 'yes',
+    'real_time_factor': -1.0,
+    'wrench_timeout': math.nan,
+    'max_wrench_force': -1.0,
+    'max_wrench_torque': -math.inf,
 }
 
 

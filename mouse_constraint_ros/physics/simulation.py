@@ -4,8 +4,9 @@ One rigid body dragged by the mouse constraint: settings, target and the fixed-s
 A call to ``MouseSimulation.step(dt)`` advances ``dt`` in ``substeps`` equal substeps h. Each
 substep is symplectic Euler, as Box2D and Bounce order it:
 
-1. velocities: gravity, then exponential damping, then the gyroscopic term w x (I w) by one
-   implicit Newton step in the body frame (``body.gyroscopic_step``);
+1. velocities: gravity and the external wrench's force F / m, then its torque's
+   I_w^-1 tau, then exponential damping, then the gyroscopic term w x (I w) by one implicit
+   Newton step in the body frame (``body.gyroscopic_step``);
 2. the mouse constraint, when there is a target: the net impulse P = -K^-1 (a J V + b C) with
    |P| <= h F_max (``constraint`` module, seed eqs. 1.1-1.10), applied as v += P / m and
    w += I_w^-1 (r x P); its position part -K^-1 b C may turn the body by at most
@@ -131,6 +132,7 @@ class MouseSimulation:
         self._state = self._initial_state
         self._target: Optional[Vector3] = None
         self._constraint_force: Vector3 = ZERO
+        self._wrench: Tuple[Vector3, Vector3] = (ZERO, ZERO)
         # False until the velocities of a given state have been moved back half a substep.
         self._staggered = False
         self._cache_for: Tuple[Optional[Settings], float] = (None, 0.0)
@@ -169,6 +171,17 @@ class MouseSimulation:
     @target.setter
     def target(self, target: Optional[Vector3]) -> None:
         self._target = None if target is None else finite_vector('target', target)
+
+    @property
+    def wrench(self) -> Tuple[Vector3, Vector3]:
+        """Return the external (force (N) through the COM, torque (N m)), world frame."""
+        return self._wrench
+
+    @wrench.setter
+    def wrench(self, wrench: Tuple[Vector3, Vector3]) -> None:
+        force, torque = wrench
+        self._wrench = (finite_vector('wrench force', force),
+                        finite_vector('wrench torque', torque))
 
     @property
     def constraint_force(self) -> Vector3:
@@ -267,10 +280,18 @@ class MouseSimulation:
         body = self._settings.body
         target = self._target
         rotation = rotation_matrix(q)
-        vx = (v[0] + gx) * linear_decay
-        vy = (v[1] + gy) * linear_decay
-        vz = (v[2] + gz) * linear_decay
-        w_body = gyroscopic_step(body.inertia, multiply_transposed(w, rotation), h)
+        (fx, fy, fz), torque = self._wrench
+        kick = h * body.inverse_mass
+        vx = (v[0] + gx + kick * fx) * linear_decay
+        vy = (v[1] + gy + kick * fy) * linear_decay
+        vz = (v[2] + gz + kick * fz) * linear_decay
+        w_body = multiply_transposed(w, rotation)
+        if torque != ZERO:
+            # The torque's angular impulse, in the body frame: w += h I_b^-1 R^T tau.
+            ax, ay, az = multiply_symmetric(multiply_transposed(torque, rotation),
+                                            body.inverse_inertia)
+            w_body = (w_body[0] + h * ax, w_body[1] + h * ay, w_body[2] + h * az)
+        w_body = gyroscopic_step(body.inertia, w_body, h)
         wx, wy, wz = multiply(w_body, rotation)
         wx *= angular_decay
         wy *= angular_decay

@@ -1,0 +1,118 @@
+"""
+The ``mouse_wrench`` command: push the body with a wrench on the relative topic ``wrench``.
+
+``mouse_wrench --force FX FY FZ [--torque TX TY TZ] --duration D`` publishes the wrench (force
+through the COM in N, torque in N m, world frame) at ``--rate`` for ``D`` seconds, then one zero
+wrench so that the push ends at once rather than at the node's ``wrench_timeout``. The rate
+must beat that timeout (default 0.5 s). Time is this command's clock: with
+``--ros-args -p use_sim_time:=true`` the duration and the rate follow ``/clock``, so a push
+lasts D simulated seconds whatever the node's ``real_time_factor``. A wrench the node would
+ignore (non-finite, or over its default bounds of 1000 N and 100 N m) is refused here with exit
+status 1, and so is having no subscriber within 10 s. Ctrl-C or SIGTERM stops it, with the
+zero wrench.
+"""
+
+import argparse
+import sys
+import time
+from typing import List, Optional
+
+from geometry_msgs.msg import WrenchStamped
+import rclpy
+from rclpy.duration import Duration
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.signals import SignalHandlerOptions
+from rclpy.utilities import remove_ros_args
+
+from .target import plain_text, POLL_PERIOD
+from ..interface import WRENCH_QOS, WRENCH_TOPIC
+from ..parameters import DEFAULTS
+from ..spin import StopRequest
+from ..wrench_gate import WrenchGate
+
+# How long to wait for the node's subscription before giving up (s, wall time).
+SUBSCRIBER_TIMEOUT = 10.0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Return the command's argument parser; every option's help names its default."""
+    parser = argparse.ArgumentParser(
+        prog='mouse_wrench', description=plain_text(__doc__.split('\n\n')[0]),
+        epilog='example: mouse_wrench --force 0 0 30 --duration 1.5')
+    parser.add_argument('--force', nargs=3, type=float, default=[0.0, 0.0, 0.0],
+                        metavar=('FX', 'FY', 'FZ'), help='force through the COM (N, default 0)')
+    parser.add_argument('--torque', nargs=3, type=float, default=[0.0, 0.0, 0.0],
+                        metavar=('TX', 'TY', 'TZ'), help='torque (N m, default 0)')
+    parser.add_argument('--duration', type=float, default=1.0,
+                        help="how long to push (s of this command's clock, default 1.0)")
+    parser.add_argument('--rate', type=float, default=20.0,
+                        help='publishing rate (Hz, default 20.0)')
+    parser.add_argument('--frame', default='',
+                        help="frame_id of the wrench (default: empty, the node's frame)")
+    return parser
+
+
+def wrench_message(force, torque, frame_id: str) -> WrenchStamped:
+    """Return a WrenchStamped of ``force`` (N) and ``torque`` (N m) in ``frame_id``."""
+    message = WrenchStamped()
+    message.header.frame_id = frame_id
+    f, t = message.wrench.force, message.wrench.torque
+    f.x, f.y, f.z = map(float, force)
+    t.x, t.y, t.z = map(float, torque)
+    return message
+
+
+def main(args: Optional[List[str]] = None) -> int:
+    """Publish the wrench for ``--duration``, then a zero one; return the exit status."""
+    argv = sys.argv if args is None else ['mouse_wrench'] + list(args)
+    options = build_parser().parse_args(remove_ros_args(argv)[1:])
+    if not (options.duration >= 0.0 and options.rate > 0.0):
+        print('mouse_wrench: --duration must be >= 0 and --rate > 0', file=sys.stderr)
+        return 1
+    gate = WrenchGate(options.frame or 'world', DEFAULTS['max_wrench_force'],
+                      DEFAULTS['max_wrench_torque'])
+    refusal = gate.refusal('', options.force, options.torque)
+    if refusal is not None:
+        print(f'mouse_wrench: wrench refused: {refusal.reason}', file=sys.stderr)
+        return 1
+    rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
+    node = None
+    try:
+        with StopRequest() as stop:
+            node = Node('mouse_wrench')
+            publisher = node.create_publisher(WrenchStamped, WRENCH_TOPIC, WRENCH_QOS)
+            executor = SingleThreadedExecutor(context=node.context)
+            executor.add_node(node)
+            push = wrench_message(options.force, options.torque, options.frame)
+            clock = node.get_clock()
+            node.create_timer(1.0 / options.rate, lambda: publisher.publish(push))
+            deadline = time.monotonic() + SUBSCRIBER_TIMEOUT
+            while not stop and publisher.get_subscription_count() == 0:
+                if time.monotonic() > deadline:
+                    print(f'mouse_wrench: no subscriber on {publisher.topic_name} within '
+                          f'{SUBSCRIBER_TIMEOUT:g} s', file=sys.stderr)
+                    return 1
+                executor.spin_once(timeout_sec=POLL_PERIOD)
+            while not stop and clock.now().nanoseconds == 0:
+                executor.spin_once(timeout_sec=POLL_PERIOD)  # use_sim_time before a /clock
+            publisher.publish(push)
+            end = clock.now().nanoseconds + int(options.duration * 1e9)
+            while not stop and clock.now().nanoseconds < end:
+                executor.spin_once(timeout_sec=POLL_PERIOD)
+            publisher.publish(wrench_message((0.0,) * 3, (0.0,) * 3, options.frame))
+            print(f'pushed with force {tuple(options.force)} N, torque '
+                  f'{tuple(options.torque)} N m for {options.duration:g} s', flush=True)
+            # The zero wrench must arrive: otherwise the push lasts until wrench_timeout.
+            publisher.wait_for_all_acked(Duration(seconds=1.0))
+    except ExternalShutdownException:
+        pass
+    finally:
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

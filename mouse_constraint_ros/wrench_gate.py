@@ -1,0 +1,103 @@
+"""
+Which external wrenches the node takes, and how long it applies one: the ``wrench`` policy.
+
+A wrench (frame, force, torque) is taken when its frame is the node's ``frame_id`` (an empty
+frame counts as it: no tf lookup is made), its six components are finite, |force| <=
+``max_wrench_force`` and |torque| <= ``max_wrench_torque``. A wrench beyond a bound is refused
+whole, not clamped: a clamped wrench would be one nobody sent, in a direction that is only
+right by luck when one component overflowed. A refused wrench changes nothing: the one
+applied before goes on until its own timeout. Each refusal has a key ('wrench frame',
+'wrench finite', 'wrench force', 'wrench torque') to throttle repeated ones under.
+
+``HeldWrench`` applies the latest wrench taken until ``wrench_timeout`` passes without
+another (0 = hold it until one replaces it). Plain floats and strings only, so that the node
+and the command line tool apply the same policy.
+"""
+
+from dataclasses import dataclass
+import math
+from typing import NamedTuple, Optional, Sequence, Tuple
+
+from .target_gate import Refusal
+
+Vector3 = Tuple[float, float, float]
+ZERO: Vector3 = (0.0, 0.0, 0.0)
+# No wrench: what the simulation applies without one.
+NO_WRENCH: Tuple[Vector3, Vector3] = (ZERO, ZERO)
+
+
+@dataclass(frozen=True)
+class WrenchGate:
+    """
+    The node's wrench policy for its ``frame_id`` and bounds (N, N m).
+
+    ``reason`` texts read after 'ignoring wrench ' (the node) or 'wrench refused: ' (a CLI).
+    """
+
+    frame_id: str
+    max_force: float
+    max_torque: float
+
+    def refusal(self, frame: str, force: Sequence[float],
+                torque: Sequence[float]) -> Optional[Refusal]:
+        """
+        Return None when the node takes the wrench, else why not.
+
+        :param frame: the wrench's frame_id; '' is the node's frame.
+        :param force: force through the COM (N), world frame.
+        :param torque: torque (N m), world frame.
+        """
+        if frame and frame != self.frame_id:
+            return Refusal('wrench frame', f'in frame {frame!r}: this node works in '
+                                           f'{self.frame_id!r} (no tf lookup is made)')
+        values = tuple(map(float, force)) + tuple(map(float, torque))
+        if not all(math.isfinite(v) for v in values):
+            return Refusal('wrench finite', f'force {values[:3]} torque {values[3:]}: not finite')
+        magnitude = math.hypot(*values[:3])
+        if magnitude > self.max_force:
+            return Refusal('wrench force', f'force {values[:3]}: |force| {magnitude:g} N exceeds '
+                                           f'max_wrench_force {self.max_force:g} N')
+        magnitude = math.hypot(*values[3:])
+        if magnitude > self.max_torque:
+            return Refusal('wrench torque', f'torque {values[3:]}: |torque| {magnitude:g} N m '
+                                            f'exceeds max_wrench_torque {self.max_torque:g} N m')
+        return None
+
+
+class AppliedWrench(NamedTuple):
+    """A wrench taken at ``since_ns`` (the node's time): force (N) and torque (N m)."""
+
+    force: Vector3
+    torque: Vector3
+    since_ns: int
+
+
+class HeldWrench:
+    """The latest wrench taken, until ``timeout`` seconds pass without another (0 = never)."""
+
+    def __init__(self) -> None:
+        """Hold no wrench."""
+        self.applied: Optional[AppliedWrench] = None
+
+    def take(self, force: Sequence[float], torque: Sequence[float], now_ns: int) -> None:
+        """Apply ``force`` and ``torque`` from now on, replacing the wrench held."""
+        self.applied = AppliedWrench(tuple(map(float, force)), tuple(map(float, torque)),
+                                     now_ns)
+
+    def clear(self) -> None:
+        """Hold no wrench."""
+        self.applied = None
+
+    def expired(self, now_ns: int, timeout: float) -> bool:
+        """Drop the wrench when it is older than ``timeout`` (s, > 0); return whether it was."""
+        applied = self.applied
+        if applied is None or timeout <= 0.0 or now_ns - applied.since_ns <= timeout * 1e9:
+            return False
+        self.applied = None
+        return True
+
+    @property
+    def wrench(self) -> Tuple[Vector3, Vector3]:
+        """Return (force, torque) to apply: zero without a wrench."""
+        applied = self.applied
+        return NO_WRENCH if applied is None else (applied.force, applied.torque)

@@ -1,0 +1,275 @@
+"""The node as the clock (publish_clock, real_time_factor), ~/pause and ~/step."""
+
+import contextlib
+import signal
+import subprocess
+import sys
+import time
+
+from diagnostic_msgs.msg import DiagnosticArray
+from geometry_msgs.msg import PoseStamped
+import numpy as np
+import pytest
+from rcl_interfaces.msg import Parameter as ParameterMessage, ParameterType, ParameterValue
+from rcl_interfaces.srv import SetParameters
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rosgraph_msgs.msg import Clock
+from std_srvs.srv import SetBool, Trigger
+
+from mouse_constraint_ros.node import CLOCK_LOOP, MouseConstraintNode, StartupRefusal
+from mouse_constraint_ros.sim_clock import SimulatedClock
+
+MS = 1_000_000
+S = 1_000_000_000
+
+
+# The pacing alone, on a wall clock given by hand.
+
+def run(clock: SimulatedClock, wall_ns: int) -> int:
+    """Run every tick due at ``wall_ns``; return how many."""
+    count = clock.due(wall_ns)
+    for _ in range(count):
+        clock.advance()
+    return count
+
+
+def test_the_clock_paces_ticks_at_the_factor_on_an_exact_grid():
+    """At factor 4 and 1 kHz, 1 s of wall time runs 4000 ticks, tick n at n ms."""
+    clock = SimulatedClock(1000.0, 4.0, max_lag=0.1)
+    assert clock.now_ns == 0 and run(clock, 5 * S) == 0  # the first call anchors
+    for step in range(1, 1001):
+        run(clock, 5 * S + step * MS)
+    assert clock.ticks == 4000 and clock.now_ns == 4 * S
+    assert [clock.stamp(n) for n in (1, 2, 3)] == [MS, 2 * MS, 3 * MS]
+
+
+def test_a_new_factor_goes_on_from_the_time_the_clock_reads():
+    """Changing the factor moves no simulated time; the new pace holds from there on."""
+    clock = SimulatedClock(100.0, 2.0, max_lag=10.0)
+    run(clock, 0)
+    run(clock, S)
+    before = clock.now_ns
+    clock.set_real_time_factor(0.5)
+    assert clock.now_ns == before and run(clock, S) == 0
+    run(clock, 3 * S)
+    assert clock.now_ns == before + S
+
+
+def test_pause_stops_the_clock_and_resume_catches_nothing_up():
+    """Paused, nothing is due; after a resume the pace starts where the clock stood."""
+    clock = SimulatedClock(1000.0, 1.0, max_lag=10.0)
+    run(clock, 0)
+    run(clock, S)
+    clock.pause()
+    assert run(clock, 10 * S) == 0
+    assert clock.advance() == S + MS  # a step while paused
+    clock.resume()
+    assert run(clock, 10 * S) == 0
+    assert run(clock, 10 * S + 3 * MS) == 3
+
+
+def test_a_clock_that_cannot_keep_up_slips_instead_of_skipping():
+    """More than max_lag of due ticks: the kept ones run on the grid, the rest is given up."""
+    clock = SimulatedClock(1000.0, 1.0, max_lag=0.1)
+    run(clock, 0)
+    assert run(clock, 2 * S) == 100
+    assert clock.now_ns == 100 * MS and clock.slipped_ns == 2 * S - 100 * MS
+    assert run(clock, 2 * S + MS) == 1
+
+
+def test_factor_zero_has_no_bound_and_a_new_rate_starts_at_the_reading():
+    """Factor 0: any number of ticks is due; a new rate's grid starts where the clock is."""
+    clock = SimulatedClock(1000.0, 0.0, max_lag=0.1)
+    assert clock.due(0) is None
+    for _ in range(3):
+        clock.advance()
+    clock.set_rate(400.0)
+    assert clock.advance() == 3 * MS + 2_500_000
+
+
+# The node.
+
+def start_node(ros, namespace='', **overrides) -> MouseConstraintNode:
+    """Start the node in ``ros``'s context, in ``namespace``, with parameter ``overrides``."""
+    return ros.add(MouseConstraintNode(context=ros.context, namespace=namespace,
+                                       parameter_overrides=[
+                                           Parameter(name, value=value)
+                                           for name, value in overrides.items()]))
+
+
+def stamp_ns(stamp) -> int:
+    """Return a builtin_interfaces/Time in nanoseconds."""
+    return stamp.sec * S + stamp.nanosec
+
+
+def call(ros, service_type, name, request):
+    """Call a service from the probe and return the response."""
+    client = ros.probe.create_client(service_type, name)
+    assert client.wait_for_service(timeout_sec=5.0)
+    future = client.call_async(request)
+    assert ros.spin_until(future.done)
+    return future.result()
+
+
+@contextlib.contextmanager
+def node_process(*arguments: str):
+    """
+    Run the node as its own process (its EventsExecutor, as installed) with ``arguments``.
+
+    For the pacing tests: in-process, the test's executor would share the node's core.
+    """
+    process = subprocess.Popen([sys.executable, '-m', 'mouse_constraint_ros.node', '--ros-args',
+                                *arguments], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                               text=True)
+    try:
+        yield process
+    finally:
+        process.send_signal(signal.SIGINT)
+        process.wait(timeout=10.0)
+
+
+def test_publish_clock_runs_four_times_real_time_in_a_namespace(ros):
+    """
+    /clock advances 4 s per wall second, monotonically; poses are stamped with its values.
+
+    In a namespace: /clock is absolute, pose relative. A second node with use_sim_time
+    follows the published time.
+    """
+    rate = 250.0
+    with node_process('-r', '__ns:=/fast', '-p', 'publish_clock:=true',
+                      '-p', 'real_time_factor:=4.0', '-p', f'rate_hz:={rate}'):
+        clocks, poses, follower, first, advanced, wall = run_four_times(ros)
+    values = np.array([stamp_ns(c.clock) for c in clocks])
+    print(f'/clock advanced {advanced:.3f} s in {wall:.3f} s of wall time '
+          f'({advanced / wall:.3f}x)')
+    assert advanced == pytest.approx(4.0 * wall, rel=0.05)
+    assert np.all(np.diff(values) > 0)
+    period = round(1e9 / rate)
+    stamps = np.array([stamp_ns(p.header.stamp) for p in poses])
+    assert len(stamps) > 0.9 * len(values) and np.all(stamps % period == 0)
+    assert set(stamps) <= set(values)
+    follower_now = follower.get_clock().now().nanoseconds
+    assert follower_now in set(values) and follower_now >= values[first]
+
+
+def run_four_times(ros):
+    """Collect /clock and /fast/pose for 2 s of wall time; a follower takes use_sim_time."""
+    follower = ros.add(Node('follower', context=ros.context, parameter_overrides=[
+        Parameter('use_sim_time', value=True)]))
+    clocks = ros.collect(Clock, '/clock', depth=10000)
+    poses = ros.collect(PoseStamped, '/fast/pose', depth=10000)
+    assert ros.spin_until(lambda: len(clocks) > 10 and len(poses) > 10)
+    first, started = len(clocks), time.monotonic()
+    start_value = stamp_ns(clocks[-1].clock)
+    ros.spin_for(2.0)
+    wall = time.monotonic() - started
+    # What came within the 2 s, read once they are all in.
+    end_value = stamp_ns(clocks[-1].clock)
+    ros.spin_for(0.3)
+    return clocks, poses, follower, first, (end_value - start_value) * 1e-9, wall
+
+
+def test_factor_zero_runs_as_fast_as_it_can(ros):
+    """
+    real_time_factor 0 at 1 kHz: at least 5x real time, as /diagnostics reports it.
+
+    The factor reached is printed; nothing subscribes /clock or pose, which would measure
+    the subscriber.
+    """
+    arrays = ros.collect(DiagnosticArray, '/diagnostics')
+
+    def factors():
+        return [float(value.value) for array in arrays for status in array.status
+                if status.name.endswith(': simulator') for value in status.values
+                if value.key == 'achieved real time factor' and value.value != 'n/a']
+
+    with node_process('-p', 'publish_clock:=true', '-p', 'real_time_factor:=0.0',
+                      '-p', 'diagnostics_rate_hz:=1.0'):
+        assert ros.spin_until(lambda: len(factors()) >= 3, timeout=20.0)
+    print(f'real_time_factor 0 at 1 kHz reached {factors()}x real time')
+    assert max(factors()[1:]) >= 5.0
+
+
+def test_pause_stops_clock_and_poses_step_runs_one_tick_resume_does_not_burst(ros):
+    """Paused: /clock and pose stamps stand still; ~/step: exactly one tick; resume: paced."""
+    rate = 200.0
+    start_node(ros, publish_clock=True, rate_hz=rate, marker_rate_hz=0.0)
+    clocks = ros.collect(Clock, '/clock', depth=10000)
+    poses = ros.collect(PoseStamped, 'pose', depth=10000)
+    assert ros.spin_until(lambda: len(poses) > 10)
+    response = call(ros, Trigger, '/mouse_constraint/step', Trigger.Request())
+    assert not response.success and 'pause it first' in response.message
+    assert call(ros, SetBool, '/mouse_constraint/pause', SetBool.Request(data=True)).success
+    ros.spin_for(0.1)
+    held = (len(clocks), len(poses))
+    ros.spin_for(0.5)
+    assert (len(clocks), len(poses)) == held
+    last = stamp_ns(poses[-1].header.stamp)
+    period = round(1e9 / rate)
+    assert call(ros, Trigger, '/mouse_constraint/step', Trigger.Request()).success
+    assert ros.spin_until(lambda: len(poses) > held[1])
+    ros.spin_for(0.1)
+    assert len(poses) == held[1] + 1 and len(clocks) == held[0] + 1
+    assert stamp_ns(poses[-1].header.stamp) == stamp_ns(clocks[-1].clock) == last + period
+    assert call(ros, SetBool, '/mouse_constraint/pause', SetBool.Request(data=False)).success
+    resumed, started = len(poses), time.monotonic()
+    ros.spin_for(0.5)
+    wall = time.monotonic() - started
+    # No catch-up of the 0.6 s paused: the rate of ticks, not a burst of 120 more.
+    assert len(poses) - resumed == pytest.approx(wall * rate, abs=0.1 * rate)
+    stamps = np.array([stamp_ns(p.header.stamp) for p in poses[held[1]:]])
+    np.testing.assert_array_equal(np.diff(stamps), period)
+
+
+def test_pause_without_publish_clock_holds_the_physics_and_restarts_the_grid(ros):
+    """On the node's clock: paused, no pose; resumed, stamps jump to now, then one per tick."""
+    rate = 200.0
+    node = start_node(ros, rate_hz=rate, marker_rate_hz=0.0)
+    poses = ros.collect(PoseStamped, 'pose', depth=10000)
+    assert ros.spin_until(lambda: len(poses) > 10)
+    assert call(ros, SetBool, '/mouse_constraint/pause', SetBool.Request(data=True)).success
+    ros.spin_for(0.05)
+    held, state = len(poses), node.simulation.state
+    ros.spin_for(0.5)
+    assert len(poses) == held and node.simulation.state == state
+    paused_at = stamp_ns(poses[-1].header.stamp)
+    assert call(ros, SetBool, '/mouse_constraint/pause', SetBool.Request(data=False)).success
+    started = time.monotonic()
+    ros.spin_for(0.5)
+    wall = time.monotonic() - started
+    after = np.array([stamp_ns(p.header.stamp) for p in poses[held:]])
+    assert after[0] - paused_at > 0.5 * S
+    np.testing.assert_array_equal(np.diff(after), round(1e9 / rate))
+    assert len(after) == pytest.approx(wall * rate, abs=0.1 * rate)
+
+
+def test_publish_clock_with_use_sim_time_is_refused(ros):
+    """At start (StartupRefusal with the reason) and at run time, either way round."""
+    with pytest.raises(StartupRefusal, match='cannot follow the clock it publishes'):
+        MouseConstraintNode(context=ros.context, parameter_overrides=[
+            Parameter('publish_clock', value=True), Parameter('use_sim_time', value=True)])
+    node = start_node(ros, publish_clock=True)
+    result = node.set_parameters([Parameter('use_sim_time', value=True)])[0]
+    assert not result.successful and result.reason == CLOCK_LOOP
+    assert not node.get_clock().ros_time_is_active
+
+
+def test_the_factor_changes_at_run_time_without_a_jump(ros):
+    """ros2 param set real_time_factor: /clock goes on from where it stood, at the new pace."""
+    start_node(ros, publish_clock=True, rate_hz=250.0, real_time_factor=1.0,
+               marker_rate_hz=0.0)
+    clocks = ros.collect(Clock, '/clock', depth=10000)
+    assert ros.spin_until(lambda: len(clocks) > 10)
+    client = ros.probe.create_client(SetParameters, '/mouse_constraint/set_parameters')
+    assert client.wait_for_service(timeout_sec=5.0)
+    value = ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=3.0)
+    future = client.call_async(SetParameters.Request(parameters=[
+        ParameterMessage(name='real_time_factor', value=value)]))
+    assert ros.spin_until(future.done) and future.result().results[0].successful
+    changed, started = len(clocks), time.monotonic()
+    ros.spin_for(1.0)
+    wall = time.monotonic() - started
+    values = np.array([stamp_ns(c.clock) for c in clocks])
+    np.testing.assert_array_equal(np.diff(values), 4 * MS)
+    assert (values[-1] - values[changed - 1]) * 1e-9 == pytest.approx(3.0 * wall, rel=0.1)

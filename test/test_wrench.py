@@ -1,0 +1,281 @@
+"""The external wrench: its dynamics in the core, the node's policy, timeout and markers."""
+
+import copy
+import math
+import subprocess
+import sys
+
+from geometry_msgs.msg import WrenchStamped
+import numpy as np
+import pytest
+from rclpy.parameter import Parameter
+from scipy.spatial.transform import Rotation
+from std_srvs.srv import SetBool, Trigger
+from visualization_msgs.msg import Marker, MarkerArray
+
+from mouse_constraint_ros.markers import marker_array, wrench_reference
+from mouse_constraint_ros.node import MouseConstraintNode
+from mouse_constraint_ros.physics import BodyState, MouseSimulation, RigidBody, Settings
+from mouse_constraint_ros.wrench_gate import HeldWrench, NO_WRENCH, WrenchGate
+
+MASS = 2.0
+BOX = (0.4, 0.2, 0.1)
+FREE = {'hold_initial_anchor': False, 'gravity': [0.0, 0.0, 0.0]}
+
+
+def free_simulation(orientation=(0.0, 0.0, 0.0, 1.0), substeps=2) -> MouseSimulation:
+    """Return a free body at rest, without gravity, in ``orientation``."""
+    settings = Settings(RigidBody.solid_box(MASS, BOX), gravity=(0.0, 0.0, 0.0),
+                        substeps=substeps)
+    return MouseSimulation(settings, BodyState((0.0, 0.0, 1.0), orientation))
+
+
+def test_a_force_gains_velocity_f_t_over_m():
+    """A free body of mass m under F for t gains v = F t / m, and moves F t^2 / (2 m)."""
+    simulation = free_simulation()
+    force = (3.0, -1.5, 6.0)
+    simulation.wrench = (force, (0.0, 0.0, 0.0))
+    dt, steps = 0.001, 1000
+    for _ in range(steps):
+        state = simulation.step(dt)
+    t = dt * steps
+    expected = np.array(force) * t / MASS
+    np.testing.assert_allclose(state.linear_velocity, expected, rtol=0.005)
+    np.testing.assert_allclose(np.array(state.position) - (0.0, 0.0, 1.0),
+                               np.array(force) * t * t / (2.0 * MASS), rtol=0.005)
+    assert state.angular_velocity == (0.0, 0.0, 0.0)
+
+
+@pytest.mark.parametrize('axis', [0, 1, 2])
+def test_a_torque_about_a_principal_axis_gives_tau_over_i(axis):
+    """
+    A pure torque about a principal axis of a turned body: alpha = tau / I about that axis.
+
+    The body is turned, so the world axis of the torque is a body axis only through the
+    rotation: the frame conversion of the torque is part of what is checked.
+    """
+    half = 0.35
+    orientation = (math.sin(half) / math.sqrt(3.0),) * 3 + (math.cos(half),)
+    simulation = free_simulation(orientation)
+    body = simulation.settings.body
+    # The body's principal axis ``axis`` in the world frame (solid box: the body axes).
+    direction = Rotation.from_quat(orientation).as_matrix()[:, axis]
+    torque = 0.01 * direction
+    simulation.wrench = ((0.0, 0.0, 0.0), tuple(torque))
+    moment = (body.inertia[0], body.inertia[3], body.inertia[5])[axis]
+    dt, steps = 0.001, 500
+    for _ in range(steps):
+        state = simulation.step(dt)
+    np.testing.assert_allclose(state.angular_velocity, torque / moment * dt * steps,
+                               rtol=0.005, atol=1e-12)
+    assert state.linear_velocity == (0.0, 0.0, 0.0)
+
+
+def test_a_torque_about_any_axis_changes_the_angular_momentum_by_tau_t():
+    """Off the principal axes the body tumbles, but dL/dt = tau still holds (world frame)."""
+    simulation = free_simulation((0.1, 0.2, 0.3, math.sqrt(1.0 - 0.14)))
+    torque = (0.004, -0.002, 0.003)
+    simulation.wrench = ((0.0, 0.0, 0.0), torque)
+    dt, steps = 0.001, 1000
+    for _ in range(steps):
+        simulation.step(dt)
+    np.testing.assert_allclose(simulation.angular_momentum(), np.array(torque) * dt * steps,
+                               rtol=0.005)
+
+
+def test_a_zero_wrench_changes_nothing_bit_for_bit():
+    """Without a wrench and with a zero one the step is the same to the bit."""
+    plain, zero = free_simulation(), free_simulation()
+    zero.wrench = NO_WRENCH
+    plain.target = zero.target = (0.3, 0.1, 1.2)
+    for _ in range(200):
+        assert plain.step(0.001) == zero.step(0.001)
+
+
+@pytest.mark.parametrize('wrench', [
+    ((math.nan, 0.0, 0.0), (0.0, 0.0, 0.0)),
+    ((0.0, 0.0, 0.0), (0.0, math.inf, 0.0)),
+])
+def test_the_core_refuses_a_non_finite_wrench(wrench):
+    """A non-finite wrench raises ValueError naming it and leaves the wrench as it was."""
+    simulation = free_simulation()
+    with pytest.raises(ValueError, match='wrench'):
+        simulation.wrench = wrench
+    assert simulation.wrench == NO_WRENCH
+
+
+GATE = WrenchGate('world', max_force=100.0, max_torque=10.0)
+
+
+@pytest.mark.parametrize('frame, force, torque, key', [
+    ('map', (1.0, 0.0, 0.0), (0.0, 0.0, 0.0), 'wrench frame'),
+    ('', (math.nan, 0.0, 0.0), (0.0, 0.0, 0.0), 'wrench finite'),
+    ('world', (0.0, 0.0, 0.0), (-math.inf, 0.0, 0.0), 'wrench finite'),
+    ('world', (60.0, 80.0, 0.1), (0.0, 0.0, 0.0), 'wrench force'),
+    ('', (0.0, 0.0, 0.0), (6.0, 0.0, 8.01), 'wrench torque'),
+])
+def test_the_gate_refuses_foreign_non_finite_and_oversized_wrenches(frame, force, torque, key):
+    """Each refusal names its reason; the bounds are on the magnitudes, inclusive."""
+    assert GATE.refusal(frame, force, torque).key == key
+
+
+def test_the_gate_takes_wrenches_up_to_the_bounds():
+    """|F| = max_force and |tau| = max_torque are taken, in the node's frame or none."""
+    assert GATE.refusal('', (60.0, 80.0, 0.0), (6.0, 0.0, 8.0)) is None
+    assert GATE.refusal('world', (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)) is None
+
+
+def test_a_held_wrench_times_out_and_zero_holds_it():
+    """The wrench goes when timeout seconds pass after it; a timeout of 0 keeps it."""
+    held = HeldWrench()
+    held.take((1.0, 2.0, 3.0), (0.0, 0.0, 1.0), 1_000_000_000)
+    assert held.wrench == ((1.0, 2.0, 3.0), (0.0, 0.0, 1.0))
+    assert not held.expired(1_500_000_000, 0.5)
+    assert not held.expired(10**15, 0.0)
+    assert held.expired(1_500_000_001, 0.5)
+    assert held.wrench == NO_WRENCH and held.applied is None
+
+
+def test_the_marker_arrow_shows_the_force_from_the_com():
+    """The arrow starts at the COM along F, one longest box edge per body weight; 0 deletes."""
+    simulation = free_simulation()
+    reference = wrench_reference(simulation.settings)
+    assert reference == pytest.approx(MASS * 9.80665)
+    state = simulation.state
+    force = (0.0, 0.5 * reference, 0.0)
+    arrays = [marker_array(frame_id='world', stamp_ns=0, box_size=BOX, state=state,
+                           anchor=(0.0, 0.0, 1.0), target=None, force=(0.0, 0.0, 0.0),
+                           reference=1.0, wrench_force=f, wrench_reference=reference)
+              for f in (force, (0.0, 0.0, 0.0))]
+    arrow = {m.ns: m for m in arrays[0].markers}['wrench']
+    assert arrow.type == Marker.ARROW and arrow.action == Marker.ADD
+    start, end = ((p.x, p.y, p.z) for p in arrow.points)
+    assert start == state.position
+    np.testing.assert_allclose(np.subtract(end, start), (0.0, 0.5 * max(BOX), 0.0))
+    assert {m.ns: m for m in arrays[1].markers}['wrench'].action == Marker.DELETE
+
+
+# The node.
+
+def start_node(ros, namespace='', **overrides) -> MouseConstraintNode:
+    """Start the node in ``ros``'s context, in ``namespace``, with parameter ``overrides``."""
+    return ros.add(MouseConstraintNode(context=ros.context, namespace=namespace,
+                                       parameter_overrides=[
+                                           Parameter(name, value=value)
+                                           for name, value in overrides.items()]))
+
+
+def wrench_message(force, torque, frame_id='world') -> WrenchStamped:
+    """Return a WrenchStamped of ``force`` and ``torque`` in ``frame_id``."""
+    message = WrenchStamped()
+    message.header.frame_id = frame_id
+    f, t = message.wrench.force, message.wrench.torque
+    f.x, f.y, f.z = map(float, force)
+    t.x, t.y, t.z = map(float, torque)
+    return message
+
+
+def call(ros, service_type, name, request):
+    """Call a service from the probe and return the response."""
+    client = ros.probe.create_client(service_type, name)
+    assert client.wait_for_service(timeout_sec=5.0)
+    future = client.call_async(request)
+    assert ros.spin_until(future.done)
+    return future.result()
+
+
+def test_the_node_applies_a_wrench_and_drops_it_after_the_timeout(ros):
+    """A wrench pushes the free body; wrench_timeout after the last one it is removed."""
+    node = start_node(ros, 'pushed', rate_hz=200.0, wrench_timeout=0.3, **FREE)
+    publisher = ros.probe.create_publisher(WrenchStamped, '/pushed/wrench', 10)
+    assert ros.spin_until(lambda: publisher.get_subscription_count() > 0)
+    force = (4.0, 0.0, 0.0)
+    publisher.publish(wrench_message(force, (0.0, 0.0, 0.1), ''))
+    assert ros.spin_until(lambda: node.simulation.wrench != NO_WRENCH, timeout=2.0)
+    assert node.simulation.wrench == (force, (0.0, 0.0, 0.1))
+    assert ros.spin_until(lambda: node.simulation.wrench == NO_WRENCH, timeout=2.0)
+    # Pushed for wrench_timeout (within a tick or two) at F / m, then coasting.
+    speed = node.simulation.state.linear_velocity[0]
+    assert speed == pytest.approx(force[0] / MASS * 0.3, rel=0.1)
+    ros.spin_for(0.2)
+    assert node.simulation.state.linear_velocity[0] == speed
+
+
+def test_hostile_wrenches_change_nothing_bit_for_bit(ros, capfd):
+    """
+    Non-finite, foreign-frame and oversized wrenches are ignored with a warning each.
+
+    The node is paused with a valid wrench applied; after the hostile ones, its simulation
+    steps exactly as a copy taken before them does.
+    """
+    node = start_node(ros, publish_clock=True, max_wrench_force=50.0, max_wrench_torque=5.0,
+                      **FREE)
+    publisher = ros.probe.create_publisher(WrenchStamped, 'wrench', 10)
+    assert ros.spin_until(lambda: publisher.get_subscription_count() > 0)
+    valid = ((1.0, 2.0, 3.0), (0.01, 0.0, 0.0))
+    publisher.publish(wrench_message(*valid))
+    assert ros.spin_until(lambda: node.simulation.wrench == valid, timeout=2.0)
+    assert call(ros, SetBool, '/mouse_constraint/pause', SetBool.Request(data=True)).success
+    reference = copy.deepcopy(node.simulation)
+    hostile = [wrench_message((math.nan, 0.0, 0.0), (0.0, 0.0, 0.0)),
+               wrench_message((0.0, 0.0, 0.0), (0.0, 0.0, math.inf)),
+               wrench_message((1.0, 0.0, 0.0), (0.0, 0.0, 0.0), 'map'),
+               wrench_message((50.1, 0.0, 0.0), (0.0, 0.0, 0.0)),
+               wrench_message((0.0, 0.0, 0.0), (0.0, 5.1, 0.0))]
+    for message in hostile:
+        publisher.publish(message)
+        ros.spin_for(0.05)
+    for _ in range(5):
+        assert call(ros, Trigger, '/mouse_constraint/step', Trigger.Request()).success
+        reference.step(1.0 / 1000.0)
+    assert node.simulation.wrench == valid
+    assert node.simulation.state == reference.state
+    err = capfd.readouterr().err
+    for reason in ('not finite', "in frame 'map'", 'max_wrench_force', 'max_wrench_torque'):
+        assert 'ignoring wrench' in err and reason in err, reason
+
+
+def test_markers_show_the_applied_force(ros):
+    """The node's wrench arrow appears with a force and is deleted after the timeout."""
+    node = start_node(ros, rate_hz=200.0, marker_rate_hz=50.0, wrench_timeout=0.2, **FREE)
+    arrays = ros.collect(MarkerArray, '/mouse_constraint/markers')
+    publisher = ros.probe.create_publisher(WrenchStamped, 'wrench', 10)
+    assert ros.spin_until(lambda: publisher.get_subscription_count() > 0)
+
+    def arrow():
+        return {m.ns: m for m in arrays[-1].markers}['wrench'] if arrays else None
+
+    publisher.publish(wrench_message((0.0, 0.0, 9.0), (0.0, 0.0, 0.0)))
+    assert ros.spin_until(lambda: arrow() is not None and arrow().action == Marker.ADD)
+    start, end = ((p.x, p.y, p.z) for p in arrow().points)
+    length = max(BOX) * 9.0 / wrench_reference(node.simulation.settings)
+    assert end[2] - start[2] == pytest.approx(length)
+    assert ros.spin_until(lambda: arrow().action == Marker.DELETE)
+
+
+def test_the_wrench_cli_pushes_for_its_duration_then_stops(ros):
+    """mouse_wrench: the wrench is applied for --duration, then a zero wrench ends it."""
+    node = start_node(ros, rate_hz=200.0, wrench_timeout=0.0, **FREE)
+    seen = []
+    ros.probe.create_timer(0.01, lambda: seen.append(node.simulation.wrench))
+    process = subprocess.Popen(
+        [sys.executable, '-m', 'mouse_constraint_ros.cli.wrench', '--force', '2', '0', '0',
+         '--torque', '0', '0', '0.5', '--duration', '0.5'],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert ros.spin_until(lambda: process.poll() is not None, timeout=20.0)
+    ros.spin_for(0.2)
+    assert process.returncode == 0, process.stderr.read()
+    pushed = [w for w in seen if w != NO_WRENCH]
+    assert pushed and set(pushed) == {((2.0, 0.0, 0.0), (0.0, 0.0, 0.5))}
+    # About the duration at 10 ms per sample, and nothing after the zero wrench.
+    assert 0.3 <= 0.01 * len(pushed) <= 1.0
+    assert node.simulation.wrench == NO_WRENCH
+    assert 'pushed with force' in process.stdout.read()
+
+
+def test_the_wrench_cli_refuses_what_the_node_would_ignore():
+    """A force over the default max_wrench_force: exit 1 with the reason, nothing sent."""
+    result = subprocess.run(
+        [sys.executable, '-m', 'mouse_constraint_ros.cli.wrench', '--force', '2000', '0', '0'],
+        capture_output=True, text=True, timeout=20.0)
+    assert result.returncode == 1 and 'max_wrench_force' in result.stderr
