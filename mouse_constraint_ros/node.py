@@ -321,7 +321,7 @@ class MouseConstraintNode(Node):
                 f'{self._config.workspace_radius:g} m from the origin of '
                 f'{self._config.frame_id!r}'))
             return
-        self._simulation.target = point
+        self._simulation.set_target(point, time=self._simulation.time)
         self._user_target = True
         self._last_target_ns = self.get_clock().now().nanoseconds
 

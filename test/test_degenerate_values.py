@@ -309,6 +309,12 @@ INVALID = {
     'diagnostics_rate_hz': -1.0,
     'diagnostics_anchor_warn': 0.0,
     'diagnostics_anchor_error': 0.01,
+    'max_force_per_weight': 0.0,
+    'angular_friction': -1.0,
+    'gravity_feed_forward': 1,
+    'max_target_speed': 0.0,
+    'max_target_acceleration': -1.0,
+    'target_feed_forward': 'yes',
 }
 
 
