@@ -191,3 +191,19 @@ def test_target_motion_is_validated():
 def _shipped_settings() -> Settings:
     from test_support.mouse_feel import configured
     return configured({}).settings
+
+
+def test_a_drag_that_stops_ends_on_the_last_point():
+    """Extrapolation runs out 1.5 intervals after the last point: the anchor ends on it."""
+    simulation = MouseSimulation(_shipped_settings())
+    simulation.target = simulation.anchor_position()
+    start = np.array(simulation.anchor_position())
+    for tick in range(2000):
+        if tick % 20 == 0 and tick <= 500:
+            last = tuple(start + (0.001 * tick, 0.0, 0.0))
+            simulation.set_target(last, time=simulation.time)
+        simulation.step(1e-3)
+        if tick == 505:
+            # Still extrapolating the 1 m/s stream.
+            assert simulation.joint_target[0] > last[0]
+    assert math.dist(simulation.anchor_position(), last) < 1e-6

@@ -12,8 +12,8 @@ single point that may land anywhere. Two pieces turn that into what the joint fo
   speed no greater than the guide may move (``TargetMotion.max_speed``); any other point (a
   click, a jump, a point after a pause, a point without a time) starts a new stream of
   velocity zero, so a jump is never mistaken for a huge velocity. Between points the target is
-  extrapolated along the fit for at most 1.5 of the stream's mean interval, and held after
-  (the velocity then reads zero).
+  extrapolated along the fit for at most 1.5 of the stream's mean interval; after that the
+  target is the last point again, at rest (a drag that stops ends where it was last sent).
 - ``Guide`` is the point the joint actually pulls the anchor to: it follows the extrapolated
   target with its speed bounded by ``max_speed`` and its acceleration by ``max_acceleration``
   (time-optimal approach, exact in discrete time: it stops on the target without overshoot or
@@ -143,7 +143,10 @@ class TargetStream:
         times = np.array([t - t_last for t, _ in points])
         degree = 2 if count >= QUADRATIC_SAMPLES else 1
         design = np.vander(times, degree + 1, increasing=True)
-        values = np.array([p for _, p in points])
+        # Offsets from the latest point: a still stream fits to exactly zero, and far
+        # coordinates lose no digits.
+        latest = points[-1][1]
+        values = np.array([[p[i] - latest[i] for i in range(3)] for _, p in points])
         coefficients = np.linalg.lstsq(design, values, rcond=None)[0]
         velocity = tuple(float(c) for c in coefficients[1])
         acceleration = (tuple(float(2.0 * c) for c in coefficients[2]) if degree == 2 else ZERO)
@@ -153,13 +156,14 @@ class TargetStream:
     def predict(self, time: float) -> Tuple[Vector3, Vector3]:
         """Return where the target is at ``time`` and its velocity, extrapolated (s)."""
         t0, p = self._latest
-        ahead = min(max(time - t0, 0.0), self._horizon)
+        ahead = max(time - t0, 0.0)
+        if ahead > self._horizon:
+            # The stream stopped: the target is where it was last sent.
+            return p, ZERO
         v, acc = self._velocity, self._acceleration
         half = 0.5 * ahead * ahead
-        position = tuple(p[i] + v[i] * ahead + acc[i] * half for i in range(3))
-        if time - t0 > self._horizon:
-            return position, ZERO
-        return position, tuple(v[i] + acc[i] * ahead for i in range(3))
+        return (tuple(p[i] + v[i] * ahead + acc[i] * half for i in range(3)),
+                tuple(v[i] + acc[i] * ahead for i in range(3)))
 
     def has_points(self) -> bool:
         """Return True while a timed point is held (predict needs one)."""
