@@ -361,7 +361,7 @@ class MouseConstraintNode(Node):
         if refusal is not None:
             self._warn(refusal.key, lambda: f'ignoring target {refusal.reason}')
             return
-        self._simulation.target = point
+        self._simulation.set_target(point, time=self._simulation.time)
         self._user_target = True
         self._last_target_ns = self._now_ns()
 
@@ -383,9 +383,11 @@ class MouseConstraintNode(Node):
         if reason is not None:
             self._warn('grab anchor', lambda: f'ignoring grab {point}: {reason}')
             return
+        # Untimed: a grab starts a new stream of targets (nothing moves: the target is where
+        # the anchor is).
         self._simulation.target = point
         self._user_target = True
-        self._last_target_ns = self.get_clock().now().nanoseconds
+        self._last_target_ns = self._now_ns()
 
     def _set_anchor(self, anchor: Vector3) -> Optional[str]:
         """

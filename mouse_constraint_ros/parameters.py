@@ -19,6 +19,7 @@ from .physics.algebra import Vector3
 from .physics.limits import (MAX_ACCELERATION, MAX_CONDITION, MAX_DISTANCE, MAX_MASS,
                              MAX_MOMENT, MIN_MASS, MIN_MOMENT)
 from .physics.simulation import check_lever
+from .physics.target_motion import TargetMotion
 from .physics.validation import finite_vector, scalar, shown
 
 # The largest real_time_factor: a million simulated seconds per wall second is beyond what the
@@ -141,6 +142,27 @@ PARAMETERS = (
     ParameterSpec('max_wrench_torque', 100.0,
                   'Wrenches whose torque exceeds this (N m) are ignored, like non-finite ones.',
                   (0.0, math.inf)),
+    ParameterSpec('max_force_per_weight', 20.0,
+                  'Bound on the constraint force in body weights, mass |gravity| (standard '
+                  'gravity when gravity is zero); .inf = none. Applies with max_force.',
+                  (0.0, math.inf)),
+    ParameterSpec('angular_friction', 0.25,
+                  'Angular friction while a target is held: the spin is stopped by a torque of '
+                  'at most this times mass |gravity| sqrt(I_mean / mass) (N m); 0 = none.',
+                  (0.0, math.inf)),
+    ParameterSpec('gravity_feed_forward', True,
+                  'Soft mode: the joint carries the weight outright, so the spring does not sag '
+                  'by |gravity| / (2 pi frequency_hz)^2.'),
+    ParameterSpec('max_target_speed', 2.0,
+                  'The point the joint pulls to moves toward the target at most this fast '
+                  '(m/s); a click carries the body over instead of flinging it. .inf with '
+                  'max_target_acceleration .inf: the joint pulls at the target itself.',
+                  (0.0, math.inf)),
+    ParameterSpec('max_target_acceleration', 20.0,
+                  'Acceleration bound of that point (m/s^2); .inf = none.', (0.0, math.inf)),
+    ParameterSpec('target_feed_forward', True,
+                  'Estimate the velocity of streamed targets (a drag) from their arrival times '
+                  'and let the joint follow it, so a drag does not lag.'),
 )
 
 DEFAULTS = {p.name: p.default for p in PARAMETERS}
@@ -208,11 +230,17 @@ def _configuration_from(values: Mapping[str, Any]) -> NodeConfig:
     constraint = MouseConstraint(
         anchor=values['anchor'], baumgarte=values['baumgarte'],
         frequency_hz=values['frequency_hz'], damping_ratio=values['damping_ratio'],
-        max_force=values['max_force'])
+        max_force=values['max_force'], max_force_per_weight=values['max_force_per_weight'],
+        angular_friction=values['angular_friction'],
+        gravity_feed_forward=_flag(values, 'gravity_feed_forward'))
+    motion = TargetMotion(max_speed=values['max_target_speed'],
+                          max_acceleration=values['max_target_acceleration'],
+                          feed_forward=_flag(values, 'target_feed_forward'))
     check_lever(body, constraint.anchor, body_name=body_name)
     settings = Settings(body, constraint, gravity=values['gravity'],
                         linear_damping=values['linear_damping'],
-                        angular_damping=values['angular_damping'], substeps=substeps)
+                        angular_damping=values['angular_damping'], substeps=substeps,
+                        target_motion=motion)
     initial_state = BodyState(values['initial_position'],
                               values['initial_orientation']).validated(prefix='initial_')
     frame_id = values['frame_id']
@@ -286,6 +314,14 @@ def _simulator_controls(values: Mapping[str, Any]) -> dict:
         'max_wrench_torque': scalar('max_wrench_torque', values['max_wrench_torque'],
                                     at_least=0.0),
     }
+
+
+def _flag(values: Mapping[str, Any], name: str) -> bool:
+    """Return the boolean parameter ``name``, or raise ValueError naming it."""
+    value = values[name]
+    if not isinstance(value, bool):
+        raise ValueError(f'{name} must be true or false, got {shown(value)}')
+    return value
 
 
 def _bounded(name: str, value: Any) -> float:

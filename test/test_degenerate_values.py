@@ -319,6 +319,12 @@ INVALID = {
     'wrench_timeout': math.nan,
     'max_wrench_force': -1.0,
     'max_wrench_torque': -math.inf,
+    'max_force_per_weight': 0.0,
+    'angular_friction': -1.0,
+    'gravity_feed_forward': 1,
+    'max_target_speed': 0.0,
+    'max_target_acceleration': -1.0,
+    'target_feed_forward': 'yes',
 }
 
 

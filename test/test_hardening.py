@@ -140,7 +140,7 @@ def replay_in_core(ticks: int) -> list:
     for k in range(ticks):
         now = SIM_START_NS + k * SIM_PERIOD_NS
         if k in VALID_TARGETS:
-            simulation.target = VALID_TARGETS[k][0]
+            simulation.set_target(VALID_TARGETS[k][0], time=simulation.time)
             last_target_ns = now - SIM_PERIOD_NS
         if last_target_ns is not None and now - last_target_ns > timeout_ns:
             simulation.target = None
@@ -226,6 +226,12 @@ def test_bad_targets_change_nothing_bit_for_bit(ros):
     assert all(math.isfinite(c) for s in expected for c in (*s.position, *s.orientation))
 
 
+# The seed's joint (no guide, no force bound in weights, no angular friction): the jump is
+# served by the core's correction turn limit alone.
+SEED_JOINT = {'max_target_speed': math.inf, 'max_target_acceleration': math.inf,
+              'max_force_per_weight': math.inf, 'angular_friction': 0.0}
+
+
 def test_a_1_km_jump_inside_the_workspace_is_served_and_stays_finite(ros):
     """
     A 1 km jump inside the default workspace_radius (10 km) is a valid target.
@@ -236,7 +242,8 @@ def test_a_1_km_jump_inside_the_workspace_is_served_and_stays_finite(ros):
     """
     node = ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
         Parameter('use_sim_time', value=True), Parameter('rate_hz', value=SIM_RATE),
-        Parameter('linear_damping', value=5.0), Parameter('angular_damping', value=5.0)]))
+        Parameter('linear_damping', value=5.0), Parameter('angular_damping', value=5.0),
+        *(Parameter(name, value=value) for name, value in SEED_JOINT.items())]))
     handled = count_targets(node)
     poses = ros.collect(PoseStamped, '/pose', depth=1000)
     publisher = ros.probe.create_publisher(PointStamped, '/target', 10)
@@ -248,14 +255,14 @@ def test_a_1_km_jump_inside_the_workspace_is_served_and_stays_finite(ros):
     far, home = (1000.0, 0.0, 1.0), (0.2, 0.1, 1.05)
     targets = {1: far, 200: home}
     config = node_config(dict(DEFAULTS, rate_hz=SIM_RATE, linear_damping=5.0,
-                              angular_damping=5.0))
+                              angular_damping=5.0, **SEED_JOINT))
     core = MouseSimulation(config.settings, config.initial_state)
     core.target = config.initial_anchor()
     for k in range(550):
         if k in targets:
             publisher.publish(point_message(targets[k], 'world', 0))
             assert ros.spin_until(lambda: len(handled) == len([t for t in targets if t <= k]))
-            core.target = targets[k]
+            core.set_target(targets[k], time=core.time)
         message = Clock()
         message.clock.sec, message.clock.nanosec = divmod(SIM_START_NS + k * SIM_PERIOD_NS, NS)
         clock.publish(message)

@@ -47,6 +47,16 @@ class MouseConstraint:
     :param frequency_hz: soft mode's natural frequency f (Hz); 0 selects rigid mode.
     :param damping_ratio: soft mode's damping ratio zeta (1 = critical).
     :param max_force: bound on the constraint force's norm (N); +inf for unlimited.
+    :param max_force_per_weight: a second bound on it, in body weights: k m |g| (N), with the
+        standard gravity's norm when gravity is zero, so that a weightless body is not held by
+        a dead joint; +inf for none. It scales with the mass, as Box2D's and Bounce's samples
+        scale theirs, so a light and a heavy body are dragged alike.
+    :param angular_friction: c >= 0 of the angular friction that acts while a target is held:
+        an angular impulse that stops the body's spin, bounded by the torque
+        c m |g| sqrt(I_mean / m) (N m), I_mean the mean principal moment (Box2D v3.2's samples
+        bound their velocity torque so with c = 0.25); 0 for none.
+    :param gravity_feed_forward: soft mode: the joint carries the weight's pull on the anchor
+        outright, so the spring does not sag by g / omega^2 (rigid mode carries it anyway).
     """
 
     anchor: Vector3 = (0.0, 0.0, 0.0)
@@ -54,6 +64,9 @@ class MouseConstraint:
     frequency_hz: float = 0.0
     damping_ratio: float = 1.0
     max_force: float = math.inf
+    max_force_per_weight: float = math.inf
+    angular_friction: float = 0.0
+    gravity_feed_forward: bool = False
 
     def __post_init__(self) -> None:
         """Validate every field; raise ValueError naming the first invalid one."""
@@ -71,6 +84,13 @@ class MouseConstraint:
             'damping_ratio', self.damping_ratio, at_least=0.0, at_most=MAX_DAMPING_RATIO))
         object.__setattr__(self, 'max_force',
                            scalar('max_force', self.max_force, above=0.0, allow_inf=True))
+        object.__setattr__(self, 'max_force_per_weight', scalar(
+            'max_force_per_weight', self.max_force_per_weight, above=0.0, allow_inf=True))
+        object.__setattr__(self, 'angular_friction', scalar(
+            'angular_friction', self.angular_friction, at_least=0.0))
+        if not isinstance(self.gravity_feed_forward, bool):
+            raise ValueError('gravity_feed_forward must be true or false, got '
+                             f'{shown(self.gravity_feed_forward)}')
 
     @property
     def rigid(self) -> bool:

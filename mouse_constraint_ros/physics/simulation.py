@@ -27,6 +27,7 @@ from .gyroscopic import gyroscopic_step
 from .limits import MAX_ACCELERATION, MAX_CONDITION, MAX_STEP, MIN_STEP
 from .mouse_joint import effective_mass, MouseConstraint
 from .state import BodyState
+from .target_motion import Guide, TargetMotion, TargetStream
 from .validation import finite_vector, norm, scalar, shown
 
 STANDARD_GRAVITY: Vector3 = (0.0, 0.0, -9.80665)
@@ -59,6 +60,8 @@ class Settings:
 
     The body and the constraint's anchor must suit each other: see ``check_lever``.
     :param substeps: equal substeps per ``step`` call (>= 1).
+    :param target_motion: how the target handed to the joint moves (``target_motion``): the
+        default hands the target over as given, with zero velocity (the seed's joint).
     """
 
     body: RigidBody
@@ -67,6 +70,7 @@ class Settings:
     linear_damping: float = 0.0
     angular_damping: float = 0.0
     substeps: int = 1
+    target_motion: TargetMotion = TargetMotion()
 
     def __post_init__(self) -> None:
         """Validate every field; raise ValueError naming the first invalid one."""
@@ -89,6 +93,9 @@ class Settings:
         if isinstance(self.substeps, bool) or not isinstance(self.substeps, int) \
                 or self.substeps < 1:
             raise ValueError(f'substeps must be an integer >= 1, got {shown(self.substeps)}')
+        if not isinstance(self.target_motion, TargetMotion):
+            raise ValueError(
+                f'target_motion must be a TargetMotion, got {shown(self.target_motion)}')
 
 
 def check_lever(body: RigidBody, anchor: Vector3, *, body_name: str = 'body of mass') -> None:
@@ -133,6 +140,12 @@ class MouseSimulation:
         self._target: Optional[Vector3] = None
         self._constraint_force: Vector3 = ZERO
         self._wrench: Tuple[Vector3, Vector3] = (ZERO, ZERO)
+        self._friction_torque = 0.0
+        # Simulated time (s): the sum of the steps taken; targets' arrival times are on it.
+        self._time = 0.0
+        self._stream = TargetStream()
+        # The bounded-slew point the joint pulls to (None: not started, or no guide).
+        self._guide: Optional[Guide] = None
         # False until the velocities of a given state have been moved back half a substep.
         self._staggered = False
         self._cache_for: Tuple[Optional[Settings], float] = (None, 0.0)
@@ -170,7 +183,48 @@ class MouseSimulation:
 
     @target.setter
     def target(self, target: Optional[Vector3]) -> None:
-        self._target = None if target is None else finite_vector('target', target)
+        self.set_target(target)
+
+    def set_target(self, target: Optional[Vector3], *, time: Optional[float] = None) -> None:
+        """
+        Set the target, which arrived at ``time`` (s of simulated time, see ``time``).
+
+        Timed targets form a stream whose velocity the joint follows with
+        ``TargetMotion.feed_forward``; a target without a time (as ``target = point`` sets)
+        is a jump. None frees the body.
+        """
+        if target is None:
+            self._target = None
+            self._stream.clear()
+            self._guide = None
+            return
+        target = finite_vector('target', target)
+        if time is not None:
+            time = scalar('time', time)
+        self._target = target
+        self._stream.add(target, time, self._settings.target_motion.max_speed)
+
+    @property
+    def time(self) -> float:
+        """Return the simulated seconds so far: the sum of every step's dt."""
+        return self._time
+
+    @property
+    def joint_target(self) -> Optional[Vector3]:
+        """Return where the joint pulls the anchor now: the guide, or else the target."""
+        if self._target is None:
+            return None
+        return self._target if self._guide is None else self._guide.position
+
+    @property
+    def target_velocity(self) -> Vector3:
+        """Return the velocity estimated from the stream of timed targets (m/s)."""
+        return self._stream.velocity
+
+    @property
+    def friction_torque(self) -> float:
+        """Return the norm of the angular friction's torque in the last substep (N m)."""
+        return self._friction_torque
 
     @property
     def wrench(self) -> Tuple[Vector3, Vector3]:
@@ -203,13 +257,17 @@ class MouseSimulation:
         """Replace the current state (validated; the orientation is normalized)."""
         self._state = state.validated()
         self._staggered = False
+        self._guide = None
 
     def reset(self) -> None:
         """Return to the initial state and drop the target."""
         self._state = self._initial_state
         self._staggered = False
         self._target = None
+        self._stream.clear()
+        self._guide = None
         self._constraint_force = ZERO
+        self._friction_torque = 0.0
 
     def kinetic_energy(self) -> float:
         """Return the body's kinetic energy (J)."""
@@ -243,15 +301,53 @@ class MouseSimulation:
         (px, py, pz), q, v, w = self._state
         impulse = ZERO
         velocities = self._velocities
-        for _ in range(settings.substeps):
-            v, w, impulse = velocities(px, py, pz, q, v, w, h, coefficients)
+        time = self._time
+        for index in range(settings.substeps):
+            joint = self._joint_target(px, py, pz, q, v, w, time + index * h, h)
+            v, w, impulse = velocities(px, py, pz, q, v, w, h, coefficients, joint)
             px += h * v[0]
             py += h * v[1]
             pz += h * v[2]
             q = integrate_orientation(q, w, h)
         self._state = BodyState((px, py, pz), q, v, w)
         self._constraint_force = (impulse[0] / h, impulse[1] / h, impulse[2] / h)
+        self._time = time + dt
         return self._state
+
+    def _joint_target(self, px: float, py: float, pz: float, q, v: Vector3, w: Vector3,
+                      time: float, h: float) -> Optional[Tuple[Vector3, Optional[Vector3]]]:
+        """
+        Return the point the joint pulls to over the substep from ``time``, and its velocity.
+
+        The velocity is None unless the settings feed it forward. With a guide the point is the
+        guide's position at ``time`` and the velocity the one that carries it over the substep,
+        so that a rigid joint's error still decays as (1 - delta) per substep.
+        """
+        target = self._target
+        if target is None:
+            return None
+        motion = self._settings.target_motion
+        stream = self._stream
+        if motion.feed_forward and stream.has_points():
+            goal, goal_velocity = stream.predict(time)
+        else:
+            goal, goal_velocity = target, ZERO
+        if not motion.guided:
+            self._guide = None
+            return goal, (goal_velocity if motion.feed_forward else None)
+        guide = self._guide
+        if guide is None:
+            # Picked up where the anchor is, moving as it moves (within the speed bound).
+            rx, ry, rz = multiply(self._settings.constraint.anchor, rotation_matrix(q))
+            ux, uy, uz = (v[0] + w[1] * rz - w[2] * ry, v[1] + w[2] * rx - w[0] * rz,
+                          v[2] + w[0] * ry - w[1] * rx)
+            speed = math.sqrt(ux * ux + uy * uy + uz * uz)
+            if speed > motion.max_speed:
+                ux, uy, uz = (c * motion.max_speed / speed for c in (ux, uy, uz))
+            guide = self._guide = Guide((px + rx, py + ry, pz + rz), (ux, uy, uz))
+        position = guide.position
+        guide.advance(goal, goal_velocity, h, motion.max_speed, motion.max_acceleration)
+        return position, (guide.velocity if motion.feed_forward else None)
 
     def _stagger(self, h: float) -> None:
         """
@@ -268,17 +364,26 @@ class MouseSimulation:
         the finite differences of the published poses.
         """
         (px, py, pz), q, v, w = self._state
+        target = self._target if self._guide is None else self._guide.position
+        joint = None if target is None else (target, None)
         v, w, _ = self._velocities(px, py, pz, q, v, w, -0.5 * h,
-                                   self._coefficients(self._settings, -0.5 * h, start=True))
+                                   self._coefficients(self._settings, -0.5 * h, start=True),
+                                   joint)
         self._state = BodyState((px, py, pz), q, v, w)
         self._staggered = True
 
     def _velocities(self, px: float, py: float, pz: float, q, v: Vector3, w: Vector3, h: float,
-                    coefficients: Tuple[float, ...]):
-        """Return the velocities after a substep's velocity stage, and the constraint impulse."""
-        gx, gy, gz, linear_decay, angular_decay, a, b, max_impulse = coefficients
+                    coefficients: Tuple[float, ...],
+                    joint: Optional[Tuple[Vector3, Optional[Vector3]]]):
+        """
+        Return the velocities after a substep's velocity stage, and the constraint impulse.
+
+        :param joint: None for a free body, else the point the anchor is pulled to and the
+            velocity it moves at (None: the seed's joint, which takes it as still).
+        """
+        gx, gy, gz, linear_decay, angular_decay, a, b, max_impulse, max_turn_impulse, carry = \
+            coefficients
         body = self._settings.body
-        target = self._target
         rotation = rotation_matrix(q)
         (fx, fy, fz), torque = self._wrench
         kick = h * body.inverse_mass
@@ -292,12 +397,25 @@ class MouseSimulation:
                                             body.inverse_inertia)
             w_body = (w_body[0] + h * ax, w_body[1] + h * ay, w_body[2] + h * az)
         w_body = gyroscopic_step(body.inertia, w_body, h)
+        if joint is not None and max_turn_impulse > 0.0:
+            # Angular friction: the angular impulse that stops the spin, I w, within its bound;
+            # it scales w, as I w and w differ by the positive definite I.
+            spin = math.sqrt(sum(c * c for c in multiply_symmetric(w_body, body.inertia)))
+            if spin > 0.0:
+                kept = max(0.0, 1.0 - max_turn_impulse / spin)
+                self._friction_torque = spin * (1.0 - kept) / abs(h)
+                w_body = (w_body[0] * kept, w_body[1] * kept, w_body[2] * kept)
+            else:
+                self._friction_torque = 0.0
+        elif h > 0.0:
+            self._friction_torque = 0.0
         wx, wy, wz = multiply(w_body, rotation)
         wx *= angular_decay
         wy *= angular_decay
         wz *= angular_decay
-        if target is None:
+        if joint is None:
             return (vx, vy, vz), (wx, wy, wz), ZERO
+        target, target_velocity = joint
         inverse_mass = body.inverse_mass
         inverse_inertia = congruence(rotation, body.inverse_inertia)
         rx, ry, rz = multiply(self._settings.constraint.anchor, rotation)
@@ -308,6 +426,11 @@ class MouseSimulation:
         jvx = vx + wy * rz - wz * ry
         jvy = vy + wz * rx - wx * rz
         jvz = vz + wx * ry - wy * rx
+        if target_velocity is not None:
+            # The joint follows the target's motion: J V - v_target is driven to zero.
+            jvx -= target_velocity[0]
+            jvy -= target_velocity[1]
+            jvz -= target_velocity[2]
         factor = cholesky(effective_mass(inverse_mass, inverse_inertia, (rx, ry, rz)))
         # The position correction -K^-1 b C, limited in the turn it asks of a substep.
         bx, by, bz = solve_cholesky(factor, (-b * cx, -b * cy, -b * cz))
@@ -319,7 +442,14 @@ class MouseSimulation:
             bx *= scale
             by *= scale
             bz *= scale
-        ix, iy, iz = solve_cholesky(factor, (-a * jvx, -a * jvy, -a * jvz))
+        if carry > 0.0:
+            # Gravity feed-forward: the share 1 - a of this substep's g h that the spring's
+            # velocity term leaves is removed too, so the weight does not sag a soft spring
+            # (g / omega^2 otherwise); 1 - a = 0 in rigid mode, which carries it anyway.
+            ix, iy, iz = solve_cholesky(factor, (-a * jvx - carry * gx, -a * jvy - carry * gy,
+                                                 -a * jvz - carry * gz))
+        else:
+            ix, iy, iz = solve_cholesky(factor, (-a * jvx, -a * jvy, -a * jvz))
         ix += bx
         iy += by
         iz += bz
@@ -360,7 +490,33 @@ class MouseSimulation:
             a, b = -damping, omega * omega * h
         return (gx * h, gy * h, gz * h, _decay(settings.linear_damping, h, start),
                 _decay(settings.angular_damping, h, start), a, b,
-                settings.constraint.max_force * abs(h))
+                force_bound(settings) * abs(h),
+                0.0 if start else friction_torque_bound(settings) * abs(h),
+                1.0 - a if constraint.gravity_feed_forward and not start else 0.0)
+
+
+def weight_scale(settings: Settings) -> float:
+    """Return m |g| (N), with the standard gravity's norm when gravity is zero."""
+    gravity = norm(settings.gravity) or norm(STANDARD_GRAVITY)
+    return settings.body.mass * gravity
+
+
+def force_bound(settings: Settings) -> float:
+    """Return the bound on the constraint force (N): max_force and max_force_per_weight m g."""
+    constraint = settings.constraint
+    if math.isinf(constraint.max_force_per_weight):
+        return constraint.max_force
+    return min(constraint.max_force, constraint.max_force_per_weight * weight_scale(settings))
+
+
+def friction_torque_bound(settings: Settings) -> float:
+    """Return the angular friction's torque bound c m |g| sqrt(I_mean / m) (N m)."""
+    friction = settings.constraint.angular_friction
+    if friction == 0.0:
+        return 0.0
+    body = settings.body
+    gyration = math.sqrt(sum(body.principal_moments) / 3.0 / body.mass)
+    return friction * weight_scale(settings) * gyration
 
 
 def _decay(rate: float, h: float, start: bool) -> float:

@@ -1,0 +1,66 @@
+"""
+How a click and a drag move the body, for the joints users know and for the shipped defaults.
+
+Prints the tables of docs/dragging.md: ``python bench/mouse_feel.py`` (a few seconds per row;
+pure core, no ROS). Each row is config/params.yaml as shipped with the overrides named.
+"""
+
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+from test_support.mouse_feel import circle, click, seed_joint, SOFT  # noqa: E402
+
+UNGUIDED = {'max_target_speed': math.inf, 'max_target_acceleration': math.inf}
+NO_BOUNDS = {'max_force_per_weight': math.inf, 'angular_friction': 0.0}
+
+CLICKS = [
+    ('seed joint (rigid, unbounded)', seed_joint()),
+    ('Box2D v3.2 sample: soft 7.5 Hz, zeta 1, 100 m g, friction 0.25',
+     {**UNGUIDED, **SOFT, 'max_force_per_weight': 100.0, 'gravity_feed_forward': False}),
+    ('Bounce: soft 6 Hz, zeta 0.8, 20 m g',
+     {**UNGUIDED, **NO_BOUNDS, 'frequency_hz': 6.0, 'damping_ratio': 0.8,
+      'max_force_per_weight': 20.0, 'gravity_feed_forward': False}),
+    ('Jolt sample: soft 2 Hz, zeta 1',
+     {**UNGUIDED, **NO_BOUNDS, 'frequency_hz': 2.0, 'gravity_feed_forward': False}),
+    ('rigid, 20 m g, friction 0.25, no guide', UNGUIDED),
+    ('soft 7.5 Hz + guide + gravity feed-forward', SOFT),
+    ('shipped: rigid + guide 2 m/s, 20 m/s^2, 20 m g, friction 0.25', {}),
+    ('shipped, 0.01 kg body', {'mass': 0.01}),
+    ('shipped, 100 kg body', {'mass': 100.0}),
+]
+
+DRAGS = [
+    ('rigid, no guide', UNGUIDED, 0.0),
+    ('soft 7.5 Hz, no guide', {**UNGUIDED, **SOFT}, 0.0),
+    ('soft 7.5 Hz, no guide, arrivals up to 5 ms late', {**UNGUIDED, **SOFT}, 0.005),
+    ('soft 7.5 Hz + guide', SOFT, 0.0),
+    ('shipped (rigid + guide)', {}, 0.0),
+]
+
+
+def main() -> None:
+    """Print both tables as Markdown."""
+    print('## A 0.5 m click (body hanging from its corner, config/params.yaml)\n')
+    print('| joint | peak COM speed (m/s) | peak angular speed (rad/s) | anchor error at 1.5 s '
+          '(mm) | max after 1.5 s (mm) | max in the last second (mm) |')
+    print('| --- | --- | --- | --- | --- | --- |')
+    for label, overrides in CLICKS:
+        r = click(overrides)
+        print(f'| {label} | {r.peak_speed:.3g} | {r.peak_angular_speed:.3g} | '
+              f'{r.error_at_settle * 1e3:.3g} | {r.error_after_settle * 1e3:.3g} | '
+              f'{r.error_last_second * 1e3:.3g} |')
+    print('\n## A drag: target circling at 1 m/s (radius 0.25 m), streamed at 50 Hz\n')
+    print('| joint | RMS error without feed-forward (mm) | with (mm) | ratio |')
+    print('| --- | --- | --- | --- |')
+    for label, overrides, jitter in DRAGS:
+        without = circle(overrides, jitter=jitter, target_feed_forward=False)
+        with_ff = circle(overrides, jitter=jitter)
+        print(f'| {label} | {without * 1e3:.3g} | {with_ff * 1e3:.3g} | '
+              f'{without / with_ff:.3g} |')
+
+
+if __name__ == '__main__':
+    main()
