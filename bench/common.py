@@ -211,7 +211,7 @@ def results_markdown(results: dict) -> str:
     lines = [
         '# Benchmarks',
         '',
-        f'Written by `bench/run_all.py` on {machine["date"]} (commit {machine["commit"]}, '
+        f'Written by `python -m bench.run_all` on {machine["date"]} (commit {machine["commit"]}, '
         '"-dirty": uncommitted changes in the tree); '
         f'the raw numbers are in `results.json`.',
         '',
