@@ -5,7 +5,7 @@
 #   make test-unit  only the unit tier (pure code, no rclpy context, no process): seconds
 #   make lint   flake8 (ament_flake8 settings, see .flake8)
 #   make run    run the node with config/params.yaml
-#   make bench  run bench/run_all.py
+#   make bench  run the benchmark suite (python -m bench.run_all): bench/results.md, .json
 #   make demo   run the node, drive a circle and a jump, record: demo/figure.png
 #   make clean  remove .venv and build artefacts
 
@@ -69,8 +69,9 @@ $(BENCH_STAMP): $(STAMP) $(BENCH_REQS)
 	$(PIP) install -r $(BENCH_REQS)
 	@touch $@
 
+# From the repository's root, so that bench/ and test_support/ import as packages.
 bench: bench-venv
-	$(VPY) bench/run_all.py $(BENCH_ARGS)
+	$(VPY) -m bench.run_all $(BENCH_ARGS)
 
 # The node, mouse_target (a circle, then a jump) and mouse_record; see demo/run_demo.sh.
 demo: venv

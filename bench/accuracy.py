@@ -1,5 +1,7 @@
 """
-Part 4, accuracy: the box hung by its corner against the exact motion (test/reference_dynamics).
+Accuracy: the box hung by its corner against the exact motion.
+
+The exact motion is ``test_support.reference_dynamics``.
 
 The solid box (2 kg, 0.4 x 0.2 x 0.1 m) hangs by its corner (0.2, 0.1, 0.05) from a fixed point,
 gravity 9.81, released at rest 5 degrees from hanging (tilted about x). Each engine steps at the
@@ -17,12 +19,13 @@ tick (1/240 s or 1/1000 s) for 60 s:
 import math
 import time
 
-import common
-import engines
+from bench import common
+from bench import engines
 import numpy as np
 from scipy.spatial.transform import Rotation
 
 from mouse_constraint_ros.physics import BodyState, MouseConstraint, RigidBody
+from test_support import reference_dynamics
 
 TILT_DEGREES = 5.0
 PIVOT = (0.0, 0.0, 1.0)
@@ -34,24 +37,17 @@ TICKS = (('1/240 s', 1.0 / 240.0), ('1/1000 s', 0.001))
 SUBSTEPS = (1, 2, 4, 5, 8)
 TARGET_RMS_MM = 0.01
 TARGET_DRIFT_UM = 0.1
-# The issue's figures for the peers (same scene), quoted next to ours.
-ISSUE = {
-    ('PyBullet multibody', 0.001): '0.040 mm, 0.25 um',
-    ('MuJoCo connect, solref 0.002', 0.001): '0.041 mm, 4.4 um',
-    ('PyBullet multibody', 1.0 / 240.0): '0.17 mm',
-}
 
 
 def scene():
     """Return the body, gravity, the released state and the pivot."""
-    reference = common.reference_dynamics()
     body = RigidBody.solid_box(common.BOX_MASS, common.BOX_EXTENTS)
     anchor = np.array(common.CORNER)
     orientation = (Rotation.from_rotvec([math.radians(TILT_DEGREES), 0.0, 0.0])
-                   * reference.hanging_rotation(anchor))
+                   * reference_dynamics.hanging_rotation(anchor))
     pivot = np.array(PIVOT)
     state = BodyState(tuple(pivot - orientation.apply(anchor)), tuple(orientation.as_quat()))
-    return body, (0.0, 0.0, -reference.GRAVITY), state, orientation
+    return body, (0.0, 0.0, -reference_dynamics.GRAVITY), state, orientation
 
 
 def _engines(body, gravity, state, h: float, quick: bool):
@@ -75,7 +71,6 @@ def _engines(body, gravity, state, h: float, quick: bool):
 
 def run(quick: bool = False) -> dict:
     start = time.perf_counter()
-    reference = common.reference_dynamics()
     body, gravity, state, orientation = scene()
     energy_seconds = 10.0 if quick else ENERGY_SECONDS
     hanging_z = PIVOT[2] - float(np.linalg.norm(common.CORNER))
@@ -84,8 +79,8 @@ def run(quick: bool = False) -> dict:
         error_ticks = int(round(ERROR_SECONDS / h))
         ticks = int(round(energy_seconds / h))
         times = h * np.arange(error_ticks + 1)
-        exact = reference.pendulum_com_path(body.mass, body.inertia, common.CORNER,
-                                            np.array(PIVOT), orientation, times)
+        exact = reference_dynamics.pendulum_com_path(
+            body.mass, body.inertia, common.CORNER, np.array(PIVOT), orientation, times)
         for name, substeps, factory in _engines(body, gravity, state, h, quick):
             engine = factory()
             name = name or engine.name
@@ -111,7 +106,6 @@ def run(quick: bool = False) -> dict:
                 'energy_max_rel': float(np.max(np.abs(energy - energy[0]))) / swing,
                 'energy_trend_rel': (np.mean(energy[-window:]) - np.mean(energy[:window])) / swing,
                 'finite': bool(np.all(np.isfinite(states))),
-                'issue': ISSUE.get((name, h), ''),
                 'wall_s': wall,
             })
     notes = []
@@ -141,7 +135,7 @@ def run(quick: bool = False) -> dict:
         'pendulum needs about 20 N); damping and sleeping are turned off in both engines.',
     ]
     return {
-        'title': '4. Accuracy: box hung by its corner, released 5 deg from hanging',
+        'title': 'Accuracy: box hung by its corner, released 5 deg from hanging',
         'text': (f'COM RMS error and anchor drift over {ERROR_SECONDS:g} s against the exact '
                  f'motion; energy over {energy_seconds:g} s. Each engine steps at the tick '
                  '(its own timestep = the tick); ours with the defaults a user gets (rigid, '
@@ -150,8 +144,7 @@ def run(quick: bool = False) -> dict:
                     ['com_rms_mm', 'COM RMS (mm)', '.4f'], ['com_max_mm', 'COM max (mm)', '.4f'],
                     ['drift_um', 'anchor drift max (um)', '.3f'],
                     ['energy_max_rel', 'energy max dev', '.1e'],
-                    ['energy_trend_rel', 'energy trend', '.1e'],
-                    ['issue', "issue's figure", '']],
+                    ['energy_trend_rel', 'energy trend', '.1e']],
         'rows': rows,
         'notes': notes,
         'elapsed_s': time.perf_counter() - start,

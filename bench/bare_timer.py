@@ -2,7 +2,8 @@
 """
 A bare rclpy timer that publishes one PoseStamped per tick: the floor under the node's cost.
 
-``bare_timer.py --rate 1000 --executor single|events|events-until|events-spin [--twist]`` runs
+``python -m bench.bare_timer --rate 1000 --executor single|events|events-until|events-spin
+[--twist]`` runs
 until SIGINT/SIGTERM. Each tick stamps the message with the clock and publishes it on ``pose``
 (the node's QoS); no physics; with ``--twist`` also a TwistStamped on ``twist``, as the node
 publishes both. The executors:
@@ -12,8 +13,13 @@ publishes both. The executors:
   ``mouse_constraint_node`` spins;
 - ``events-until``: the same executor, ``spin_until_future_complete(never_done,
   timeout_sec=0.1)`` in a loop: every event due within the 0.1 s in one call;
-- ``events-spin``: the same executor's ``spin()``, which busy-waits in rclpy 7.1.6 and does
-  not return to Python between callbacks, so this variant ends by the signals' default action.
+- ``events-spin``: the same executor's ``spin()``, which (in the rclpy of the results' machine
+  facts) busy-waits and does not return to Python between callbacks, so this variant ends by
+  the signals' default action.
+
+The node benchmarks use ``events --twist``: the executor and spin loop of ``node.main``, and
+the two state topics the node publishes, so that the node's figures divided by this one's
+leave what the node itself adds.
 """
 
 import argparse

@@ -10,7 +10,7 @@ A benchmark module exposes ``run(quick: bool) -> dict`` returning a *section*:
 - ``rows``: a list of dicts keyed by the column keys (a missing or None value prints as '-');
 - ``notes``: a list of strings printed under the table.
 
-``run_all.py`` collects the sections under their module names and writes both files.
+``bench.run_all`` collects the sections under their module names and writes both files.
 """
 
 import datetime
@@ -31,7 +31,6 @@ from typing import Callable, Dict, List, Optional, Sequence
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-TEST_DIR = ROOT / 'test'
 
 # The peers a benchmark may compare with: import name -> distribution name on PyPI.
 PEERS = {'pybullet': 'pybullet', 'mujoco': 'mujoco'}
@@ -67,13 +66,6 @@ def peer_versions() -> Dict[str, str]:
         except importlib.metadata.PackageNotFoundError:
             versions[module] = getattr(sys.modules[module], '__version__', 'unknown')
     return versions
-
-
-def reference_dynamics():
-    """Import ``test/reference_dynamics.py`` (the exact scipy reference) and return it."""
-    if str(TEST_DIR) not in sys.path:
-        sys.path.insert(0, str(TEST_DIR))
-    return importlib.import_module('reference_dynamics')
 
 
 def per_call_microseconds(loop: Callable[[int], None], calls: int) -> float:
@@ -150,10 +142,13 @@ def machine_info() -> dict:
         usable = len(os.sched_getaffinity(0))
     except AttributeError:
         usable = os.cpu_count()
-    try:
-        scipy_version = importlib.metadata.version('scipy')
-    except importlib.metadata.PackageNotFoundError:
-        scipy_version = 'not installed'
+
+    def version(distribution: str) -> str:
+        try:
+            return importlib.metadata.version(distribution)
+        except importlib.metadata.PackageNotFoundError:
+            return 'not installed'
+
     return {
         'cpu': _cpu_model(),
         'cores': os.cpu_count(),
@@ -162,7 +157,8 @@ def machine_info() -> dict:
         'python': platform.python_version(),
         'python_implementation': platform.python_implementation(),
         'numpy': np.__version__,
-        'scipy': scipy_version,
+        'scipy': version('scipy'),
+        'rclpy': version('rclpy'),
         'peers': peer_versions(),
         'load_average_at_start': list(os.getloadavg()),
         'openblas_env': {k: os.environ[k] for k in ('OPENBLAS_CORETYPE', 'OPENBLAS_L2_SIZE')
@@ -215,13 +211,13 @@ def results_markdown(results: dict) -> str:
     lines = [
         '# Benchmarks',
         '',
-        f'Written by `bench/run_all.py` on {machine["date"]} (commit {machine["commit"]}, '
+        f'Written by `python -m bench.run_all` on {machine["date"]} (commit {machine["commit"]}, '
         '"-dirty": uncommitted changes in the tree); '
         f'the raw numbers are in `results.json`.',
         '',
         f'- CPU: {machine["cpu"]}, {machine["cores"]} cores ({machine["cores_usable"]} usable)',
         f'- {machine["python_implementation"]} {machine["python"]}, numpy {machine["numpy"]}, '
-        f'scipy {machine["scipy"]}',
+        f'scipy {machine["scipy"]}, rclpy {machine.get("rclpy", "-")}',
         f'- Peers: {peers}',
         f'- Platform: {machine["platform"]}; load average at start (1, 5, 15 min): '
         + ', '.join(f'{x:.2f}' for x in machine['load_average_at_start']),

@@ -1,5 +1,5 @@
 """
-Part 1, core cost: microseconds per substep of ``MouseSimulation.step``, against peers.
+Core cost: microseconds per substep of ``MouseSimulation.step``, against peers.
 
 The scene is the box hung by its corner from a fixed target, started 30 degrees from hanging
 and spinning at |w| = 6.4 rad/s with the anchor at rest, so that it swings and spins for the whole
@@ -14,12 +14,14 @@ interleaved rounds and each figure is the median over the rounds.
 import math
 import time
 
-import common
-import engines
+from bench import common
+from bench import engines
 import numpy as np
 from scipy.spatial.transform import Rotation
 
 from mouse_constraint_ros.physics import BodyState, MouseConstraint, RigidBody, Settings
+from test_support.reference_dynamics import GRAVITY
+from test_support.reference_dynamics import hanging_rotation
 
 TICK = 0.001
 REPEATS = 11
@@ -130,18 +132,17 @@ class NaiveNumpyStep:
 
 def scene():
     """Return the body, gravity, the swinging and spinning start state and the fixed target."""
-    reference = common.reference_dynamics()
     body = RigidBody.solid_box(common.BOX_MASS, common.BOX_EXTENTS)
     anchor = np.array(common.CORNER)
     orientation = (Rotation.from_rotvec([math.radians(TILT_DEGREES), 0.0, 0.0])
-                   * reference.hanging_rotation(anchor))
+                   * hanging_rotation(anchor))
     pivot = np.array([0.0, 0.0, 1.0])
     r = orientation.apply(anchor)
     w = np.array(SPIN)
     # The anchor starts at rest, on the target: v = -w x r.
     state = BodyState(tuple(pivot - r), tuple(orientation.as_quat()), tuple(-np.cross(w, r)),
                       tuple(w))
-    return body, (0.0, 0.0, -reference.GRAVITY), state, tuple(pivot)
+    return body, (0.0, 0.0, -GRAVITY), state, tuple(pivot)
 
 
 def _naive_agreement(body, gravity, state, target) -> float:
@@ -235,7 +236,7 @@ def run(quick: bool = False) -> dict:
         'multibody solver; MuJoCo: its Newton constraint solver) for this one constraint.',
     ]
     return {
-        'title': '1. Core cost (us per substep, 1 kHz tick, Python loop)',
+        'title': 'Core cost (us per substep, 1 kHz tick, Python loop)',
         'text': (f'Box {common.BOX_EXTENTS} m, {common.BOX_MASS:g} kg, hung by its corner, '
                  f'started {TILT_DEGREES:g} deg from hanging spinning at {SPIN} rad/s (anchor at '
                  f'rest), gravity on. Median of {repeats} interleaved rounds of about '

@@ -1,9 +1,8 @@
 """
-Part 3, latency: a target published in another process -> the first pose that reflects it.
+Latency: a target published in another process -> the first pose that reflects it.
 
 The node runs at 1 kHz with its default parameters (the box hanging from its held corner under
-gravity, swinging): the installed node, and the node class with its spin loop and tick grid
-origin as before 8dfbd58 (``node_variant.py``). ``observer.py latency`` publishes targets at
+gravity, swinging). ``bench.observer latency`` publishes targets at
 random intervals (20-40 ms, so the phase against the tick grid is random), each 5-17 mm from
 the previous one around the initial anchor, and records every pose and twist it receives.
 
@@ -20,15 +19,17 @@ Latency per target: ``stamp - publish``, the due time of the reflecting tick aft
 was published (a lower bound of the true latency: the tick ran at or after its stamp), and
 ``receive - publish``, when the reflecting pose reached the observer (an upper bound: it adds
 the pose's trip back over DDS).
+
+Standalone: ``python -m bench.latency [--quick]`` prints the section as JSON.
 """
 
 import time
 
+from bench import ros_process
 from geometry_msgs.msg import PoseStamped
 from geometry_msgs.msg import TwistStamped
 import numpy as np
 from rclpy.serialization import deserialize_message
-import ros_process
 
 from mouse_constraint_ros.messages import stamp_nanoseconds
 from mouse_constraint_ros.messages import state_from_messages
@@ -132,7 +133,7 @@ def reflecting_ticks(data: dict, parameters: dict) -> dict:
 def measure(command, parameters: dict, trials: int) -> dict:
     """Run the node by ``command`` against the observer; return the latencies and counts."""
     config = node_config(dict(DEFAULTS, **parameters))
-    with ros_process.Started(command) as node:
+    with ros_process.start(command) as node:
         data, samples, _ = ros_process.observe(
             ['latency', '--trials', str(trials), '--gap-min', str(GAP_S[0]),
              '--gap-max', str(GAP_S[1]), '--center', *(repr(c) for c in config.initial_anchor()),
@@ -175,12 +176,7 @@ def run(quick: bool = False) -> dict:
     start = time.perf_counter()
     trials = QUICK_TRIALS if quick else TRIALS
     parameters = {'rate_hz': RATE_HZ}
-    runs = (
-        ('mouse_constraint_node', ros_process.node_command(parameters)),
-        ('as before 8dfbd58 (node_variant.py --loop once --grid first-call)',
-         ros_process.python_command(ros_process.NODE_VARIANT, '--loop', 'once', '--grid',
-                                    'first-call', '--ros-args', '-p', f'rate_hz:={RATE_HZ!r}')),
-    )
+    runs = (('mouse_constraint_node', ros_process.node_command(parameters)),)
     rows, notes, raw = [], [], {}
     for name, command in runs:
         result = measure(command, parameters, trials)
@@ -207,19 +203,13 @@ def run(quick: bool = False) -> dict:
     notes += [
         'A tick whose stamp is before the publish time (negative stamp - publish) ran late: it '
         'was due before the target was sent but ran after the target had arrived.',
-        'Before 8dfbd58 the node put its tick grid at the clock reading of its first timer '
-        "call; later calls came at the timer's own phase, so each found its tick due only when "
-        "its jitter beat the first call's, and the tick otherwise waited for the next call, most "
-        'of a period later: stamps lagged the computation, and a target that came after a '
-        "tick's due time could still be in it (stamp - publish small or negative). Since, t0 is "
-        'where the timer scheduled that call: each tick runs in its own call, just after its '
-        'stamp, so a target lands in the next tick due after it arrives. The end-to-end bound '
-        '(receive - publish) is what a user sees; it hardly moves, since the calls come at the '
-        'same times either way.',
+        'The end-to-end bound (receive - publish) is what a user sees; the lower bound (stamp '
+        '- publish) is how many ticks the node takes to use a target it has.',
     ]
     return {
-        'title': '3. Latency: target published in another process -> first pose reflecting it',
-        'text': (f'Node at {RATE_HZ:g} Hz (defaults), {trials} targets at random '
+        'title': 'Latency: target published in another process -> first pose reflecting it',
+        'text': (f'Command: `python -m bench.latency`. Node at {RATE_HZ:g} Hz (defaults), '
+                 f'{trials} targets at random '
                  f'{GAP_S[0] * 1e3:g}-{GAP_S[1] * 1e3:g} ms intervals from the observer process; '
                  'the reflecting tick is found by replaying the physics from the published '
                  f'states (see latency.py). 1 tick = {1e3 / RATE_HZ:g} ms.'),

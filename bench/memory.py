@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """
-Part 6, memory: the node's RSS at 1 kHz over a long run, every path exercised.
+Memory: the node's RSS at 1 kHz over a long run, every path exercised.
 
 The node (``mouse_constraint_node``, defaults, 1 kHz) runs for ``--minutes`` while
-``observer.py exercise`` drives every path it has: targets round a 0.1 m circle at 500 Hz, every
+``bench.observer exercise`` drives every path it has: targets round a 0.1 m circle at 500 Hz, every
 50th of them a bad one (NaN, a foreign frame, beyond the workspace, inf: the
 warning paths), ``~/reset`` every 7 s, ``~/release`` every 11 s, ``marker_rate_hz`` changed every
 13 s (the parameter callback, timers destroyed and made), and subscribers on pose, twist,
@@ -13,11 +13,12 @@ Figures: RSS at 1 minute and at the end (each the median of the samples within 5
 difference, the slope of a straight line fitted to RSS over minute 1 to the end (KiB/min and
 bytes per tick), and the peak. A leak of even one byte per tick would add 0.5 MiB over the
 9 minutes; the no-leak criterion is that both the growth from minute 1 and the slope projected
-over minute 1 to minute 10 stay within ``TOLERANCE_KIB``. ``spin_leak.py`` then measures the RSS
-per call of the executor's spin calls, the leak this found in ``spin_until_future_complete``.
+over minute 1 to minute 10 stay within ``TOLERANCE_KIB``. ``bench.spin_leak`` then measures the
+RSS per call of the executor's spin calls (``spin_until_future_complete`` keeps memory per
+call; ``node.main`` spins with ``spin_once``).
 
 In the suite the run is ``SUITE_MINUTES`` long, to keep ``make bench`` well inside its budget
-(15 min for everything); the 10-minute figure comes from ``python bench/memory.py --minutes 10``,
+(15 min for everything); the 10-minute figure comes from ``python -m bench.memory --minutes 10``,
 run on its own: it prints the section as JSON and saves its row in ``memory_long.json`` beside
 this file, which the suite's section then shows as a second row, with its date and commit.
 """
@@ -29,9 +30,11 @@ import subprocess
 import sys
 import time
 
-import common
+from bench import common
+from bench import ros_process
 import numpy as np
-import ros_process
+
+from test_support import processes
 
 RATE_HZ = 1000.0
 MINUTES = 10.0
@@ -46,29 +49,25 @@ WINDOW_S = 5.0
 # 9 minutes from minute 1 to minute 10, so that a 5-minute run can show a 10-minute leak.
 TOLERANCE_KIB = 128
 PROJECTED_MINUTES = 9.0
-# The records of standalone runs the suite's section shows under its own row (memory_until_loop:
-# the 10-minute run of the node while it spun with spin_until_future_complete, 8dfbd58).
-RECORDS = ('memory_long.json', 'memory_variant.json', 'memory_until_loop.json')
-SPIN_LEAK = Path(__file__).resolve().parent / 'spin_leak.py'
+# The record of a standalone run the suite's section shows under its own row.
+RECORDS = ('memory_long.json',)
 
 
-def run(quick: bool = False, minutes: float = None, variant: str = '') -> dict:
+def run(quick: bool = False, minutes: float = None) -> dict:
     start = time.perf_counter()
     minutes = minutes if minutes is not None else (QUICK_MINUTES if quick else SUITE_MINUTES)
     seconds = 60.0 * minutes
     reference = min(REFERENCE_S, seconds / 2.0)
     parameters = {'rate_hz': RATE_HZ}
-    command = (ros_process.node_command(parameters) if not variant else
-               ros_process.python_command(ros_process.NODE_VARIANT, *variant.split(),
-                                          '--ros-args', '-p', f'rate_hz:={RATE_HZ!r}'))
+    command = ros_process.node_command(parameters)
     times, rss = [], []
-    with ros_process.Started(command) as node:
+    with ros_process.start(command) as node:
         began = time.monotonic()
 
         def sample(line: str) -> None:
             if line.startswith(('ready', 'progress', 'end')):
                 times.append(time.monotonic() - began)
-                rss.append(ros_process.rss_kib(node.pid))
+                rss.append(processes.rss_bytes(node.pid) / 1024.0)
 
         data, samples, _ = ros_process.observe(
             ['exercise', '--seconds', str(seconds)], [node.pid], on_line=sample,
@@ -89,7 +88,7 @@ def run(quick: bool = False, minutes: float = None, variant: str = '') -> dict:
     slope_kib_per_s = float(np.polyfit(t[late], rss[late], 1)[0]) if late.sum() > 2 else 0.0
     growth = at_end - at_reference
     row = {
-        'run': 'this run' + (f' (node_variant.py {variant})' if variant else ''),
+        'run': 'this run',
         'minutes': end / 60.0,
         'rss_start_mib': float(rss[0]) / 1024.0,
         'rss_reference_mib': at_reference / 1024.0,
@@ -114,9 +113,8 @@ def run(quick: bool = False, minutes: float = None, variant: str = '') -> dict:
             notes.append(f'Row {len(rows)}: {rows[-1]["run"]}. ' + _verdict(rows[-1]))
     if minutes < MINUTES and not LONG_RUN.exists():
         notes.append(f'No {MINUTES:g}-minute run on record ({LONG_RUN.name}): run '
-                     f'`python bench/memory.py --minutes {MINUTES:g}`.')
-    if not variant:
-        notes.append(_spin_leak())
+                     f'`python -m bench.memory --minutes {MINUTES:g}`.')
+    notes.append(_spin_leak())
     notes += [
         'Sent to the node: ' + ', '.join(f'{v} {k.replace("_", " ")}' for k, v in sent.items())
         + '. Received from it: ' + ', '.join(f'{v} {k}' for k, v in received.items()) + '.',
@@ -124,7 +122,7 @@ def run(quick: bool = False, minutes: float = None, variant: str = '') -> dict:
         'minute on; bytes per tick = slope / tick rate.',
     ]
     return {
-        'title': f'6. Memory: node RSS at {RATE_HZ:g} Hz over {end / 60.0:.1f} min, every path '
+        'title': f'Memory: node RSS at {RATE_HZ:g} Hz over {end / 60.0:.1f} min, every path '
                  'exercised',
         'text': ('The node as its own process at defaults (1 kHz); another process sends '
                  'targets at 500 Hz (every 50th bad), calls ~/reset, ~/release and '
@@ -158,13 +156,13 @@ def _verdict(row: dict) -> str:
 
 def _spin_leak() -> str:
     """Run spin_leak.py; return what it found, as a note."""
-    result = subprocess.run(ros_process.python_command(SPIN_LEAK), env=ros_process.environment(),
-                            capture_output=True, text=True, timeout=300)
+    result = subprocess.run(ros_process.bench_command('spin_leak'), env=ros_process.environment(),
+                            cwd=ros_process.ROOT, capture_output=True, text=True, timeout=300)
     if result.returncode != 0:
-        return f'spin_leak.py failed: {result.stderr[-500:]}'
+        return f'bench.spin_leak failed: {result.stderr[-500:]}'
     found = json.loads(result.stdout.strip().splitlines()[-1])
     per_call = found['bytes_per_call']
-    return ('RSS growth per call of the EventsExecutor (spin_leak.py, '
+    return ('RSS growth per call of the EventsExecutor (bench.spin_leak, '
             f'{found["calls"]} calls each): ' + '; '.join(
                 f'{name}: {value:.1f} B/call ({value * 10 * 60 / 1024:.1f} KiB/min at 10 calls '
                 'a second)' for name, value in per_call.items()) + '.')
@@ -173,24 +171,18 @@ def _spin_leak() -> str:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
     parser.add_argument('--minutes', type=float, default=MINUTES)
-    parser.add_argument('--variant', default='',
-                        help='run node_variant.py with these arguments instead of the node, e.g. '
-                        '"--loop once --grid scheduled"; its row is saved in memory_variant.json')
     parser.add_argument('--no-save', action='store_true',
                         help=f'do not write {LONG_RUN.name} (written for >= {MINUTES:g} min)')
     options = parser.parse_args(argv)
     machine = common.machine_info()  # At the start: the commit and load the run began with.
-    section = run(minutes=options.minutes, variant=options.variant)
+    section = run(minutes=options.minutes)
     section.pop('raw')
     print(json.dumps(section, indent=1))
-    save = None if options.no_save else (
-        BENCH / RECORDS[1] if options.variant else LONG_RUN if options.minutes >= MINUTES
-        else None)
+    save = LONG_RUN if not options.no_save and options.minutes >= MINUTES else None
     if save is not None:
         row = dict(section['rows'][0])
         load = machine['load_average_at_start'][0]
-        variant = f' --variant "{options.variant}"' if options.variant else ''
-        row['run'] = (f'standalone `memory.py --minutes {options.minutes:g}{variant}` started '
+        row['run'] = (f'standalone `python -m bench.memory --minutes {options.minutes:g}` started '
                       f'{machine["date"]}, commit {machine["commit"]}, load at start {load:.2f}')
         save.write_text(json.dumps(row, indent=1) + '\n')
     return 0

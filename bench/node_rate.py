@@ -1,64 +1,43 @@
 """
-Part 2, node rate: the node as its own process, watched from another over DDS.
+The node's rate and CPU against the bare rclpy floor, pose and twist read from another process.
 
-For each rate the node (``mouse_constraint_node``, default parameters but ``rate_hz``: the box
-hanging from its held corner under gravity) is started, ``observer.py rate`` subscribes to
-``pose`` in a third process, and after 1 s of warm-up records a window: the receive time and
-the stamp of every pose. From those:
+Each row is a process (``mouse_constraint_node`` with its defaults but ``rate_hz``: the box
+hanging from its held corner under gravity; or ``bench.bare_timer --executor events --twist``,
+the floor: an rclpy timer under the node's executor and spin loop that only stamps and
+publishes a PoseStamped and a TwistStamped per tick) watched by ``bench.observer rate``, which
+reads both topics (a publisher with no reader sends nothing) and after 1 s of warm-up records a
+window: the receive time and stamp of every pose. At each rate the node and the floor run one
+after the other, so that each ratio node / floor is taken within minutes on the same machine;
+the absolute figures are context (the machine's speed varies about 3x from day to day).
 
-- achieved rate: poses received in the window / window length;
-- grid error: each stamp against t0 + n / rate_hz, t0 the first stamp of the window, n the
-  nearest tick (the node's stamps are t0 + floor(n dt) in integer ns, so <= 1 ns is exact);
+- achieved rate: poses received in the window / window length; rate error against rate_hz;
 - missing: grid ticks between the first and last stamp that never arrived (dropped ticks);
-- delay: receive time - stamp, the tick's lateness plus the DDS hop; ``late``: poses received
-  more than one period after their stamp; ``gaps``: receive gaps longer than two periods;
-- CPU: utime + stime of the node process (all threads) over the window, % of one core; RSS at
-  the window's end.
+- grid error: each stamp against t0 + n / rate_hz (the node's stamps are t0 + floor(n dt) in
+  integer ns; the floor's are its clock readings, so its grid error is its timer's jitter);
+- delay: receive time - stamp; late: poses received more than one period after their stamp;
+- CPU: utime + stime of the process (all threads, DDS ones included) over the window, % of one
+  core; RSS at the window's end.
 
-For scale, the same is measured at 1 kHz for ``bare_timer.py``: an rclpy timer that publishes
-a PoseStamped (and with ``--twist`` a TwistStamped) per tick and does nothing else, under the
-SingleThreadedExecutor and the EventsExecutor spun as the node spins (``spin_once`` in a loop),
-with ``spin_until_future_complete`` in a loop, and with the EventsExecutor's own ``spin()``. Its
-stamps are the clock at the callback, so its grid error is the timer's jitter. And
-``node_variant.py``: the package's node class with its spin loop and tick grid origin as before
-8dfbd58 and with each of that commit's two changes alone.
+Rates: 1 kHz (the figures the docs quote: CPU node / floor, rate within 0.1 %, ticks missing),
+then up the ladder ``LADDER`` until the node no longer sustains the rate (within 0.1 %, no tick
+missing) over a 10 s window: the highest sustained rate and the node / floor ratio there.
+
+Standalone: ``python -m bench.node_rate [--quick]`` prints the section as JSON.
 """
 
 import sys
 import time
 
+from bench import ros_process
 import numpy as np
-import ros_process
 
-RATES = (100.0, 500.0, 1000.0, 2000.0, 5000.0)
+BASE_RATE = 1000.0
+LADDER = (2000.0, 3000.0, 4000.0, 5000.0)
 SECONDS = 10.0
-# The rows for scale (bare timers) and the node_variant.py rows: shorter windows.
-SCALE_SECONDS = 5.0
 QUICK_SECONDS = 2.0
 WARMUP = 1.0
-SCALE_RATE = 1000.0
-# (bare_timer.py arguments, spin described, first-message timeout): the floor of rclpy itself.
-BARE = (
-    (('--executor', 'single'), 'SingleThreadedExecutor, spin_once(0.1) loop; pose', 10.0),
-    (('--executor', 'events'), 'EventsExecutor, spin_once(0.1) loop; pose', 10.0),
-    (('--executor', 'events', '--twist'),
-     'EventsExecutor, spin_once(0.1) loop; pose + twist', 10.0),
-    (('--executor', 'events-until', '--twist'),
-     'EventsExecutor, spin_until_future_complete(0.1) loop; pose + twist', 10.0),
-    (('--executor', 'events-spin'), 'EventsExecutor, spin(); pose', 2.0),
-)
-# (node_variant.py arguments, what it runs): the node's spin loop and grid origin before and
-# after 8dfbd58 (which took both from this benchmark), taken apart.
-VARIANTS = (
-    (('--loop', 'once', '--grid', 'first-call'),
-     'as before 8dfbd58: spin_once loop, t0 at the first call'),
-    (('--loop', 'until', '--grid', 'first-call'), 'spin_until_future_complete loop only'),
-    (('--loop', 'once', '--grid', 'scheduled'), 'grid t0 phase-locked to the timer only'),
-)
-TARGET_RATE = 1000.0
-TARGET_RATE_TOLERANCE = 0.001
-TARGET_CPU = 15.0
-SUSTAINED_RATE = 5000.0
+RATE_TOLERANCE = 0.001
+FLOOR = ('--executor', 'events', '--twist')
 
 
 def stamp_figures(stamps: np.ndarray, received: np.ndarray, rate: float,
@@ -95,7 +74,7 @@ def stamp_figures(stamps: np.ndarray, received: np.ndarray, rate: float,
 def measure(command, rate: float, seconds: float, first_timeout: float = 10.0,
             observer_arguments=()) -> dict:
     """Start ``command``, observe its ``pose`` for ``seconds``; return the figures."""
-    with ros_process.Started(command) as publisher:
+    with ros_process.start(command) as publisher:
         data, samples, observer = ros_process.observe(
             ['rate', '--seconds', str(seconds), '--warmup', str(WARMUP),
              '--first-timeout', str(first_timeout), *observer_arguments], [publisher.pid])
@@ -111,132 +90,96 @@ def measure(command, rate: float, seconds: float, first_timeout: float = 10.0,
         'load': last.load,
         'observer_cpu_pct': ros_process.cpu_percent(first, last, observer),
         'rss_mib': last.rss[publisher.pid] / 1024.0,
+        'twists': int(data['also_received']),
     })
     return figures
 
 
 def _report(row: dict) -> None:
-    print(f'  {row["process"]} {row["rate_hz"]:g} Hz, {row["spin"]}: {row["achieved_hz"]:.1f} Hz,'
-          f' CPU {row["cpu_pct"]:.1f} %', file=sys.stderr, flush=True)
+    print(f'  {row["process"]} {row["rate_hz"]:g} Hz: {row["achieved_hz"]:.1f} Hz, '
+          f'{row.get("missing", "-")} missing, CPU {row["cpu_pct"]:.1f} %',
+          file=sys.stderr, flush=True)
+
+
+def sustained(row: dict) -> bool:
+    """Return whether a row kept its rate: within RATE_TOLERANCE and no tick missing."""
+    return (row.get('missing', 1) == 0
+            and abs(row['rate_error_pct']) <= 100.0 * RATE_TOLERANCE)
+
+
+def pair(rate: float, seconds: float) -> tuple:
+    """Return the node's row and the floor's row at ``rate``, measured one after the other."""
+    node = measure(ros_process.node_command({'rate_hz': rate}), rate, seconds)
+    node['process'] = 'mouse_constraint_node'
+    _report(node)
+    floor = measure(ros_process.bench_command('bare_timer', '--rate', repr(rate), *FLOOR), rate,
+                    seconds)
+    floor['process'] = 'floor: bench.bare_timer --twist'
+    # Its stamps are clock readings, not a grid: no tick of it can be missing.
+    floor['missing'] = floor['grid_error_ns'] = None
+    _report(floor)
+    node['cpu_ratio'] = node['cpu_pct'] / floor['cpu_pct']
+    floor['cpu_ratio'] = 1.0
+    return node, floor
 
 
 def run(quick: bool = False) -> dict:
+    """Return the section: the node and the floor at 1 kHz, then up the ladder."""
     start = time.perf_counter()
     seconds = QUICK_SECONDS if quick else SECONDS
-    scale_seconds = QUICK_SECONDS if quick else SCALE_SECONDS
     rows = []
-    for rate in (RATES if not quick else (1000.0, 5000.0)):
-        row = measure(ros_process.node_command({'rate_hz': rate}), rate, seconds)
-        row.update({'process': 'mouse_constraint_node', 'spin': 'as installed (node.main)'})
-        rows.append(row)
-        _report(row)
-    for arguments, description, first_timeout in BARE:
-        command = ros_process.python_command(ros_process.BARE_TIMER, '--rate', str(SCALE_RATE),
-                                             *arguments)
-        row = measure(command, SCALE_RATE, scale_seconds, first_timeout)
-        row.update({'process': 'bare timer', 'spin': description})
-        rows.append(row)
-        _report(row)
-    for arguments, description in VARIANTS:
-        command = ros_process.python_command(ros_process.NODE_VARIANT, *arguments, '--ros-args',
-                                             '-p', f'rate_hz:={SCALE_RATE!r}')
-        row = measure(command, SCALE_RATE, scale_seconds)
-        row.update({'process': 'node_variant.py', 'spin': description})
-        rows.append(row)
-        _report(row)
-    notes = _verdicts(rows)
-    notes += [
-        'Rows: mouse_constraint_node as installed; bare timer: bare_timer.py, an rclpy timer '
-        'that only stamps and publishes (pose, or pose + twist as the node does), the floor '
-        "under any rclpy node at this rate; node_variant.py: the package's MouseConstraintNode "
-        'with its spin loop and tick grid origin chosen by the bench (see node_variant.py). A '
-        'single window per row: CPU differences of a few points between rows are within the '
-        "machine's noise (node_cost repeats its A/B in interleaved rounds).",
-        'achieved: poses received in the window / the window (measured in the bench process '
-        "between the observer's start and end lines); stamp rate: (poses - 1) / (last stamp - "
-        'first stamp).',
-        'grid error: largest |stamp - (t0 + n / rate_hz)| (ns) with n the nearest tick; '
-        'missing: ticks of the grid that never arrived; repeated: stamps seen twice.',
-        'delay: receive time in the observer - stamp (us), i.e. how long after the tick was due '
-        'the pose reached another process; late: poses with delay > 1 period; gaps: receive '
-        'gaps > 2 periods (the pose stream stalled), max gap in ms.',
-        'CPU: utime + stime of /proc/<pid>/stat over the window, all threads of the process '
-        "(DDS included), % of one core; the observer's own use is in results.json "
-        '(observer_cpu_pct). The machine has 2 shared cores: the node, the observer and the '
-        'DDS threads of both share them with whatever else runs. wait: how long the main thread '
-        'waited for a CPU while runnable (ms per s, /proc/<pid>/schedstat); load: the 1-minute '
-        'load average at the end of the window. Both gauge the disturbance.',
-        "The bare timer's stamps are the clock read in its callback, not a grid: its grid error "
-        "and delay show the timer's jitter.",
-        'EventsExecutor.spin() (rclpy 7.1.6): a full core busy in the main thread, and the '
-        '1 kHz timer never fired: no pose at all; it does not return to Python, so Python signal '
-        'handlers never run either. spin_until_future_complete(f, timeout_sec) with a future '
-        'never done runs timers normally without busy-waiting, but keeps 32 bytes per call '
-        '(see the memory section).',
+    base, floor = pair(BASE_RATE, seconds)
+    rows += [base, floor]
+    highest = (base, floor) if sustained(base) else None
+    for rate in (LADDER[:1] if quick else LADDER):
+        node, floor = pair(rate, seconds)
+        rows += [node, floor]
+        if not sustained(node):
+            break
+        highest = (node, floor)
+    figures = {
+        'cpu_ratio_1khz': base['cpu_ratio'],
+        'rate_error_pct_1khz': base['rate_error_pct'],
+        'missing_1khz': base.get('missing'),
+        'highest_sustained_hz': highest[0]['rate_hz'] if highest else None,
+        'cpu_ratio_highest': highest[0]['cpu_ratio'] if highest else None,
+    }
+    notes = [
+        f'At {BASE_RATE:g} Hz: node CPU / floor CPU {base["cpu_ratio"]:.2f} '
+        f'({base["cpu_pct"]:.1f} % / {rows[1]["cpu_pct"]:.1f} % of a core); rate '
+        f'{base["rate_error_pct"]:+.3f} % ('
+        + ('within' if abs(base['rate_error_pct']) <= 100 * RATE_TOLERANCE else 'outside')
+        + f' {100 * RATE_TOLERANCE:g} %), {base.get("missing")} ticks missing.',
+        (f'Highest rate sustained for {seconds:g} s with pose and twist read (within '
+         f'{100 * RATE_TOLERANCE:g} %, no tick missing): {highest[0]["rate_hz"]:g} Hz, node / '
+         f'floor CPU there {highest[0]["cpu_ratio"]:.2f}.') if highest else
+        f'No rate sustained for {seconds:g} s, not even {BASE_RATE:g} Hz.',
+        'One window per row: a single spell of a busy machine moves a row; "wait" (ms per s '
+        'the main thread waited for a CPU while runnable) and "load" (1-minute load average) '
+        'show how busy it was.',
     ]
     return {
-        'title': '2. Node rate: the node as a process, observed over DDS from another process',
-        'text': (f'Node rows: {seconds:g} s window ({scale_seconds:g} s for the other rows) after '
-                 f'{WARMUP:g} s of warm-up, one observer process subscribed to pose (raw, '
-                 'RELIABLE). Node: default parameters (box hanging from its held corner, gravity '
-                 'on) but rate_hz.'),
-        'columns': [['process', 'process', ''], ['spin', 'spin', ''],
-                    ['rate_hz', 'rate (Hz)', '.0f'], ['achieved_hz', 'achieved (Hz)', '.1f'],
+        'title': 'Node rate and CPU against the rclpy floor, pose and twist read from another '
+                 'process',
+        'text': (f'Command: `python -m bench.node_rate`. {seconds:g} s windows after {WARMUP:g} s '
+                 'of warm-up; the node at its defaults but rate_hz; the floor is '
+                 '`bench.bare_timer --executor events --twist` at the same rate, run next to it. '
+                 'Ratios first: node / floor CPU.'),
+        'columns': [['process', 'process', ''], ['rate_hz', 'rate (Hz)', '.0f'],
+                    ['cpu_ratio', 'CPU / floor', '.2f'],
+                    ['achieved_hz', 'achieved (Hz)', '.1f'],
                     ['rate_error_pct', 'rate error (%)', '+.3f'],
-                    ['grid_error_ns', 'grid error (ns)', '.0f'],
-                    ['missing', 'missing', 'd'], ['delay_p50_us', 'delay p50 (us)', '.0f'],
+                    ['missing', 'missing', 'd'], ['grid_error_ns', 'grid error (ns)', '.0f'],
+                    ['delay_p50_us', 'delay p50 (us)', '.0f'],
                     ['delay_p99_us', 'delay p99 (us)', '.0f'], ['late', 'late', 'd'],
-                    ['gaps', 'gaps', 'd'], ['max_gap_ms', 'max gap (ms)', '.1f'],
+                    ['twists', 'twists read', 'd'],
                     ['cpu_pct', 'CPU (% core)', '.1f'], ['wait_ms_per_s', 'wait (ms/s)', '.0f'],
                     ['load', 'load', '.1f'], ['rss_mib', 'RSS (MiB)', '.1f']],
         'rows': rows,
         'notes': notes,
+        'figures': figures,
         'elapsed_s': time.perf_counter() - start,
     }
-
-
-def _verdicts(rows) -> list:
-    notes = []
-    node = {row['rate_hz']: row for row in rows if row['process'] == 'mouse_constraint_node'}
-    if TARGET_RATE in node:
-        row = node[TARGET_RATE]
-        rate_ok = abs(row['rate_error_pct']) <= 100.0 * TARGET_RATE_TOLERANCE
-        cpu_ok = row['cpu_pct'] <= TARGET_CPU
-        notes.append(
-            f'Target: {TARGET_RATE:g} Hz within {100 * TARGET_RATE_TOLERANCE:g} % using at most '
-            f'{TARGET_CPU:g} % of one core. Rate {row["achieved_hz"]:.2f} Hz '
-            f'({row["rate_error_pct"]:+.3f} %, {row["missing"]} missing): '
-            f'{"met" if rate_ok else "missed"}; CPU {row["cpu_pct"]:.1f} %: '
-            + ('met.' if cpu_ok else
-               f'missed by {row["cpu_pct"] - TARGET_CPU:.1f} points '
-               f'({row["cpu_pct"] / TARGET_CPU:.2f}x the budget).'))
-    floor = [row for row in rows if row['process'] == 'bare timer' and 'twist' in row['spin']
-             and 'until' in row['spin']]
-    if floor and TARGET_RATE in node:
-        notes.append(
-            f'For scale: a bare rclpy timer publishing pose + twist at {SCALE_RATE:g} Hz with the '
-            f'executor and loop the node uses took {floor[0]["cpu_pct"]:.1f} % of a core here, '
-            f'the node {node[TARGET_RATE]["cpu_pct"]:.1f} %: the node adds '
-            f'{node[TARGET_RATE]["cpu_pct"] - floor[0]["cpu_pct"]:.1f} points to what rclpy and '
-            'Fast DDS cost for two reliable publishes per tick.')
-    variants = [row for row in rows if row['process'] == 'node_variant.py']
-    if variants:
-        described = '; '.join(
-            f'{row["spin"]}: CPU {row["cpu_pct"]:.1f} %, delay p50 {row["delay_p50_us"]:.0f} us,'
-            f' p99 {row["delay_p99_us"]:.0f} us, {row["late"]} late' for row in variants)
-        notes.append('The node class with its loop and grid origin as before 8dfbd58 and each '
-                     'change alone (node_variant.py rows; the installed node has both): '
-                     + described + '.')
-    if SUSTAINED_RATE in node:
-        row = node[SUSTAINED_RATE]
-        sustained = (row['missing'] == 0
-                     and abs(row['rate_error_pct']) <= 100.0 * TARGET_RATE_TOLERANCE)
-        notes.append(
-            f'Target: {SUSTAINED_RATE:g} Hz sustained (no tick dropped, rate within '
-            f'{100 * TARGET_RATE_TOLERANCE:g} %). {row["achieved_hz"]:.1f} Hz, '
-            f'{row["missing"]} missing, CPU {row["cpu_pct"]:.1f} %: '
-            f'{"met" if sustained else "missed"}.')
-    return notes
 
 
 if __name__ == '__main__':

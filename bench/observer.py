@@ -4,15 +4,16 @@ The observer process of the node benchmarks: it watches a node from outside, ove
 
 Three modes, each writing an ``.npz`` file for the bench module to analyse afterwards:
 
-- ``rate``: subscribe to ``pose`` (raw: the serialized bytes, nothing deserialized, so that the
-  observer keeps up at 5 kHz); after the first message and a warm-up, record for a window the
-  receive time (CLOCK_REALTIME, the clock the node stamps with) and the header stamp of every
-  message. Prints ``start <ns>`` and ``end <ns>`` on stdout at the window's edges, so that the
-  caller can read the node's /proc counters at the same moments.
+- ``rate``: subscribe to ``pose`` and ``twist`` (raw: the serialized bytes, nothing
+  deserialized, so that the observer keeps up at 5 kHz); after the first message and a
+  warm-up, record for a window the receive time (CLOCK_REALTIME, the clock the node stamps
+  with) and the header stamp of every message. Prints ``start <ns>`` and ``end <ns>`` on
+  stdout at the window's edges, so that the caller can read the node's /proc counters at the
+  same moments.
 - ``latency``: publish targets (QoS of ``mouse_target``) at random intervals and record every
   ``pose`` and ``twist`` (raw bytes with receive times) and every target with its publish time.
-  Which pose first reflects which target is found afterwards (``latency.py``).
-- ``exercise``: drive every path of the node for a while (``memory.py``): targets round a
+  Which pose first reflects which target is found afterwards (``bench.latency``).
+- ``exercise``: drive every path of the node for a while (``bench.memory``): targets round a
   circle at a high rate, now and then a bad one (non-finite, foreign frame, beyond the
   workspace), the ``~/reset`` and ``~/release`` services, a parameter change; subscribe to
   everything it publishes. Prints ``progress <s>`` every second and writes the counts.
@@ -92,8 +93,14 @@ def observe_rate(node: Node, executor, options) -> dict:
         reliability=ReliabilityPolicy.BEST_EFFORT)
     subscription = node.create_subscription(
         PoseStamped, options.topic, lambda raw: record((time.time_ns(), raw)), qos, raw=True)
-    if not wait_until(executor, lambda: subscription.get_publisher_count() > 0, 30.0):
-        raise SystemExit(f'no publisher on {options.topic}')
+    # The other state topic is read too (and counted): a publisher without a reader sends
+    # nothing, and the node's cost is that of publishing both to a reader.
+    others = []
+    also = [node.create_subscription(TwistStamped, topic, others.append, qos, raw=True)
+            for topic in options.also]
+    if not wait_until(executor, lambda: all(s.get_publisher_count() > 0
+                                            for s in [subscription, *also]), 30.0):
+        raise SystemExit(f'no publisher on {options.topic} and {options.also}')
     say('ready')
     # A publisher that matched but never publishes still gets its window, with nothing in it.
     if wait_until(executor, lambda: received, options.first_timeout):
@@ -103,6 +110,7 @@ def observe_rate(node: Node, executor, options) -> dict:
             raise SystemExit('the raw stamp parser disagrees with deserialize_message')
     spin_for(executor, options.warmup)
     received.clear()
+    others.clear()
     say(f'start {time.time_ns()}')
     spin_for(executor, options.seconds)
     end = time.time_ns()
@@ -112,6 +120,7 @@ def observe_rate(node: Node, executor, options) -> dict:
         'recv_ns': np.array([t for t, _ in window], dtype=np.int64),
         'stamp_ns': np.array([stamp_of(raw) for _, raw in window], dtype=np.int64),
         'end_ns': np.int64(end),
+        'also_received': np.int64(len(others)),
     }
 
 
@@ -252,6 +261,8 @@ def main(argv=None) -> int:
     parser.add_argument('mode', choices=('rate', 'latency', 'exercise'))
     parser.add_argument('--out', required=True, help='the .npz file to write')
     parser.add_argument('--topic', default='pose', help='rate: the topic to watch')
+    parser.add_argument('--also', nargs='*', default=['twist'],
+                        help='rate: TwistStamped topics also read (counted, not recorded)')
     parser.add_argument('--best-effort', action='store_true',
                         help='rate: subscribe BEST_EFFORT (default RELIABLE)')
     parser.add_argument('--seconds', type=float, default=10.0,

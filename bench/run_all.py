@@ -2,12 +2,13 @@
 """
 Run the benchmark suite and write bench/results.md and bench/results.json.
 
-Usage: ``python bench/run_all.py [--quick] [--only NAME[,NAME...]] [--output-dir DIR]``.
+Usage, from the repository's root: ``python -m bench.run_all [--quick] [--only NAME[,NAME...]]
+[--output-dir DIR]`` (``make bench`` runs it).
 
-Each entry of ``SUITE`` names a module of this folder whose ``run(quick)`` returns a section
-(see ``common.py``). A new benchmark (e.g. the node's latency) is one more module and one more
-entry. A section that raises is reported as failed and the rest still run; the peers (PyBullet,
-MuJoCo) are optional and their rows are skipped when they are not installed.
+Each entry of ``SUITE`` names a module of this package whose ``run(quick)`` returns a section
+(see ``bench.common``). A new benchmark is one more module and one more entry. A section that
+raises is reported as failed and the rest still run; the peers (PyBullet, MuJoCo) are optional
+and their rows are skipped when they are not installed.
 """
 
 import argparse
@@ -17,20 +18,21 @@ import sys
 import time
 import traceback
 
-import common
+from bench import common
 
 # (module name, what it measures), in the order of results.md.
 SUITE = [
-    ('core_cost', 'part 1: us per substep, ours against the peers'),
-    ('accuracy', 'part 4: the corner pendulum against the exact motion, energy'),
-    ('drag', 'part 5: dragging at 1 kHz, tracking error'),
-    ('node_rate', 'part 2: the node process at 100 Hz to 5 kHz, observed over DDS; CPU, RSS'),
-    ('node_cost', 'part 2: where the node spends its CPU per tick, before and after 8dfbd58'),
-    ('latency', 'part 3: target published -> first pose reflecting it, at 1 kHz'),
-    ('soak', 'hardening: 10 min simulated at 1 kHz, the core directly'),
-    ('flood', 'hardening: 20 000 targets/s for 10 s at the node running 1 kHz'),
+    ('physics_figures', 'the figures the docs quote, on the core: pendulum, gyroscopic, gains'),
+    ('core_cost', 'us per substep, ours against the peers'),
+    ('accuracy', 'the corner pendulum against the exact motion, energy'),
+    ('drag', 'dragging at 1 kHz, tracking error'),
+    ('node_rate', 'the node process against the rclpy floor at 1 kHz and up, pose and twist read'),
+    ('publish_rate', 'publishing at 100 Hz from 1 kHz physics, if the node offers it'),
+    ('latency', 'target published -> first pose reflecting it, at 1 kHz'),
+    ('soak', '10 min simulated at 1 kHz, the core directly'),
+    ('flood', 'target floods at the 1 kHz node: 5 000/s plain, unbounded, hostile'),
     # Last: the longest, and nothing else runs while it does.
-    ('memory', 'part 6: node RSS over minutes at 1 kHz, every path exercised'),
+    ('memory', 'node RSS over minutes at 1 kHz, every path exercised'),
 ]
 
 
@@ -59,7 +61,7 @@ def main(argv=None) -> int:
         print(f'{name}: {description} ...', flush=True)
         began = time.perf_counter()
         try:
-            sections[name] = importlib.import_module(name).run(quick=args.quick)
+            sections[name] = importlib.import_module(f'bench.{name}').run(quick=args.quick)
         except Exception as error:  # One failed benchmark must not lose the others.
             traceback.print_exc()
             sections[name] = {'error': f'{type(error).__name__}: {error}'}

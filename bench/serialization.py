@@ -2,7 +2,7 @@
 """
 Serializing the node's messages: rclpy against the precompiled CDR layouts, in one run.
 
-``python bench/serialization.py [--quick] [--domain N] [--json FILE]`` times, per message type
+``python -m bench.serialization [--quick] [--domain N] [--json FILE]`` times, per message type
 (PoseStamped, TwistStamped, nav_msgs/Odometry, rosgraph_msgs/Clock), interleaved rounds of:
 
 - ``serialize``: filling a reused rclpy message (stamp and fields, as the node fills its pose)
@@ -32,28 +32,22 @@ import sys
 import time
 from typing import Callable, Dict, List
 
-BENCH = Path(__file__).resolve().parent
-if str(BENCH.parent) not in sys.path:
-    sys.path.insert(0, str(BENCH.parent))
-if str(BENCH) not in sys.path:
-    sys.path.insert(0, str(BENCH))
+from bench import ros_process
+from bench.common import machine_info, median, paired_ratio, time_interleaved
+from geometry_msgs.msg import PoseStamped, TwistStamped
+from nav_msgs.msg import Odometry
+import rclpy
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.serialization import serialize_message
+from rclpy.signals import SignalHandlerOptions
+from rosgraph_msgs.msg import Clock
 
-from common import machine_info, median, paired_ratio, time_interleaved  # noqa: E402
-from geometry_msgs.msg import PoseStamped, TwistStamped  # noqa: E402
-from nav_msgs.msg import Odometry  # noqa: E402
-import rclpy  # noqa: E402
-from rclpy.executors import SingleThreadedExecutor  # noqa: E402
-from rclpy.node import Node  # noqa: E402
-from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy  # noqa: E402
-from rclpy.serialization import serialize_message  # noqa: E402
-from rclpy.signals import SignalHandlerOptions  # noqa: E402
-import ros_process  # noqa: E402
-from rosgraph_msgs.msg import Clock  # noqa: E402
-
-from mouse_constraint_ros.cdr_layouts import (ClockLayout, OdometryLayout,  # noqa: E402
+from mouse_constraint_ros.cdr_layouts import (ClockLayout, OdometryLayout,
                                               PoseStampedLayout, TwistStampedLayout)
-from mouse_constraint_ros.messages import fill_pose, fill_twist, set_stamp  # noqa: E402
-from mouse_constraint_ros.physics import BodyState  # noqa: E402
+from mouse_constraint_ros.messages import fill_pose, fill_twist, set_stamp
+from mouse_constraint_ros.physics import BodyState
 
 NAMESPACE = 'bench_serialization'
 TOPICS = {'pose': PoseStamped, 'twist': TwistStamped, 'odom': Odometry, 'clock': Clock}
@@ -198,7 +192,8 @@ def run(quick: bool, domain: int) -> dict:
     ros_process.DOMAIN_ID = domain
     os.environ.update(ros_process.environment())
     repeats, seconds = (3, 0.05) if quick else (9, 0.3)
-    reader = subprocess.Popen([sys.executable, str(Path(__file__).resolve()), '--subscriber'],
+    reader = subprocess.Popen(ros_process.bench_command('serialization', '--subscriber'),
+                              cwd=ros_process.ROOT,
                               env=ros_process.environment(), stdout=subprocess.PIPE,
                               stderr=subprocess.PIPE, text=True)
     rclpy.init(signal_handler_options=SignalHandlerOptions.NO)

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """
-Soak (hardening issue): 10 minutes of simulated time at 1 kHz, the core stepped directly.
+Soak: 10 minutes of simulated time at 1 kHz, the core stepped directly.
 
 No ROS and no clock: ``MouseSimulation.step(1 ms)`` 600 000 times per case, so it runs faster
 than real time. The settings are the node's defaults (``node_config(DEFAULTS)``) unless a
@@ -18,7 +18,7 @@ Per tick: the quaternion's norm and the anchor error |C|; every 10 ticks the ene
 gravitational, relative to the start) and, for the free body, |L|. Compared: the first minute
 against the last.
 
-Standalone: ``python bench/soak.py [--minutes M]`` prints the section as JSON.
+Standalone: ``python -m bench.soak [--minutes M]`` prints the section as JSON.
 """
 
 import argparse

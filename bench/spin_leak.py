@@ -1,11 +1,13 @@
 #!/usr/bin/env python3
 """
-RSS per call of the EventsExecutor's spin calls (rclpy 7.1.6), in a process of its own.
+RSS per call of the EventsExecutor's spin calls, in a process of its own.
 
-``python bench/spin_leak.py [--calls N]`` makes N calls of each with a zero timeout, after a
+``python -m bench.spin_leak [--calls N]`` makes N calls of each with a zero timeout, after a
 warm-up, and prints the RSS growth per call as JSON: ``spin_once``; ``spin_until_future_complete``
-with one future that is never done (as ``node.main`` spins since 8dfbd58); the same with a fresh
-future per call. At 0.1 s per call a node makes 10 calls a second.
+with one future that is never done; the same with a fresh
+future per call. At 0.1 s per call a node makes 10 calls a second. ``node.main`` spins with
+``spin_once``; this shows why not ``spin_until_future_complete`` (the rclpy version is in the
+results' machine facts).
 """
 
 import argparse

@@ -25,7 +25,6 @@ import random
 import shutil
 import signal
 import subprocess
-import sys
 import time
 
 from geometry_msgs.msg import PointStamped
@@ -49,6 +48,9 @@ from mouse_constraint_ros.parameters import node_config
 from mouse_constraint_ros.physics import MouseSimulation
 from mouse_constraint_ros.physics import RigidBody
 from test_support import hardening_tools as tools
+from test_support.processes import ChildProcess
+from test_support.processes import finish
+from test_support.processes import run_delay_ns
 
 NS = tools.NS
 
@@ -465,10 +467,9 @@ def test_parameter_churn_under_load_applies_whole_updates_only(ros):
                               and plain.service_is_ready() and getter.service_is_ready(),
                               timeout=20.0), node.log()
         # Load: the held anchor itself, 5000 times a second (it changes nothing either).
-        flooder = subprocess.Popen(
+        flooder = ChildProcess(
             tools.flood_command('--rate', '5000', '--duration', repr(CHURN_SECONDS + 3.0),
-                                '--constant', *(repr(c) for c in anchor)),
-            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                                '--constant', *(repr(c) for c in anchor)))
         ros.spin_for(1.0)
         calls = churn_calls(int(CHURN_SECONDS / CHURN_PERIOD))
         futures = []
@@ -487,14 +488,9 @@ def test_parameter_churn_under_load_applies_whole_updates_only(ros):
         assert ros.spin_until(get.done)
         final = get.result().values
         nodes_seen = graph(ros)
-        assert node.process.poll() is None, node.log()
+        assert node.alive(), node.log()
     finally:
-        if flooder is not None and flooder.poll() is None:
-            flooder.kill()
-            flooder.wait()
-        exit_code = node.stop()
-        log = node.log()
-        node.close()
+        exit_code, log = finish(node, flooder)
     assert exit_code == 0, log[-2000:]
     assert len(calls) / churn_seconds > 90.0
     for (is_atomic, parameter_list, expected, _), future in zip(calls, futures):
@@ -545,10 +541,10 @@ def test_publisher_killed_mid_stream(ros):
             poses[name] = tools.PoseRecorder(ros.probe, f'/{name}/pose')
         assert ros.spin_until(lambda: all(len(p) > 50 for p in poses.values()), timeout=20.0)
         for name in namespaces:
-            publishers.append(subprocess.Popen(
+            publishers.append(ChildProcess(
                 [str(tools.TARGET_EXECUTABLE), '--circle', '--center', '0.0', '0.0', '1.0',
                  '--radius', '0.3', '--period', '2.0', '--rate', '200', '--ros-args', '-r',
-                 f'__ns:=/{name}'], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+                 f'__ns:=/{name}']))
 
         def on_circle(recorder) -> bool:
             anchor = recorder.anchors(len(recorder) - 1)
@@ -558,27 +554,22 @@ def test_publisher_killed_mid_stream(ros):
         assert ros.spin_until(lambda: all(on_circle(p) for p in poses.values()), timeout=20.0)
         ros.spin_for(0.5)
         for publisher in publishers:
-            publisher.send_signal(signal.SIGKILL)
+            publisher.process.send_signal(signal.SIGKILL)
         for publisher in publishers:
-            publisher.wait(timeout=5.0)
+            publisher.process.wait(timeout=5.0)
         killed_ns = time.time_ns()
-        delays = {name: tools.run_delay_ns(node.pid) for name, node in nodes.items()}
+        delays = {name: run_delay_ns(node.pid) for name, node in nodes.items()}
         # Two seconds on, and until the observer has caught up with both streams.
         ros.spin_for(2.0)
         assert ros.spin_until(lambda: all(p.stamps[-1] >= killed_ns + 2 * NS
                                           for p in poses.values()), timeout=10.0)
-        alive = {name: node.process.poll() is None for name, node in nodes.items()}
-        delays = {name: (tools.run_delay_ns(node.pid) - delays[name]) / 1e6
+        alive = {name: node.alive() for name, node in nodes.items()}
+        delays = {name: (run_delay_ns(node.pid) - delays[name]) / 1e6
                   for name, node in nodes.items()}
     finally:
-        for publisher in publishers:
-            if publisher.poll() is None:
-                publisher.kill()
-                publisher.wait()
         logs = {}
-        for name, node in nodes.items():
-            logs[name] = (node.stop(), node.log())
-            node.close()
+        for index, (name, node) in enumerate(nodes.items()):
+            logs[name] = finish(node, *publishers[index:index + 1])
     for name in namespaces:
         exit_code, log = logs[name]
         assert alive[name] and exit_code == 0, log[-2000:]
@@ -689,21 +680,16 @@ def test_drag_across_two_hosts(two_hosts):
                              prefix=['ip', 'netns', 'exec', host_a], environment=environment)
     watcher = None
     try:
-        watcher = subprocess.Popen(
-            ['ip', 'netns', 'exec', host_b, sys.executable, str(tools.HERE), 'watch',
-             '--duration', '3.0'],
-            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=environment)
+        watcher = ChildProcess(
+            tools.watch_command('--duration', '3.0', prefix=['ip', 'netns', 'exec', host_b]),
+            environment=environment, stdout=subprocess.PIPE)
         target = subprocess.run(
             ['ip', 'netns', 'exec', host_b, str(tools.TARGET_EXECUTABLE), '0.4', '-0.3', '1.2',
              '--timeout', '20'], capture_output=True, text=True, env=environment, timeout=60)
-        stdout, stderr = watcher.communicate(timeout=60)
+        stdout, _ = watcher.process.communicate(timeout=60)
+        stderr = watcher.log()
     finally:
-        if watcher is not None and watcher.poll() is None:
-            watcher.kill()
-            watcher.wait()
-        exit_code = node.stop()
-        log = node.log()
-        node.close()
+        exit_code, log = finish(node, watcher)
     assert target.returncode == 0, target.stderr + log
     assert 'received on /target' in target.stderr
     assert exit_code == 0, log

@@ -12,28 +12,33 @@ Run as a script it is one of two helper processes:
 - ``watch``: record ``pose`` for a duration and print a JSON summary (the two-host test runs it
   in the other network namespace).
 
-Imported, it gives the in-process side: ``PoseRecorder``, ``NodeProcess`` (the installed
-``mouse_constraint_node`` with its own ROS arguments, its log in a file), ``/proc`` readings,
-and ``run_flood``, the measurement both the test and the benchmark make.
+Run them as ``python -m test_support.hardening_tools flood|watch`` from the repository's root
+(``flood_command``, ``watch_command``). Imported, it gives the in-process side:
+``PoseRecorder``, ``NodeProcess`` (the installed ``mouse_constraint_node`` with its own ROS
+arguments, its log in a file) and ``run_flood``, the measurement both the test and the
+benchmark make; the process helpers are ``test_support.processes``.
 """
 
 import argparse
 import json
 import math
-import os
-from pathlib import Path
-import signal
 import subprocess
 import sys
-import tempfile
 import time
 from typing import Dict, List, Optional, Sequence
 
 import numpy as np
 
-BIN = Path(sys.executable).parent
-HERE = Path(__file__).resolve()
-NODE_EXECUTABLE = BIN / 'mouse_constraint_node'
+from test_support.processes import BIN
+from test_support.processes import ChildProcess
+from test_support.processes import cpu_seconds
+from test_support.processes import finish
+from test_support.processes import module_command
+from test_support.processes import node_command
+from test_support.processes import rss_bytes
+from test_support.processes import run_delay_ns
+
+MODULE = 'test_support.hardening_tools'
 TARGET_EXECUTABLE = BIN / 'mouse_target'
 ANCHOR = (0.2, 0.1, 0.05)
 NS = 1_000_000_000
@@ -43,8 +48,6 @@ RADIUS = 0.3
 PERIOD = 2.0
 # Points of the circle table the flooder picks from (a 0.1 degree step).
 CIRCLE_POINTS = 3600
-PAGE_SIZE = os.sysconf('SC_PAGE_SIZE')
-CLOCK_TICKS = os.sysconf('SC_CLK_TCK')
 
 
 def circle_point(t_ns: int, center: Sequence[float] = CENTER, radius: float = RADIUS,
@@ -78,19 +81,27 @@ def hostile_messages(workspace_radius: float) -> List[tuple]:
     ]
 
 
-def _serialized(message_type, point: Sequence[float], frame_id: str, stamp: tuple) -> bytes:
-    from rclpy.serialization import serialize_message
+def _message(message_type, point: Sequence[float], frame_id: str, stamp: tuple):
     message = message_type()
     message.header.frame_id = frame_id
     message.header.stamp.sec, message.header.stamp.nanosec = stamp
     message.point.x, message.point.y, message.point.z = (float(c) for c in point)
-    return serialize_message(message)
+    return message
+
+
+def _serialized(message_type, point: Sequence[float], frame_id: str, stamp: tuple) -> bytes:
+    from rclpy.serialization import serialize_message
+    return serialize_message(_message(message_type, point, frame_id, stamp))
 
 
 def flood_main(argv: Sequence[str]) -> int:
     """Publish the flood (see the module docstring); print its summary as JSON."""
     parser = argparse.ArgumentParser(prog='hardening_tools.py flood')
-    parser.add_argument('--rate', type=float, default=20000.0, help='messages per second')
+    parser.add_argument('--rate', type=float, default=20000.0,
+                        help='messages per second; 0: as fast as the flooder can publish')
+    parser.add_argument('--messages', action='store_true',
+                        help='publish message objects, as a plain rclpy publisher does, rather '
+                        'than pre-serialized bytes')
     parser.add_argument('--duration', type=float, default=10.0, help='seconds')
     parser.add_argument('--hostile-every', type=int, default=0,
                         help='replace every Nth message by a hostile one (0: none)')
@@ -107,7 +118,7 @@ def flood_main(argv: Sequence[str]) -> int:
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.node import Node
 
-    from mouse_constraint_ros.node import TARGET_QOS
+    from mouse_constraint_ros.interface import TARGET_QOS
 
     rclpy.init()
     node = Node('target_flood')
@@ -120,18 +131,21 @@ def flood_main(argv: Sequence[str]) -> int:
             print(json.dumps({'error': 'no subscriber'}), flush=True)
             return 1
         executor.spin_once(timeout_sec=0.05)
-    # Messages are serialized beforehand and published as bytes: rclpy's publish of a message
-    # object costs about twice as much, too much for 20 000/s on a shared 2-core machine. The
-    # circle is a table of CIRCLE_POINTS points, picked by the clock's phase; a hostile message
-    # without a point of its own is the circle's current point in a foreign frame or with an
-    # absurd stamp.
+    # Messages are serialized beforehand and published as bytes (unless --messages): rclpy's
+    # publish of a message object costs about twice as much, too much for 20 000/s on a shared
+    # 2-core machine. The circle is a table of CIRCLE_POINTS points, picked by the clock's
+    # phase; a hostile message without a point of its own is the circle's current point in a
+    # foreign frame or with an absurd stamp.
     now_stamp = divmod(time.time_ns(), NS)
     points = ([tuple(options.constant)] if options.constant is not None else
               [circle_point(k * PERIOD * NS // CIRCLE_POINTS) for k in range(CIRCLE_POINTS)])
+    make = _message if options.messages else _serialized
 
-    def table(frame_id: str, stamp: Optional[tuple]) -> List[bytes]:
-        return [_serialized(PointStamped, point, frame_id, stamp or now_stamp)
-                for point in points]
+    def table_of(points: Sequence[Sequence[float]], frame_id: str, stamp: tuple) -> list:
+        return [make(PointStamped, point, frame_id, stamp) for point in points]
+
+    def table(frame_id: str, stamp: Optional[tuple]) -> list:
+        return table_of(points, frame_id, stamp or now_stamp)
 
     valid = table('world', None)
     hostile = []  # (serialized message or table, whether the node takes it)
@@ -139,8 +153,7 @@ def flood_main(argv: Sequence[str]) -> int:
         if point is None:
             hostile.append((table(frame_id, stamp), frame_id == 'world'))
         else:
-            hostile.append(([_serialized(PointStamped, point, frame_id, stamp or now_stamp)],
-                            False))
+            hostile.append((table_of([point], frame_id, stamp or now_stamp), False))
     period_ns = int(PERIOD * NS)
     sent = hostile_sent = 0
     last_valid = None
@@ -151,7 +164,7 @@ def flood_main(argv: Sequence[str]) -> int:
         now = time.monotonic()
         if now >= end:
             break
-        due = int((now - start) * options.rate)
+        due = int((now - start) * options.rate) if options.rate > 0.0 else sent + 1000
         if sent >= due:
             time.sleep(0.0002)
             continue
@@ -272,102 +285,63 @@ class PoseRecorder:
         return positions + Rotation.from_quat(np.array(self.orientations[since:])).apply(ANCHOR)
 
 
-def rss_bytes(pid: int) -> int:
-    """Return the resident set size of process ``pid`` (bytes)."""
-    fields = Path(f'/proc/{pid}/statm').read_text().split()
-    return int(fields[1]) * PAGE_SIZE
-
-
-def run_delay_ns(pid: int) -> int:
-    """Return how long the main thread of ``pid`` has waited for a CPU (ns, from schedstat)."""
-    return int(Path(f'/proc/{pid}/schedstat').read_text().split()[1])
-
-
-def cpu_seconds(pid: int) -> float:
-    """Return the user + system CPU time process ``pid`` has used (s)."""
-    stat = Path(f'/proc/{pid}/stat').read_text()
-    fields = stat[stat.rindex(')') + 2:].split()
-    return (int(fields[11]) + int(fields[12])) / CLOCK_TICKS
-
-
-class NodeProcess:
-    """
-    The installed ``mouse_constraint_node`` as a child process, its log in a temporary file.
-
-    The log goes to a file, not a pipe: a pipe nobody reads fills and then blocks the node's
-    logging (and with it the node). ``stop`` sends SIGINT and returns the exit code.
-    """
+class NodeProcess(ChildProcess):
+    """The installed ``mouse_constraint_node`` as a child process, its log in a temporary file."""
 
     def __init__(self, *ros_arguments: str, prefix: Sequence[str] = (),
                  environment: Optional[Dict[str, str]] = None) -> None:
         """Start the node with ``--ros-args ros_arguments``, run under ``prefix`` if given."""
-        self.log_file = tempfile.NamedTemporaryFile(prefix='mouse_constraint_', suffix='.log')
-        self.process = subprocess.Popen(
-            [*prefix, str(NODE_EXECUTABLE), '--ros-args', *ros_arguments],
-            stdout=self.log_file, stderr=subprocess.STDOUT, env=environment)
-
-    @property
-    def pid(self) -> int:
-        """Return the node's process id."""
-        return self.process.pid
-
-    def log(self) -> str:
-        """Return what the node logged so far."""
-        return Path(self.log_file.name).read_text(errors='replace')
-
-    def stop(self, timeout: float = 10.0) -> Optional[int]:
-        """Send SIGINT, wait, kill if needed; return the exit code."""
-        if self.process.poll() is None:
-            self.process.send_signal(signal.SIGINT)
-            try:
-                self.process.wait(timeout=timeout)
-            except subprocess.TimeoutExpired:
-                self.process.kill()
-                self.process.wait()
-        return self.process.returncode
-
-    def close(self) -> None:
-        """Stop the node and remove its log."""
-        self.stop()
-        self.log_file.close()
+        super().__init__(node_command(*ros_arguments, prefix=prefix), environment=environment)
 
 
 def flood_command(*arguments: str) -> List[str]:
     """Return the command line of the flooder process."""
-    return [sys.executable, str(HERE), 'flood', *arguments]
+    return module_command(MODULE, 'flood', *arguments)
+
+
+def watch_command(*arguments: str, prefix: Sequence[str] = ()) -> List[str]:
+    """Return the command line of the pose watcher process, run under ``prefix`` if given."""
+    return module_command(MODULE, 'watch', *arguments, prefix=prefix)
 
 
 def run_flood(ros, seconds: float, rate: float = 20000.0, hostile_every: int = 0,
-              node_rate: float = 1000.0) -> dict:
+              node_rate: float = 1000.0, messages: bool = False) -> dict:
     """
     Flood a node process with targets from a flooder process; return what was measured.
 
-    ``ros`` is a ``RosHarness`` (the observer). The node runs at ``node_rate`` without gravity,
-    with some damping, and workspace_radius 100 m. The result: the flooder's summary
-    (``flood``); the node's output rate over the flood counted by grid stamp and by DDS source
-    timestamp (when the node wrote the message), the ticks missing from the stamps, and how
-    late the node wrote them (``late_ms_*``: source timestamp - stamp, which the observer's own
-    delays do not enter); its RSS (after start, after the first second of the flood, at the
-    end), CPU share and how long its main thread waited for a CPU (``node_run_delay_ms``, over
-    the flood: a machine too busy to run it); how far behind the targets the anchor runs
-    (``lag_s``: per flood second, the median lag of the anchor's angle on the circle behind
-    the target's phase at the pose stamp) and how far it is from the last target after it.
+    ``ros`` is a ``RosHarness`` (the observer, subscribed to pose and twist). The node runs at
+    ``node_rate`` without gravity, with some damping, and workspace_radius 100 m; the flooder
+    publishes ``rate`` targets/s (0: as fast as it can), pre-serialized or, with ``messages``,
+    as message objects. The result: the flooder's summary (``flood``); the node's output rate
+    over the flood counted by grid stamp and by DDS source timestamp (when the node wrote the
+    message), the ticks missing from the stamps, and how late the node wrote them
+    (``late_ms_*``: source timestamp - stamp, which the observer's own delays do not enter);
+    its RSS (after start, after the first second of the flood, at the end), CPU share and how
+    long its main thread waited for a CPU (``node_run_delay_ms``, over the flood: a machine too
+    busy to run it); how far behind the targets the anchor runs (``lag_s``: per flood second,
+    the median lag of the anchor's angle on the circle behind the target's phase at the pose
+    stamp) and how far it is from the last target after it; after the flood, when the last
+    missing tick was due (``recovered_s``, from the flood's end; 0 when none was missing) and
+    whether the node warned of the ticks it dropped (``drops_warned``).
     """
+    from geometry_msgs.msg import TwistStamped
     node = NodeProcess('-p', f'rate_hz:={node_rate!r}', '-p', 'gravity:=[0.0, 0.0, 0.0]',
                        '-p', 'linear_damping:=2.0', '-p', 'angular_damping:=2.0',
                        '-p', 'workspace_radius:=100.0')
     flooder = None
     try:
         poses = PoseRecorder(ros.probe)
-        if not ros.spin_until(lambda: len(poses) > 200, timeout=20.0):
-            raise RuntimeError('no pose from the node:\n' + node.log())
+        twists = ros.collect(TwistStamped, 'twist', depth=100000)
+        if not ros.spin_until(lambda: len(poses) > 200 and twists, timeout=20.0):
+            raise RuntimeError('no pose and twist from the node:\n' + node.log())
         ros.spin_for(0.5)
         rss_start = rss_bytes(node.pid)
         delay_start = run_delay_ns(node.pid)
-        flooder = subprocess.Popen(
+        flooder = ChildProcess(
             flood_command('--rate', repr(rate), '--duration', repr(seconds),
-                          '--hostile-every', str(hostile_every)),
-            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                          '--hostile-every', str(hostile_every),
+                          *(['--messages'] if messages else [])),
+            stdout=subprocess.PIPE)
         samples = []  # (time ns, node rss, node cpu s, flooder cpu s, observer cpu s)
 
         def sample() -> None:
@@ -379,29 +353,25 @@ def run_flood(ros, seconds: float, rate: float = 20000.0, hostile_every: int = 0
                             flooder_cpu, time.process_time()))
 
         next_sample = 0.0
-        while flooder.poll() is None:
+        while flooder.alive():
             ros.spin_for(0.05)
             if time.monotonic() >= next_sample:
                 sample()
                 next_sample = time.monotonic() + 0.25
         sample()
         delay_end = run_delay_ns(node.pid)
-        stdout, stderr = flooder.communicate()
+        stdout, _ = flooder.process.communicate()
         lines = [line for line in stdout.splitlines() if line.startswith('{')]
-        if flooder.returncode != 0 or not lines:
-            raise RuntimeError(f'flooder failed ({flooder.returncode}): {stdout}\n{stderr}')
+        if flooder.process.returncode != 0 or not lines:
+            raise RuntimeError(f'flooder failed ({flooder.process.returncode}): {stdout}\n'
+                               + flooder.log())
         flood = json.loads(lines[-1])
         # Serving on after the flood: a second of ticks (by stamp, so that neither a late node
         # nor a late observer cuts it short), long enough for the anchor to settle.
         ros.spin_until(lambda: poses.stamps[-1] >= flood['end_ns'] + NS, timeout=10.0)
-        alive = node.process.poll() is None
+        alive = node.alive()
     finally:
-        if flooder is not None and flooder.poll() is None:
-            flooder.kill()
-            flooder.wait()
-        exit_code = node.stop()
-        log = node.log()
-        node.close()
+        exit_code, log = finish(node, flooder)
     start_ns, end_ns = flood['start_ns'], flood['end_ns']
     stamps = np.array(poses.stamps, dtype=np.int64)
     published = np.array(poses.published, dtype=np.int64)
@@ -429,13 +399,19 @@ def run_flood(ros, seconds: float, rate: float = 20000.0, hostile_every: int = 0
     final_error = float(np.linalg.norm(anchors[-1] - last_valid))
     gaps = np.diff(stamps[in_flood])
     period_ns = NS / node_rate
+    # After the flood: the stamp that ends the last gap of more than one tick.
+    after = stamps[stamps >= end_ns - period_ns]
+    late_gaps = np.flatnonzero(np.diff(after) > 1.5 * period_ns)
+    recovered = (after[late_gaps[-1] + 1] - end_ns) / NS if len(late_gaps) else 0.0
+    missing = int(np.sum(np.round(gaps / period_ns) - 1)) if len(gaps) else 0
     return {
         'flood': flood,
         'node_rate_hz': node_rate,
         'flood_seconds': span,
         'stamp_rate_hz': int(in_flood.sum()) / span,
         'publish_rate_hz': int(written.sum()) / span,
-        'missing_ticks': int(np.sum(np.round(gaps / period_ns) - 1)) if len(gaps) else 0,
+        'twists': len(twists),
+        'missing_ticks': missing,
         'late_ms_p99': float(np.percentile((published - stamps)[in_flood], 99) / 1e6),
         'late_ms_max': float(np.max((published - stamps)[in_flood]) / 1e6),
         'observer_late_ms_p99': float(np.percentile((received - published)[in_flood], 99)
@@ -453,6 +429,8 @@ def run_flood(ros, seconds: float, rate: float = 20000.0, hostile_every: int = 0
         'all_finite': bool(np.isfinite(np.array(poses.positions)).all()
                            and np.isfinite(np.array(poses.orientations)).all()),
         'served_after_flood_s': (poses.stamps[-1] - end_ns) / NS,
+        'recovered_s': float(recovered),
+        'drops_warned': 'dropped' in log,
         'node_alive': alive,
         'node_exit_code': exit_code,
         'node_log_tail': log[-2000:],
