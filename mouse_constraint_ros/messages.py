@@ -8,7 +8,8 @@ per-tick path builds no message objects (rclpy serializes on ``publish``, so reu
 from typing import Tuple
 
 from builtin_interfaces.msg import Time
-from geometry_msgs.msg import Point, PointStamped, PoseStamped, TransformStamped, TwistStamped
+from geometry_msgs.msg import (Point, PointStamped, PoseStamped, TransformStamped, TwistStamped,
+                               WrenchStamped)
 from nav_msgs.msg import Odometry
 
 from .physics import BodyState
@@ -145,4 +146,14 @@ def odometry_message(state: BodyState, *, frame_id: str, body_frame_id: str,
     message.child_frame_id = body_frame_id
     set_stamp(message.header.stamp, nanoseconds)
     fill_odometry(message, state)
+    return message
+
+
+def wrench_message(force: Vector3, torque: Vector3, frame_id: str) -> WrenchStamped:
+    """Return a ``WrenchStamped`` of ``force`` (N) and ``torque`` (N m) in ``frame_id``."""
+    message = WrenchStamped()
+    message.header.frame_id = frame_id
+    f, t = message.wrench.force, message.wrench.torque
+    f.x, f.y, f.z = (float(c) for c in force)
+    t.x, t.y, t.z = (float(c) for c in torque)
     return message

@@ -13,6 +13,7 @@ from scipy.spatial.transform import Rotation
 from std_srvs.srv import SetBool, Trigger
 from visualization_msgs.msg import Marker, MarkerArray
 
+from mouse_constraint_ros import messages
 from mouse_constraint_ros.markers import marker_array, wrench_reference
 from mouse_constraint_ros.node import MouseConstraintNode
 from mouse_constraint_ros.physics import BodyState, MouseSimulation, RigidBody, Settings
@@ -166,13 +167,8 @@ def start_node(ros, namespace='', **overrides) -> MouseConstraintNode:
 
 
 def wrench_message(force, torque, frame_id='world') -> WrenchStamped:
-    """Return a WrenchStamped of ``force`` and ``torque`` in ``frame_id``."""
-    message = WrenchStamped()
-    message.header.frame_id = frame_id
-    f, t = message.wrench.force, message.wrench.torque
-    f.x, f.y, f.z = map(float, force)
-    t.x, t.y, t.z = map(float, torque)
-    return message
+    """Return a WrenchStamped of ``force`` and ``torque`` in ``frame_id`` (world by default)."""
+    return messages.wrench_message(force, torque, frame_id)
 
 
 def call(ros, service_type, name, request):

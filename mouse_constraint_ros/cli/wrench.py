@@ -27,6 +27,7 @@ from rclpy.utilities import remove_ros_args
 
 from .target import plain_text, POLL_PERIOD
 from ..interface import WRENCH_QOS, WRENCH_TOPIC
+from ..messages import wrench_message
 from ..parameters import DEFAULTS
 from ..spin import StopRequest
 from ..wrench_gate import WrenchGate
@@ -51,16 +52,6 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument('--frame', default='',
                         help="frame_id of the wrench (default: empty, the node's frame)")
     return parser
-
-
-def wrench_message(force, torque, frame_id: str) -> WrenchStamped:
-    """Return a WrenchStamped of ``force`` (N) and ``torque`` (N m) in ``frame_id``."""
-    message = WrenchStamped()
-    message.header.frame_id = frame_id
-    f, t = message.wrench.force, message.wrench.torque
-    f.x, f.y, f.z = map(float, force)
-    t.x, t.y, t.z = map(float, torque)
-    return message
 
 
 def main(args: Optional[List[str]] = None) -> int:
