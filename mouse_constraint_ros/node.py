@@ -13,12 +13,10 @@ node are not an error (one file may serve several nodes) but are warned about, w
 known name.
 """
 
-import difflib
 import math
-import re
 import sys
 import time
-from typing import Any, Callable, List, NoReturn, Optional, Sequence, Tuple
+from typing import Any, Callable, List, NoReturn, Optional, Tuple
 
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PointStamped, WrenchStamped
@@ -51,6 +49,10 @@ from .physics.algebra import Vector3
 from .publish_ticks import PublishTicks
 from .sim_clock import SimulatedClock
 from .spin import spin_until, StopRequest
+# CLOCK_LOOP and StartupRefusal: importable from the node, where its refusals come from.
+from .startup import (CLOCK_LOOP, clock_loop, describe, rcl_reason,  # noqa: F401
+                      refusal_reason, requested_logger_name, StartupRefusal,
+                      unknown_parameter_warnings)
 from .state_publishers import (BroadcasterFactory, DEFAULT_BROADCASTER, StatePublishers,
                                TF_UNAVAILABLE)
 from .target_gate import TargetGate
@@ -83,97 +85,6 @@ MIN_CLOCK_PERIOD = 0.001
 # ends within the period leaves no backlog, so services and parameters answer within about a
 # period. Nothing is dropped at the budget; the simulated clock just runs slower.
 CLOCK_BUDGET_SHARE = 0.8
-# Why publish_clock and use_sim_time cannot both be true.
-CLOCK_LOOP = ('publish_clock: true with use_sim_time: true: a node cannot follow the clock it '
-              'publishes itself (set use_sim_time false, or publish_clock false to follow '
-              'another /clock)')
-# Parameters rclpy declares or reads by itself; not unknown keys.
-RCLPY_PARAMETER_PREFIXES = ('use_sim_time', 'start_type_description_service', 'qos_overrides.')
-
-
-class StartupRefusal(ValueError):
-    """
-    The node cannot start with what it was given; the message says what and why.
-
-    :param logger_name: the logger of the node that refuses, with its real (remapped) name.
-    :param reason: one line naming the parameter and the reason.
-    """
-
-    def __init__(self, logger_name: str, reason: str) -> None:
-        """Keep the logger name next to the reason."""
-        super().__init__(reason)
-        self.logger_name = logger_name
-
-
-_TYPE_NAMES = {
-    Parameter.Type.BOOL: 'a bool',
-    Parameter.Type.INTEGER: 'an integer',
-    Parameter.Type.DOUBLE: 'a double',
-    Parameter.Type.STRING: 'a string',
-    Parameter.Type.BYTE_ARRAY: 'a list of bytes',
-    Parameter.Type.BOOL_ARRAY: 'a list of bools',
-    Parameter.Type.INTEGER_ARRAY: 'a list of integers',
-    Parameter.Type.DOUBLE_ARRAY: 'a list of doubles',
-    Parameter.Type.STRING_ARRAY: 'a list of strings',
-}
-
-
-def _yaml(value: Any) -> str:
-    """Return ``value`` as YAML writes it (true, 2.0, [1.0, 2.0], .nan)."""
-    if isinstance(value, bool):
-        return 'true' if value else 'false'
-    if isinstance(value, float) and not math.isfinite(value):
-        return '.nan' if math.isnan(value) else ('-.inf' if value < 0 else '.inf')
-    if isinstance(value, (list, tuple)) or type(value).__name__ == 'array':
-        return '[' + ', '.join(_yaml(v) for v in value) + ']'
-    return repr(value)
-
-
-def _type_hint(value: Any, expected: Parameter.Type) -> Optional[str]:
-    """Return how to write ``value`` as the ``expected`` type, where that is plain."""
-    if expected == Parameter.Type.DOUBLE and type(value) is int:
-        return _yaml(float(value))
-    if expected == Parameter.Type.DOUBLE_ARRAY and isinstance(value, Sequence):
-        if all(type(v) in (int, float) for v in value):
-            return _yaml([float(v) for v in value])
-    if expected == Parameter.Type.INTEGER and isinstance(value, float) and value.is_integer():
-        return str(int(value))
-    if expected == Parameter.Type.BOOL and type(value) is int and value in (0, 1):
-        return _yaml(bool(value))
-    return None
-
-
-def refusal_reason(declaration: ParameterSpec, given: Optional[Parameter],
-                   error: ParameterException) -> str:
-    """
-    Return one line saying why ``given`` cannot be ``declaration``'s value.
-
-    rclpy refuses an override of another type than the default's (a YAML ``2`` is an integer,
-    never a double: ``ros2 param set`` refuses it the same way, so the node does not convert it
-    at start either) or outside the declared range; its exception texts name neither the
-    parameter first nor the fix.
-
-    :param declaration: the parameter as the node declares it.
-    :param given: the override the node was started with, or None.
-    :param error: what rclpy raised.
-    """
-    name = declaration.name
-    if given is None:
-        return f'{name}: {error}'
-    expected = Parameter.Type.from_parameter_value(declaration.default)
-    value = given.value
-    if given.type_ != expected:
-        reason = (f'{name}: {_yaml(value)} is {_TYPE_NAMES.get(given.type_, given.type_.name)}, '
-                  f'{name} takes {_TYPE_NAMES.get(expected, expected.name)}')
-        hint = _type_hint(value, expected)
-        return reason + (f': write {hint}' if hint else '')
-    if declaration.bounds is not None:
-        low, high = declaration.bounds
-        bounds = f'its range [{_yaml(low)}, {_yaml(high)}]'
-        if isinstance(value, float) and math.isnan(value):
-            return f'{name}: .nan is not a number, so not within {bounds}'
-        return f'{name}: {_yaml(value)} is outside {bounds}'
-    return f'{name}: {error}'
 
 
 def _descriptor(parameter) -> ParameterDescriptor:
@@ -224,8 +135,9 @@ class MouseConstraintNode(Node):
         except ValueError as error:
             self._refuse(str(error))
         self._warn_about_unknown_parameters()
-        if self._config.publish_clock and self.get_parameter('use_sim_time').value:
-            self._refuse(CLOCK_LOOP)
+        loop = clock_loop(self._config.publish_clock, self.get_parameter('use_sim_time').value)
+        if loop is not None:
+            self._refuse(loop)
         self._simulation = MouseSimulation(self._config.settings, self._config.initial_state)
         self._user_target = False
         self._last_target_ns: Optional[int] = None
@@ -282,8 +194,9 @@ class MouseConstraintNode(Node):
         try:
             self.declare_parameter(parameter.name, parameter.default, _descriptor(parameter))
         except ParameterException as error:
-            raise ValueError(refusal_reason(
-                parameter, self._parameter_overrides.get(parameter.name), error)) from None
+            given = self._parameter_overrides.get(parameter.name)
+            raise ValueError(refusal_reason(parameter, error, None if given is None else (
+                given.value, given.type_.name))) from None
 
     def _refuse(self, reason: str) -> NoReturn:
         """Destroy the half-built node and raise StartupRefusal with its logger's name."""
@@ -293,14 +206,9 @@ class MouseConstraintNode(Node):
 
     def _warn_about_unknown_parameters(self) -> None:
         """Warn once for each given parameter the node does not have, with the nearest name."""
-        known = [p.name for p in PARAMETERS]
-        for name in sorted(set(self._parameter_overrides) - set(self._parameters)):
-            if name.startswith(RCLPY_PARAMETER_PREFIXES):
-                continue
-            nearest = difflib.get_close_matches(name, known, n=1)
-            self.get_logger().warning(
-                f'ignoring unknown parameter {name!r}'
-                + (f': did you mean {nearest[0]!r}?' if nearest else ''))
+        for line in unknown_parameter_warnings(self._parameter_overrides, self._parameters,
+                                               [p.name for p in PARAMETERS]):
+            self.get_logger().warning(line)
 
     @property
     def simulation(self) -> MouseSimulation:
@@ -313,21 +221,7 @@ class MouseConstraintNode(Node):
         return values
 
     def _describe(self) -> str:
-        c = self._config
-        s = c.settings
-        constraint = s.constraint
-        if constraint.rigid:
-            mode = f'rigid, baumgarte {constraint.baumgarte:g}'
-        else:
-            mode = (f'soft, {constraint.frequency_hz:g} Hz, '
-                    f'damping ratio {constraint.damping_ratio:g}')
-        return (f'{c.rate_hz:g} Hz x {s.substeps} substeps in frame {c.frame_id!r}: '
-                f'mass {s.body.mass:g} kg, inertia {s.body.inertia}, anchor {s.constraint.anchor},'
-                f' {mode}, max force {s.constraint.max_force:g} N, gravity {s.gravity}, damping '
-                f'{s.linear_damping:g}/{s.angular_damping:g} 1/s, target timeout '
-                f'{c.target_timeout:g} s' + (
-                    f', publishing /clock at real time factor {c.real_time_factor:g}'
-                    if c.publish_clock else ''))
+        return describe(self._config)
 
     @staticmethod
     def _publishing(config) -> dict:
@@ -580,8 +474,9 @@ class MouseConstraintNode(Node):
             return SetParametersResult(successful=False, reason=str(error))
         use_sim_time = next((p.value for p in changes if p.name == 'use_sim_time'),
                             self.get_parameter('use_sim_time').value)
-        if config.publish_clock and use_sim_time:
-            return SetParametersResult(successful=False, reason=CLOCK_LOOP)
+        loop = clock_loop(config.publish_clock, use_sim_time)
+        if loop is not None:
+            return SetParametersResult(successful=False, reason=loop)
         previous, self._config = self._config, config
         if not self._setting_anchor and any(p.name == 'anchor' for p in changes):
             self._configured_anchor = config.settings.constraint.anchor
@@ -877,35 +772,6 @@ class MouseConstraintNode(Node):
         ]))
 
 
-def requested_logger_name(args: Sequence[str]) -> str:
-    """
-    Return the node's logger name as the command line's remaps make it, without rcl.
-
-    For the one case where rcl cannot start (an unreadable params file) and so cannot say:
-    ``-r __node:=other`` (or ``__name``) and ``-r __ns:=/a/b`` give ``a.b.other``.
-    """
-    name, namespace = NODE_NAME, ''
-    for argument in args:
-        match = re.fullmatch(r'(?:[^:=]+:)?__(node|name|ns):=(.+)', argument)
-        if match and match.group(1) == 'ns':
-            namespace = match.group(2)
-        elif match:
-            name = match.group(2)
-    return '.'.join(part for part in namespace.split('/') + [name] if part)
-
-
-def rcl_reason(error: Exception) -> str:
-    """Return rcl's start-up error as one line: its sentence, without rcl's source locations."""
-    text = re.sub(r', at \S+:\d+', '', str(error)).strip()
-    text = re.sub(r'^failed to initialize rcl: ', '', text)
-    if 'Sequence should be of same type' in text:
-        text += (' (a list holds one type: write every number of a list of doubles with a '
-                 'decimal point, e.g. [0.2, 0.0, 0.05])')
-    elif 'Error opening YAML file' in text:
-        text += ' (no such file, or not readable)'
-    return text
-
-
 def main(args: Optional[List[str]] = None) -> int:
     """Run the node until Ctrl-C, SIGTERM or SIGHUP; exit 0 then, 1 when it cannot start."""
     # rcl logs "Failed to parse global arguments" of its own before it raises; the FATAL line
@@ -916,8 +782,8 @@ def main(args: Optional[List[str]] = None) -> int:
     try:
         rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     except _rclpy.RCLError as error:
-        rclpy.logging.get_logger(requested_logger_name(
-            sys.argv if args is None else args)).fatal(f'cannot start: {rcl_reason(error)}')
+        name = requested_logger_name(sys.argv if args is None else args, NODE_NAME)
+        rclpy.logging.get_logger(name).fatal(f'cannot start: {rcl_reason(error)}')
         return 1
     finally:
         if rclpy.logging.get_logger_level('rcl') == quiet:  # not set by --log-level
