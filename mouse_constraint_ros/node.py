@@ -47,7 +47,7 @@ from .parameters import node_config, PARAMETERS, ParameterSpec
 from .physics import MouseSimulation
 from .physics.algebra import Vector3
 from .publish_ticks import PublishTicks
-from .sim_clock import SimulatedClock
+from .sim_clock import ClockPacer, SimulatedClock
 from .spin import spin_until, StopRequest
 # CLOCK_LOOP and StartupRefusal: importable from the node, where its refusals come from.
 from .startup import (CLOCK_LOOP, clock_loop, describe, rcl_reason,  # noqa: F401
@@ -57,34 +57,18 @@ from .state_publishers import (BroadcasterFactory, DEFAULT_BROADCASTER, StatePub
                                TF_UNAVAILABLE)
 from .target_gate import TargetGate
 from .throttle import Throttle
+from .tick_budget import TickBudget
 from .tick_grid import TickGrid
 from .wrench_gate import HeldWrench, NO_WRENCH, WrenchGate
 
 # Catch up on at most this much missed time in one timer callback; older ticks are dropped.
 MAX_CATCH_UP_SECONDS = 0.1
-# Run ticks for at most this much wall time in one timer callback; the rest of the due ticks are
-# dropped. The executor is single-threaded: this bounds how long a service or parameter call
-# waits behind the physics, whatever one tick costs (substeps). A callback that reaches the
-# budget is followed by as long a rest, in which due ticks are dropped at once: the physics
-# then has at most half of the wall time, and the timer events that queued up meanwhile are
-# cleared in microseconds instead of each running ticks in turn.
-CALLBACK_BUDGET_SECONDS = 0.05
-# Weight of the newest callback in the running estimate of one tick's wall time.
-TICK_COST_WEIGHT = 0.25
 # Throttle period of the warnings about bad input and missed rate (s).
 WARN_PERIOD = 2.0
 # Period (s, steady clock) of the check that a simulated clock has started.
 CLOCK_WATCH_PERIOD = 1.0
 # The node's transform_broadcaster when none is given: tf2_ros's, where importable.
 _DEFAULT_BROADCASTER = object()
-# With publish_clock: the shortest period (s, steady clock) of the tick timer; each call runs
-# the ticks due (at real_time_factor 0, as many as fit in CLOCK_BUDGET_SHARE of the period).
-MIN_CLOCK_PERIOD = 0.001
-# With publish_clock: the share of the tick timer's period one call may run ticks for. The
-# EventsExecutor queues a timer event every period whatever the callback takes: a call that
-# ends within the period leaves no backlog, so services and parameters answer within about a
-# period. Nothing is dropped at the budget; the simulated clock just runs slower.
-CLOCK_BUDGET_SHARE = 0.8
 
 
 def _descriptor(parameter) -> ParameterDescriptor:
@@ -154,10 +138,8 @@ class MouseConstraintNode(Node):
         self.clock_restarts = 0
         # Why ticks were last dropped, for /diagnostics; None while none were.
         self.drop_cause: Optional[str] = None
-        # Running estimate of one tick's wall time (s), 0 before the first tick.
-        self._tick_seconds = 0.0
-        # perf_counter() until which due ticks are dropped, after a callback over its budget.
-        self._rest_until = -math.inf
+        # Which due ticks a timer callback runs, and when it rests (node clock only).
+        self._budget = TickBudget()
         # Which clock the grid runs on: simulated (True) or system time.
         self._grid_sim_time = self.get_clock().ros_time_is_active
         # Timers that must run while a simulated clock stands still or has not started.
@@ -328,37 +310,14 @@ class MouseConstraintNode(Node):
             self._drop(due.dropped, f'more than the {MAX_CATCH_UP_SECONDS:g} s catch-up bound '
                        'was missed')
         self._release_if_timed_out(now)
-        if count and time.perf_counter() < self._rest_until:
-            # Resting after a callback that spent its budget: the executor's queue (timer
-            # events keep coming at the rate while ticks run) drains, services get their turn.
-            self._drop(count, self._budget_cause(self._tick_seconds))
-            return
-        # What fits in the wall budget at the estimated cost runs; the oldest of the rest are
-        # dropped, so that the newest state is the one published.
-        over_budget = False
-        if self._tick_seconds > 0.0:
-            fits = max(1, int(CALLBACK_BUDGET_SECONDS / self._tick_seconds))
-            if count > fits:
-                over_budget = True
-                self._drop(count - fits, self._budget_cause(self._tick_seconds))
-                first, count = first + count - fits, fits
-        started = time.perf_counter()
-        ran = self._run_ticks(first, count)
-        if ran < count:
-            over_budget = True
-            self._drop(count - ran, self._budget_cause(self._tick_seconds))
-        if over_budget:
-            # The physics cannot keep the rate: it gets at most half of the wall time.
-            finished = time.perf_counter()
-            self._rest_until = finished + (finished - started)
-        if ran > 1:
-            self.late_ticks += ran - 1
-        self.ticks_run += ran
-
-    def _budget_cause(self, tick_seconds: float) -> str:
-        return (f'one tick takes {tick_seconds * 1e3:.3g} ms of wall time '
-                f'({self._config.settings.substeps} substeps) and a timer callback stops after '
-                f'{CALLBACK_BUDGET_SECONDS * 1e3:g} ms so that services and parameters answer')
+        if count:
+            budget = self._budget
+            ran = budget.run(self._tick, self._grid.stamp, first, count)
+            if ran < count:
+                self._drop(count - ran, budget.cause(self._config.settings.substeps))
+            if ran > 1:
+                self.late_ticks += ran - 1
+            self.ticks_run += ran
 
     def _drop(self, count: int, cause: str) -> None:
         self.dropped_ticks += count
@@ -366,30 +325,6 @@ class MouseConstraintNode(Node):
         self._warn('rate', lambda: (
             f'cannot keep {self._config.rate_hz:g} Hz: dropped {count} ticks '
             f'({self.dropped_ticks} in all): {cause}; simulated time falls behind'))
-
-    def _run_ticks(self, first: int, count: int) -> int:
-        """
-        Step ticks ``first`` on, until ``count`` ran or the wall budget is spent.
-
-        The ticks that ``PublishTicks`` picks publish their state, stamped on the grid.
-
-        :returns: how many ran (at least one when ``count`` > 0).
-        """
-        stamp = self._grid.stamp
-        clock = time.perf_counter
-        started = clock()
-        ran = 0
-        for tick in range(first, first + count):
-            self._tick(stamp(tick), tick)
-            ran += 1
-            if clock() - started > CALLBACK_BUDGET_SECONDS:
-                break
-        if ran:
-            cost = (time.perf_counter() - started) / ran
-            self._tick_seconds = (cost if self._tick_seconds == 0.0 else
-                                  self._tick_seconds + TICK_COST_WEIGHT * (
-                                      cost - self._tick_seconds))
-        return ran
 
     def _tick(self, stamp: int, tick: Optional[int] = None) -> None:
         """
@@ -533,23 +468,15 @@ class MouseConstraintNode(Node):
         return self.get_clock().now().nanoseconds
 
     def _start_clock_timer(self):
-        """
-        Return the tick timer of publish_clock, on the steady clock.
-
-        The node's own clock is not the simulated one (use_sim_time is false); the period is
-        that of the ticks due in wall time, at least MIN_CLOCK_PERIOD.
-        """
-        factor = self._config.real_time_factor
-        period = (MIN_CLOCK_PERIOD if factor == 0.0 else
-                  max(MIN_CLOCK_PERIOD, 1.0 / (self._config.rate_hz * factor)))
-        self._clock_budget = CLOCK_BUDGET_SHARE * period
-        # perf_counter() until which calls return at once, after one that overran its period.
-        self._clock_rest_until = -math.inf
-        return self.create_timer(period, self._on_clock_timer, clock=self._steady_clock)
+        """Return the tick timer of publish_clock, on the steady clock (``ClockPacer``)."""
+        self._pacer = ClockPacer(self._config.rate_hz, self._config.real_time_factor)
+        return self.create_timer(self._pacer.period, self._on_clock_timer,
+                                 clock=self._steady_clock)
 
     def _on_clock_timer(self) -> None:
-        started = time.perf_counter()
-        if started < self._clock_rest_until:
+        pacer = self._pacer
+        started = pacer.start()
+        if started is None:
             # Clears the events queued while one tick outlasted the period (many substeps).
             return
         clock = self._sim_clock
@@ -557,18 +484,7 @@ class MouseConstraintNode(Node):
         if due == 0:
             return
         self._release_if_timed_out(clock.now_ns)
-        budget = self._clock_budget
-        ran = 0
-        while due is None or ran < due:
-            self._tick(clock.advance(), clock.ticks)
-            ran += 1
-            if time.perf_counter() - started > budget:
-                # The rest stays due: the pacing slips if the lag grows beyond its bound.
-                break
-        self.ticks_run += ran
-        spent = time.perf_counter() - started
-        if spent > budget / CLOCK_BUDGET_SHARE:
-            self._clock_rest_until = started + 2.0 * spent
+        self.ticks_run += pacer.run(clock, self._tick, due, started)
 
     def _switch_clock(self, previous) -> None:
         """Start the tick timer again for a new rate or clock source, re-basing input ages."""
