@@ -16,7 +16,7 @@ known name.
 import math
 import sys
 import time
-from typing import Any, Callable, List, NoReturn, Optional, Tuple
+from typing import Any, Callable, List, NoReturn, Optional
 
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PointStamped, WrenchStamped
@@ -38,6 +38,7 @@ from .diagnostics import (constraint_status, diagnostic_array, INITIAL_ANCHOR, N
                           Pacing, publishing_values, rate_status, simulator_status, Thresholds,
                           TickCounters, TickWindow, USER_TARGET)
 from .grab import grab
+from .input_timeouts import input_age, target_release_text, timed_out, wrench_removal_text
 from .interface import (CLOCK_QOS, CLOCK_TOPIC, DIAGNOSTICS_TOPIC, GRAB_TOPIC, MARKERS_TOPIC,
                         MONITOR_DEPTH, NODE_NAME, PAUSE_SERVICE, RELEASE_SERVICE, RESET_SERVICE,
                         STEP_SERVICE, TARGET_QOS, TARGET_TOPIC, WRENCH_QOS, WRENCH_TOPIC)
@@ -47,7 +48,7 @@ from .parameters import node_config, PARAMETERS, ParameterSpec
 from .physics import MouseSimulation
 from .physics.algebra import Vector3
 from .publish_ticks import PublishTicks
-from .sim_clock import ClockPacer, SimulatedClock
+from .sim_clock import ClockPacer, PacingMeter, SimulatedClock
 from .spin import spin_until, StopRequest
 # CLOCK_LOOP and StartupRefusal: importable from the node, where its refusals come from.
 from .startup import (CLOCK_LOOP, clock_loop, describe, rcl_reason,  # noqa: F401
@@ -58,11 +59,10 @@ from .state_publishers import (BroadcasterFactory, DEFAULT_BROADCASTER, StatePub
 from .target_gate import TargetGate
 from .throttle import Throttle
 from .tick_budget import TickBudget
-from .tick_grid import TickGrid
+from .tick_grid import (CATCH_UP_CAUSE, clock_change_text, clock_jump_text, drop_text,
+                        MAX_CATCH_UP_SECONDS, scheduled_origin, TickGrid)
 from .wrench_gate import HeldWrench, NO_WRENCH, WrenchGate
 
-# Catch up on at most this much missed time in one timer callback; older ticks are dropped.
-MAX_CATCH_UP_SECONDS = 0.1
 # Throttle period of the warnings about bad input and missed rate (s).
 WARN_PERIOD = 2.0
 # Period (s, steady clock) of the check that a simulated clock has started.
@@ -214,7 +214,7 @@ class MouseConstraintNode(Node):
         if self._timer is not None:
             self.destroy_timer(self._timer)
         rate = self._config.rate_hz
-        self._grid = TickGrid(rate, math.ceil(MAX_CATCH_UP_SECONDS * rate))
+        self._grid = TickGrid.for_rate(rate)
         self._publish_ticks = PublishTicks(rate, self._config.publish_rate_hz)
         self._dt = 1.0 / rate
         if self._config.publish_clock:
@@ -289,26 +289,17 @@ class MouseConstraintNode(Node):
             self._grid_sim_time = clock.ros_time_is_active
             self._grid.restart(now)
             self.clock_restarts += 1
-            self.get_logger().info(
-                f'clock changed to {"simulated" if self._grid_sim_time else "system"} time: '
-                f'restarting the tick grid at {now * 1e-9:.9f} s without catching up')
+            self.get_logger().info(clock_change_text(self._grid_sim_time, now))
         elif not self._grid.started:
-            # Put t0 where the timer scheduled this first call, not where it ran: each later
-            # call then finds exactly its own tick due, however late (up to a period) it runs,
-            # instead of only when its jitter beats the first call's.
-            left = self._timer.time_until_next_call()
-            period = self._timer.timer_period_ns
-            self._grid.restart(now + left - period if left is not None and 0 <= left <= period
-                               else now)
+            self._grid.restart(scheduled_origin(now, self._timer.time_until_next_call(),
+                                                self._timer.timer_period_ns))
         due = self._grid.due(now)
         if due.restarted:
             self.clock_restarts += 1
-            self.get_logger().warning('clock jumped backwards: restarting the tick grid at '
-                                      f'{now * 1e-9:.9f} s without catching up')
+            self.get_logger().warning(clock_jump_text(now))
         first, count = due.first, due.count
         if due.dropped:
-            self._drop(due.dropped, f'more than the {MAX_CATCH_UP_SECONDS:g} s catch-up bound '
-                       'was missed')
+            self._drop(due.dropped, CATCH_UP_CAUSE)
         self._release_if_timed_out(now)
         if count:
             budget = self._budget
@@ -322,9 +313,8 @@ class MouseConstraintNode(Node):
     def _drop(self, count: int, cause: str) -> None:
         self.dropped_ticks += count
         self.drop_cause = cause
-        self._warn('rate', lambda: (
-            f'cannot keep {self._config.rate_hz:g} Hz: dropped {count} ticks '
-            f'({self.dropped_ticks} in all): {cause}; simulated time falls behind'))
+        self._warn('rate', lambda: drop_text(self._config.rate_hz, count, self.dropped_ticks,
+                                             cause))
 
     def _tick(self, stamp: int, tick: Optional[int] = None) -> None:
         """
@@ -337,8 +327,7 @@ class MouseConstraintNode(Node):
         if self._held_wrench.applied is not None and self._held_wrench.expired(
                 stamp, self._config.wrench_timeout):
             self._simulation.wrench = NO_WRENCH
-            self.get_logger().info(f'no wrench for {self._config.wrench_timeout:g} s: '
-                                   'removing it')
+            self.get_logger().info(wrench_removal_text(self._config.wrench_timeout))
         state = self._simulation.step(self._dt)
         if self._clock_publisher is not None:
             set_stamp(self._clock_message.clock, stamp)
@@ -369,11 +358,10 @@ class MouseConstraintNode(Node):
 
     def _release_if_timed_out(self, now: int) -> None:
         timeout = self._config.target_timeout
-        if (timeout > 0.0 and self._user_target
-                and now - self._last_target_ns > timeout * 1e9):
+        if self._user_target and timed_out(self._last_target_ns, now, timeout):
             self._simulation.target = None
             self._user_target = False
-            self.get_logger().info(f'no target for {timeout:g} s: releasing the body')
+            self.get_logger().info(target_release_text(timeout))
 
     def _on_reset(self, _request: Trigger.Request, response: Trigger.Response):
         configured = self._configured_anchor
@@ -453,8 +441,8 @@ class MouseConstraintNode(Node):
         self._clock_publisher = None
         if self._config.publish_clock:
             self._clock_publisher = self.create_publisher(ClockMessage, CLOCK_TOPIC, CLOCK_QOS)
-        # (steady ns, simulated ns, slipped ns) at the last diagnostics call.
-        self._pacing_sample: Optional[Tuple[int, int, int]] = None
+        # What the pacing achieved between two diagnostics calls.
+        self._pacing = PacingMeter()
 
     def _simulator_controls_setup(self) -> None:
         self.create_subscription(WrenchStamped, WRENCH_TOPIC, self._on_wrench, WRENCH_QOS)
@@ -530,7 +518,7 @@ class MouseConstraintNode(Node):
             return response
         self._sim_clock.resume()
         rate = self._config.rate_hz
-        self._grid = TickGrid(rate, math.ceil(MAX_CATCH_UP_SECONDS * rate))
+        self._grid = TickGrid.for_rate(rate)
         self._tick_window = TickWindow()
         response.message = f'running from {self._now_ns() * 1e-9:.9f} s'
         return response
@@ -575,18 +563,12 @@ class MouseConstraintNode(Node):
         self._simulation.wrench = self._held_wrench.wrench
 
     def _simulator_status(self, name: str, hardware_id: str, now: int):
-        clock, config = self._sim_clock, self._config
-        wall = time.monotonic_ns()
-        sample = (wall, clock.now_ns, clock.slipped_ns)
-        previous, self._pacing_sample = self._pacing_sample, sample
-        achieved, slipped = None, 0.0
-        if previous is not None and wall > previous[0]:
-            achieved = (sample[1] - previous[1]) / (wall - previous[0])
-            slipped = (sample[2] - previous[2]) * 1e-9
+        config = self._config
+        achieved, slipped = self._pacing.sample(time.monotonic_ns(), self._sim_clock)
         publishing = self._clock_publisher is not None
         applied = self._held_wrench.applied
         force, torque = self._simulation.wrench
-        age = None if applied is None else max(0.0, (now - applied.since_ns) * 1e-9)
+        age = None if applied is None else input_age(applied.since_ns, now)
         pacing = Pacing(publishing, self._paused, config.real_time_factor,
                         achieved if publishing else None, slipped, now * 1e-9)
         return simulator_status(name, hardware_id, pacing=pacing, force=force, torque=torque,
@@ -663,7 +645,7 @@ class MouseConstraintNode(Node):
                                 anchor_error=config.diagnostics_anchor_error)
         error = simulation.anchor_error()
         if self._user_target:
-            kind, age = USER_TARGET, max(0.0, (now - self._last_target_ns) * 1e-9)
+            kind, age = USER_TARGET, input_age(self._last_target_ns, now)
         else:
             kind, age = (NO_TARGET if simulation.target is None else INITIAL_ANCHOR), None
         name = hardware_id = self.get_fully_qualified_name()

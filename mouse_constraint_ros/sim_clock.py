@@ -26,13 +26,15 @@ about a period. Nothing is dropped at the budget; the simulated clock just runs 
 that outlasts its period (one tick of many substeps) is followed by a rest of twice its length,
 in which calls return at once and so clear the events queued meanwhile.
 
+``PacingMeter`` says what the pacing achieved between two samples (the node's diagnostics).
+
 Plain integers and floats only (no rclpy), so the pacing is tested alone.
 """
 
 from fractions import Fraction
 import math
 import time
-from typing import Callable, Optional
+from typing import Callable, Optional, Tuple
 
 NANOSECONDS_PER_SECOND = 1_000_000_000
 # The shortest period (s, steady clock) of the tick timer; each call runs the ticks due (at
@@ -183,3 +185,24 @@ class ClockPacer:
         if spent > self.period:
             self.rest_until = started + 2.0 * spent
         return ran
+
+
+class PacingMeter:
+    """The simulated seconds per wall second, and the time slipped, between two samples."""
+
+    def __init__(self) -> None:
+        """Start with no sample: the first one measures nothing."""
+        # (wall ns, simulated ns, slipped ns) at the last sample.
+        self._last: Optional[Tuple[int, int, int]] = None
+
+    def sample(self, wall_ns: int, clock: SimulatedClock) -> Tuple[Optional[float], float]:
+        """
+        Return (achieved factor or None, simulated seconds slipped) since the last sample.
+
+        None before a second sample, or when the wall clock has not moved since the last one.
+        """
+        now = (wall_ns, clock.now_ns, clock.slipped_ns)
+        last, self._last = self._last, now
+        if last is None or wall_ns <= last[0]:
+            return None, 0.0
+        return (now[1] - last[1]) / (wall_ns - last[0]), (now[2] - last[2]) * 1e-9
