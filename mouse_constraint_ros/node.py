@@ -1,16 +1,16 @@
 """
-The ``mouse_constraint`` node: parameters, topics, services and the fixed-rate timer.
+The ``mouse_constraint`` node: parameters, topics, services and timers, wired to pure parts.
 
-It holds no physics: a ``MouseSimulation`` does the stepping, ``TickGrid`` says which ticks are
-due, ``PublishTicks`` which of them publish (``publish_rate_hz``), ``StatePublishers`` sends
-pose, twist, TF and odometry (raw CDR), ``configuration`` validates parameters and
-``conversions`` fills the messages.
+It holds no physics and no policy of its own: a ``MouseSimulation`` does the stepping,
+``TickGrid`` says which ticks are due on the node's clock and ``TickBudget`` which of them one
+callback runs; with ``publish_clock`` ``SimulatedClock`` and ``ClockPacer`` pace them.
+``PublishTicks`` says which ticks publish (``publish_rate_hz``), ``StatePublishers`` sends pose,
+twist, TF and odometry (raw CDR), ``TargetGate`` and ``WrenchGate`` judge the input and
+``input_timeouts`` when it expires, ``parameters`` validates the configuration, ``startup``
+words the refusals, ``markers`` and ``diagnostics`` build the monitoring messages.
 
 Start-up refuses what it cannot run with one FATAL line tagged with the node's real name and
-exit 1: a parameter of the wrong type or out of its declared range, a configuration that is not
-valid as a whole, or a params file rcl cannot read. Unknown keys in the parameters given to the
-node are not an error (one file may serve several nodes) but are warned about, with the nearest
-known name.
+exit 1 (``startup``); unknown keys in the parameters given to the node are warned about.
 """
 
 import math
@@ -48,6 +48,8 @@ from .parameters import node_config, PARAMETERS, ParameterSpec
 from .physics import MouseSimulation
 from .physics.algebra import Vector3
 from .publish_ticks import PublishTicks
+from .service_replies import (pause_reply, release_reply, reset_refusal, reset_reply,
+                              step_refusal, step_reply)
 from .sim_clock import ClockPacer, PacingMeter, SimulatedClock
 from .spin import spin_until, StopRequest
 # CLOCK_LOOP and StartupRefusal: importable from the node, where its refusals come from.
@@ -369,17 +371,14 @@ class MouseConstraintNode(Node):
             reason = self._set_anchor(configured)
             if reason is not None:
                 response.success = False
-                response.message = (f'cannot restore the configured anchor {list(configured)}:'
-                                    f' {reason}; nothing reset')
+                response.message = reset_refusal(configured, reason)
                 return response
         self._simulation.reset()
         self._hold_initial_anchor()
         self._held_wrench.clear()
         self._simulation.wrench = NO_WRENCH
         response.success = True
-        response.message = 'back to the initial state' + (
-            ', anchor held where it starts' if self._config.hold_initial_anchor else
-            ', no target')
+        response.message = reset_reply(self._config.hold_initial_anchor)
         return response
 
     def _on_release(self, _request: Trigger.Request, response: Trigger.Response):
@@ -387,7 +386,7 @@ class MouseConstraintNode(Node):
         self._simulation.target = None
         self._user_target = False
         response.success = True
-        response.message = 'released' if had_target else 'already free'
+        response.message = release_reply(had_target)
         return response
 
     def _on_set_parameters(self, changes: List[Parameter]) -> SetParametersResult:
@@ -508,32 +507,24 @@ class MouseConstraintNode(Node):
         """
         pause = bool(request.data)
         response.success = True
+        response.message = pause_reply(pause, self._paused, self._now_ns())
         if pause == self._paused:
-            response.message = 'already paused' if pause else 'already running'
             return response
         self._paused = pause
         if pause:
             self._sim_clock.pause()
-            response.message = f'paused at {self._now_ns() * 1e-9:.9f} s'
             return response
         self._sim_clock.resume()
-        rate = self._config.rate_hz
-        self._grid = TickGrid.for_rate(rate)
+        self._grid = TickGrid.for_rate(self._config.rate_hz)
         self._tick_window = TickWindow()
-        response.message = f'running from {self._now_ns() * 1e-9:.9f} s'
         return response
 
     def _on_step(self, _request: Trigger.Request, response: Trigger.Response):
         """While paused: run exactly one tick and publish it; refused while running."""
-        if not self._paused:
+        refusal = step_refusal(self._paused, self.waiting_for_clock())
+        if refusal is not None:
             response.success = False
-            response.message = ('running: ~/step advances a paused simulation by one tick; '
-                                'pause it first (~/pause with data: true)')
-            return response
-        waiting = self.waiting_for_clock()
-        if waiting is not None:
-            response.success = False
-            response.message = f'waiting for {waiting}: no time to stamp a step with'
+            response.message = refusal
             return response
         if self._clock_publisher is not None:
             stamp = self._sim_clock.advance()
@@ -543,7 +534,7 @@ class MouseConstraintNode(Node):
         self._tick(stamp)
         self.ticks_run += 1
         response.success = True
-        response.message = f'one tick of {self._dt:g} s, stamped {stamp * 1e-9:.9f} s'
+        response.message = step_reply(self._dt, stamp)
         return response
 
     def _on_wrench(self, message: WrenchStamped) -> None:
