@@ -1,24 +1,22 @@
 """
-The ``mouse_constraint`` node: parameters, topics, services and the fixed-rate timer.
+The ``mouse_constraint`` node: parameters, topics, services and timers, wired to pure parts.
 
-It holds no physics: a ``MouseSimulation`` does the stepping, ``TickGrid`` says which ticks are
-due, ``PublishTicks`` which of them publish (``publish_rate_hz``), ``StatePublishers`` sends
-pose, twist, TF and odometry (raw CDR), ``configuration`` validates parameters and
-``conversions`` fills the messages.
+It holds no physics and no policy of its own: a ``MouseSimulation`` does the stepping,
+``TickGrid`` says which ticks are due on the node's clock and ``TickBudget`` which of them one
+callback runs; with ``publish_clock`` ``SimulatedClock`` and ``ClockPacer`` pace them.
+``PublishTicks`` says which ticks publish (``publish_rate_hz``), ``StatePublishers`` sends pose,
+twist, TF and odometry (raw CDR), ``TargetGate`` and ``WrenchGate`` judge the input and
+``input_timeouts`` when it expires, ``parameters`` validates the configuration, ``startup``
+words the refusals, ``markers`` and ``diagnostics`` build the monitoring messages.
 
 Start-up refuses what it cannot run with one FATAL line tagged with the node's real name and
-exit 1: a parameter of the wrong type or out of its declared range, a configuration that is not
-valid as a whole, or a params file rcl cannot read. Unknown keys in the parameters given to the
-node are not an error (one file may serve several nodes) but are warned about, with the nearest
-known name.
+exit 1 (``startup``); unknown keys in the parameters given to the node are warned about.
 """
 
-import difflib
 import math
-import re
 import sys
 import time
-from typing import Any, Callable, List, NoReturn, Optional, Sequence, Tuple
+from typing import Any, Callable, List, NoReturn, Optional
 
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PointStamped, WrenchStamped
@@ -40,6 +38,7 @@ from .diagnostics import (constraint_status, diagnostic_array, INITIAL_ANCHOR, N
                           Pacing, publishing_values, rate_status, simulator_status, Thresholds,
                           TickCounters, TickWindow, USER_TARGET)
 from .grab import grab
+from .input_timeouts import input_age, target_release_text, timed_out, wrench_removal_text
 from .interface import (CLOCK_QOS, CLOCK_TOPIC, DIAGNOSTICS_TOPIC, GRAB_TOPIC, MARKERS_TOPIC,
                         MONITOR_DEPTH, NODE_NAME, PAUSE_SERVICE, RELEASE_SERVICE, RESET_SERVICE,
                         STEP_SERVICE, TARGET_QOS, TARGET_TOPIC, WRENCH_QOS, WRENCH_TOPIC)
@@ -49,131 +48,29 @@ from .parameters import node_config, PARAMETERS, ParameterSpec
 from .physics import MouseSimulation
 from .physics.algebra import Vector3
 from .publish_ticks import PublishTicks
-from .sim_clock import SimulatedClock
+from .service_replies import (pause_reply, release_reply, reset_refusal, reset_reply,
+                              step_refusal, step_reply)
+from .sim_clock import ClockPacer, PacingMeter, SimulatedClock
 from .spin import spin_until, StopRequest
+# CLOCK_LOOP and StartupRefusal: importable from the node, where its refusals come from.
+from .startup import (CLOCK_LOOP, clock_loop, describe, rcl_reason,  # noqa: F401
+                      refusal_reason, requested_logger_name, StartupRefusal,
+                      unknown_parameter_warnings)
 from .state_publishers import (BroadcasterFactory, DEFAULT_BROADCASTER, StatePublishers,
                                TF_UNAVAILABLE)
 from .target_gate import TargetGate
 from .throttle import Throttle
-from .tick_grid import TickGrid
+from .tick_budget import TickBudget
+from .tick_grid import (CATCH_UP_CAUSE, clock_change_text, clock_jump_text, drop_text,
+                        MAX_CATCH_UP_SECONDS, scheduled_origin, TickGrid)
 from .wrench_gate import HeldWrench, NO_WRENCH, WrenchGate
 
-# Catch up on at most this much missed time in one timer callback; older ticks are dropped.
-MAX_CATCH_UP_SECONDS = 0.1
-# Run ticks for at most this much wall time in one timer callback; the rest of the due ticks are
-# dropped. The executor is single-threaded: this bounds how long a service or parameter call
-# waits behind the physics, whatever one tick costs (substeps). A callback that reaches the
-# budget is followed by as long a rest, in which due ticks are dropped at once: the physics
-# then has at most half of the wall time, and the timer events that queued up meanwhile are
-# cleared in microseconds instead of each running ticks in turn.
-CALLBACK_BUDGET_SECONDS = 0.05
-# Weight of the newest callback in the running estimate of one tick's wall time.
-TICK_COST_WEIGHT = 0.25
 # Throttle period of the warnings about bad input and missed rate (s).
 WARN_PERIOD = 2.0
 # Period (s, steady clock) of the check that a simulated clock has started.
 CLOCK_WATCH_PERIOD = 1.0
 # The node's transform_broadcaster when none is given: tf2_ros's, where importable.
 _DEFAULT_BROADCASTER = object()
-# With publish_clock: the shortest period (s, steady clock) of the tick timer; each call runs
-# the ticks due (at real_time_factor 0, as many as fit in CLOCK_BUDGET_SHARE of the period).
-MIN_CLOCK_PERIOD = 0.001
-# With publish_clock: the share of the tick timer's period one call may run ticks for. The
-# EventsExecutor queues a timer event every period whatever the callback takes: a call that
-# ends within the period leaves no backlog, so services and parameters answer within about a
-# period. Nothing is dropped at the budget; the simulated clock just runs slower.
-CLOCK_BUDGET_SHARE = 0.8
-# Why publish_clock and use_sim_time cannot both be true.
-CLOCK_LOOP = ('publish_clock: true with use_sim_time: true: a node cannot follow the clock it '
-              'publishes itself (set use_sim_time false, or publish_clock false to follow '
-              'another /clock)')
-# Parameters rclpy declares or reads by itself; not unknown keys.
-RCLPY_PARAMETER_PREFIXES = ('use_sim_time', 'start_type_description_service', 'qos_overrides.')
-
-
-class StartupRefusal(ValueError):
-    """
-    The node cannot start with what it was given; the message says what and why.
-
-    :param logger_name: the logger of the node that refuses, with its real (remapped) name.
-    :param reason: one line naming the parameter and the reason.
-    """
-
-    def __init__(self, logger_name: str, reason: str) -> None:
-        """Keep the logger name next to the reason."""
-        super().__init__(reason)
-        self.logger_name = logger_name
-
-
-_TYPE_NAMES = {
-    Parameter.Type.BOOL: 'a bool',
-    Parameter.Type.INTEGER: 'an integer',
-    Parameter.Type.DOUBLE: 'a double',
-    Parameter.Type.STRING: 'a string',
-    Parameter.Type.BYTE_ARRAY: 'a list of bytes',
-    Parameter.Type.BOOL_ARRAY: 'a list of bools',
-    Parameter.Type.INTEGER_ARRAY: 'a list of integers',
-    Parameter.Type.DOUBLE_ARRAY: 'a list of doubles',
-    Parameter.Type.STRING_ARRAY: 'a list of strings',
-}
-
-
-def _yaml(value: Any) -> str:
-    """Return ``value`` as YAML writes it (true, 2.0, [1.0, 2.0], .nan)."""
-    if isinstance(value, bool):
-        return 'true' if value else 'false'
-    if isinstance(value, float) and not math.isfinite(value):
-        return '.nan' if math.isnan(value) else ('-.inf' if value < 0 else '.inf')
-    if isinstance(value, (list, tuple)) or type(value).__name__ == 'array':
-        return '[' + ', '.join(_yaml(v) for v in value) + ']'
-    return repr(value)
-
-
-def _type_hint(value: Any, expected: Parameter.Type) -> Optional[str]:
-    """Return how to write ``value`` as the ``expected`` type, where that is plain."""
-    if expected == Parameter.Type.DOUBLE and type(value) is int:
-        return _yaml(float(value))
-    if expected == Parameter.Type.DOUBLE_ARRAY and isinstance(value, Sequence):
-        if all(type(v) in (int, float) for v in value):
-            return _yaml([float(v) for v in value])
-    if expected == Parameter.Type.INTEGER and isinstance(value, float) and value.is_integer():
-        return str(int(value))
-    if expected == Parameter.Type.BOOL and type(value) is int and value in (0, 1):
-        return _yaml(bool(value))
-    return None
-
-
-def refusal_reason(declaration: ParameterSpec, given: Optional[Parameter],
-                   error: ParameterException) -> str:
-    """
-    Return one line saying why ``given`` cannot be ``declaration``'s value.
-
-    rclpy refuses an override of another type than the default's (a YAML ``2`` is an integer,
-    never a double: ``ros2 param set`` refuses it the same way, so the node does not convert it
-    at start either) or outside the declared range; its exception texts name neither the
-    parameter first nor the fix.
-
-    :param declaration: the parameter as the node declares it.
-    :param given: the override the node was started with, or None.
-    :param error: what rclpy raised.
-    """
-    name = declaration.name
-    if given is None:
-        return f'{name}: {error}'
-    expected = Parameter.Type.from_parameter_value(declaration.default)
-    value = given.value
-    if given.type_ != expected:
-        reason = (f'{name}: {_yaml(value)} is {_TYPE_NAMES.get(given.type_, given.type_.name)}, '
-                  f'{name} takes {_TYPE_NAMES.get(expected, expected.name)}')
-        hint = _type_hint(value, expected)
-        return reason + (f': write {hint}' if hint else '')
-    if declaration.bounds is not None:
-        low, high = declaration.bounds
-        bounds = f'its range [{_yaml(low)}, {_yaml(high)}]'
-        if isinstance(value, float) and math.isnan(value):
-            return f'{name}: .nan is not a number, so not within {bounds}'
-        return f'{name}: {_yaml(value)} is outside {bounds}'
-    return f'{name}: {error}'
 
 
 def _descriptor(parameter) -> ParameterDescriptor:
@@ -224,8 +121,9 @@ class MouseConstraintNode(Node):
         except ValueError as error:
             self._refuse(str(error))
         self._warn_about_unknown_parameters()
-        if self._config.publish_clock and self.get_parameter('use_sim_time').value:
-            self._refuse(CLOCK_LOOP)
+        loop = clock_loop(self._config.publish_clock, self.get_parameter('use_sim_time').value)
+        if loop is not None:
+            self._refuse(loop)
         self._simulation = MouseSimulation(self._config.settings, self._config.initial_state)
         self._user_target = False
         self._last_target_ns: Optional[int] = None
@@ -242,10 +140,8 @@ class MouseConstraintNode(Node):
         self.clock_restarts = 0
         # Why ticks were last dropped, for /diagnostics; None while none were.
         self.drop_cause: Optional[str] = None
-        # Running estimate of one tick's wall time (s), 0 before the first tick.
-        self._tick_seconds = 0.0
-        # perf_counter() until which due ticks are dropped, after a callback over its budget.
-        self._rest_until = -math.inf
+        # Which due ticks a timer callback runs, and when it rests (node clock only).
+        self._budget = TickBudget()
         # Which clock the grid runs on: simulated (True) or system time.
         self._grid_sim_time = self.get_clock().ros_time_is_active
         # Timers that must run while a simulated clock stands still or has not started.
@@ -282,8 +178,9 @@ class MouseConstraintNode(Node):
         try:
             self.declare_parameter(parameter.name, parameter.default, _descriptor(parameter))
         except ParameterException as error:
-            raise ValueError(refusal_reason(
-                parameter, self._parameter_overrides.get(parameter.name), error)) from None
+            given = self._parameter_overrides.get(parameter.name)
+            raise ValueError(refusal_reason(parameter, error, None if given is None else (
+                given.value, given.type_.name))) from None
 
     def _refuse(self, reason: str) -> NoReturn:
         """Destroy the half-built node and raise StartupRefusal with its logger's name."""
@@ -293,14 +190,9 @@ class MouseConstraintNode(Node):
 
     def _warn_about_unknown_parameters(self) -> None:
         """Warn once for each given parameter the node does not have, with the nearest name."""
-        known = [p.name for p in PARAMETERS]
-        for name in sorted(set(self._parameter_overrides) - set(self._parameters)):
-            if name.startswith(RCLPY_PARAMETER_PREFIXES):
-                continue
-            nearest = difflib.get_close_matches(name, known, n=1)
-            self.get_logger().warning(
-                f'ignoring unknown parameter {name!r}'
-                + (f': did you mean {nearest[0]!r}?' if nearest else ''))
+        for line in unknown_parameter_warnings(self._parameter_overrides, self._parameters,
+                                               [p.name for p in PARAMETERS]):
+            self.get_logger().warning(line)
 
     @property
     def simulation(self) -> MouseSimulation:
@@ -313,21 +205,7 @@ class MouseConstraintNode(Node):
         return values
 
     def _describe(self) -> str:
-        c = self._config
-        s = c.settings
-        constraint = s.constraint
-        if constraint.rigid:
-            mode = f'rigid, baumgarte {constraint.baumgarte:g}'
-        else:
-            mode = (f'soft, {constraint.frequency_hz:g} Hz, '
-                    f'damping ratio {constraint.damping_ratio:g}')
-        return (f'{c.rate_hz:g} Hz x {s.substeps} substeps in frame {c.frame_id!r}: '
-                f'mass {s.body.mass:g} kg, inertia {s.body.inertia}, anchor {s.constraint.anchor},'
-                f' {mode}, max force {s.constraint.max_force:g} N, gravity {s.gravity}, damping '
-                f'{s.linear_damping:g}/{s.angular_damping:g} 1/s, target timeout '
-                f'{c.target_timeout:g} s' + (
-                    f', publishing /clock at real time factor {c.real_time_factor:g}'
-                    if c.publish_clock else ''))
+        return describe(self._config)
 
     @staticmethod
     def _publishing(config) -> dict:
@@ -338,7 +216,7 @@ class MouseConstraintNode(Node):
         if self._timer is not None:
             self.destroy_timer(self._timer)
         rate = self._config.rate_hz
-        self._grid = TickGrid(rate, math.ceil(MAX_CATCH_UP_SECONDS * rate))
+        self._grid = TickGrid.for_rate(rate)
         self._publish_ticks = PublishTicks(rate, self._config.publish_rate_hz)
         self._dt = 1.0 / rate
         if self._config.publish_clock:
@@ -413,89 +291,32 @@ class MouseConstraintNode(Node):
             self._grid_sim_time = clock.ros_time_is_active
             self._grid.restart(now)
             self.clock_restarts += 1
-            self.get_logger().info(
-                f'clock changed to {"simulated" if self._grid_sim_time else "system"} time: '
-                f'restarting the tick grid at {now * 1e-9:.9f} s without catching up')
+            self.get_logger().info(clock_change_text(self._grid_sim_time, now))
         elif not self._grid.started:
-            # Put t0 where the timer scheduled this first call, not where it ran: each later
-            # call then finds exactly its own tick due, however late (up to a period) it runs,
-            # instead of only when its jitter beats the first call's.
-            left = self._timer.time_until_next_call()
-            period = self._timer.timer_period_ns
-            self._grid.restart(now + left - period if left is not None and 0 <= left <= period
-                               else now)
+            self._grid.restart(scheduled_origin(now, self._timer.time_until_next_call(),
+                                                self._timer.timer_period_ns))
         due = self._grid.due(now)
         if due.restarted:
             self.clock_restarts += 1
-            self.get_logger().warning('clock jumped backwards: restarting the tick grid at '
-                                      f'{now * 1e-9:.9f} s without catching up')
+            self.get_logger().warning(clock_jump_text(now))
         first, count = due.first, due.count
         if due.dropped:
-            self._drop(due.dropped, f'more than the {MAX_CATCH_UP_SECONDS:g} s catch-up bound '
-                       'was missed')
+            self._drop(due.dropped, CATCH_UP_CAUSE)
         self._release_if_timed_out(now)
-        if count and time.perf_counter() < self._rest_until:
-            # Resting after a callback that spent its budget: the executor's queue (timer
-            # events keep coming at the rate while ticks run) drains, services get their turn.
-            self._drop(count, self._budget_cause(self._tick_seconds))
-            return
-        # What fits in the wall budget at the estimated cost runs; the oldest of the rest are
-        # dropped, so that the newest state is the one published.
-        over_budget = False
-        if self._tick_seconds > 0.0:
-            fits = max(1, int(CALLBACK_BUDGET_SECONDS / self._tick_seconds))
-            if count > fits:
-                over_budget = True
-                self._drop(count - fits, self._budget_cause(self._tick_seconds))
-                first, count = first + count - fits, fits
-        started = time.perf_counter()
-        ran = self._run_ticks(first, count)
-        if ran < count:
-            over_budget = True
-            self._drop(count - ran, self._budget_cause(self._tick_seconds))
-        if over_budget:
-            # The physics cannot keep the rate: it gets at most half of the wall time.
-            finished = time.perf_counter()
-            self._rest_until = finished + (finished - started)
-        if ran > 1:
-            self.late_ticks += ran - 1
-        self.ticks_run += ran
-
-    def _budget_cause(self, tick_seconds: float) -> str:
-        return (f'one tick takes {tick_seconds * 1e3:.3g} ms of wall time '
-                f'({self._config.settings.substeps} substeps) and a timer callback stops after '
-                f'{CALLBACK_BUDGET_SECONDS * 1e3:g} ms so that services and parameters answer')
+        if count:
+            budget = self._budget
+            ran = budget.run(self._tick, self._grid.stamp, first, count)
+            if ran < count:
+                self._drop(count - ran, budget.cause(self._config.settings.substeps))
+            if ran > 1:
+                self.late_ticks += ran - 1
+            self.ticks_run += ran
 
     def _drop(self, count: int, cause: str) -> None:
         self.dropped_ticks += count
         self.drop_cause = cause
-        self._warn('rate', lambda: (
-            f'cannot keep {self._config.rate_hz:g} Hz: dropped {count} ticks '
-            f'({self.dropped_ticks} in all): {cause}; simulated time falls behind'))
-
-    def _run_ticks(self, first: int, count: int) -> int:
-        """
-        Step ticks ``first`` on, until ``count`` ran or the wall budget is spent.
-
-        The ticks that ``PublishTicks`` picks publish their state, stamped on the grid.
-
-        :returns: how many ran (at least one when ``count`` > 0).
-        """
-        stamp = self._grid.stamp
-        clock = time.perf_counter
-        started = clock()
-        ran = 0
-        for tick in range(first, first + count):
-            self._tick(stamp(tick), tick)
-            ran += 1
-            if clock() - started > CALLBACK_BUDGET_SECONDS:
-                break
-        if ran:
-            cost = (time.perf_counter() - started) / ran
-            self._tick_seconds = (cost if self._tick_seconds == 0.0 else
-                                  self._tick_seconds + TICK_COST_WEIGHT * (
-                                      cost - self._tick_seconds))
-        return ran
+        self._warn('rate', lambda: drop_text(self._config.rate_hz, count, self.dropped_ticks,
+                                             cause))
 
     def _tick(self, stamp: int, tick: Optional[int] = None) -> None:
         """
@@ -508,8 +329,7 @@ class MouseConstraintNode(Node):
         if self._held_wrench.applied is not None and self._held_wrench.expired(
                 stamp, self._config.wrench_timeout):
             self._simulation.wrench = NO_WRENCH
-            self.get_logger().info(f'no wrench for {self._config.wrench_timeout:g} s: '
-                                   'removing it')
+            self.get_logger().info(wrench_removal_text(self._config.wrench_timeout))
         state = self._simulation.step(self._dt)
         if self._clock_publisher is not None:
             set_stamp(self._clock_message.clock, stamp)
@@ -540,11 +360,10 @@ class MouseConstraintNode(Node):
 
     def _release_if_timed_out(self, now: int) -> None:
         timeout = self._config.target_timeout
-        if (timeout > 0.0 and self._user_target
-                and now - self._last_target_ns > timeout * 1e9):
+        if self._user_target and timed_out(self._last_target_ns, now, timeout):
             self._simulation.target = None
             self._user_target = False
-            self.get_logger().info(f'no target for {timeout:g} s: releasing the body')
+            self.get_logger().info(target_release_text(timeout))
 
     def _on_reset(self, _request: Trigger.Request, response: Trigger.Response):
         configured = self._configured_anchor
@@ -552,17 +371,14 @@ class MouseConstraintNode(Node):
             reason = self._set_anchor(configured)
             if reason is not None:
                 response.success = False
-                response.message = (f'cannot restore the configured anchor {list(configured)}:'
-                                    f' {reason}; nothing reset')
+                response.message = reset_refusal(configured, reason)
                 return response
         self._simulation.reset()
         self._hold_initial_anchor()
         self._held_wrench.clear()
         self._simulation.wrench = NO_WRENCH
         response.success = True
-        response.message = 'back to the initial state' + (
-            ', anchor held where it starts' if self._config.hold_initial_anchor else
-            ', no target')
+        response.message = reset_reply(self._config.hold_initial_anchor)
         return response
 
     def _on_release(self, _request: Trigger.Request, response: Trigger.Response):
@@ -570,7 +386,7 @@ class MouseConstraintNode(Node):
         self._simulation.target = None
         self._user_target = False
         response.success = True
-        response.message = 'released' if had_target else 'already free'
+        response.message = release_reply(had_target)
         return response
 
     def _on_set_parameters(self, changes: List[Parameter]) -> SetParametersResult:
@@ -580,8 +396,9 @@ class MouseConstraintNode(Node):
             return SetParametersResult(successful=False, reason=str(error))
         use_sim_time = next((p.value for p in changes if p.name == 'use_sim_time'),
                             self.get_parameter('use_sim_time').value)
-        if config.publish_clock and use_sim_time:
-            return SetParametersResult(successful=False, reason=CLOCK_LOOP)
+        loop = clock_loop(config.publish_clock, use_sim_time)
+        if loop is not None:
+            return SetParametersResult(successful=False, reason=loop)
         previous, self._config = self._config, config
         if not self._setting_anchor and any(p.name == 'anchor' for p in changes):
             self._configured_anchor = config.settings.constraint.anchor
@@ -623,8 +440,8 @@ class MouseConstraintNode(Node):
         self._clock_publisher = None
         if self._config.publish_clock:
             self._clock_publisher = self.create_publisher(ClockMessage, CLOCK_TOPIC, CLOCK_QOS)
-        # (steady ns, simulated ns, slipped ns) at the last diagnostics call.
-        self._pacing_sample: Optional[Tuple[int, int, int]] = None
+        # What the pacing achieved between two diagnostics calls.
+        self._pacing = PacingMeter()
 
     def _simulator_controls_setup(self) -> None:
         self.create_subscription(WrenchStamped, WRENCH_TOPIC, self._on_wrench, WRENCH_QOS)
@@ -638,23 +455,15 @@ class MouseConstraintNode(Node):
         return self.get_clock().now().nanoseconds
 
     def _start_clock_timer(self):
-        """
-        Return the tick timer of publish_clock, on the steady clock.
-
-        The node's own clock is not the simulated one (use_sim_time is false); the period is
-        that of the ticks due in wall time, at least MIN_CLOCK_PERIOD.
-        """
-        factor = self._config.real_time_factor
-        period = (MIN_CLOCK_PERIOD if factor == 0.0 else
-                  max(MIN_CLOCK_PERIOD, 1.0 / (self._config.rate_hz * factor)))
-        self._clock_budget = CLOCK_BUDGET_SHARE * period
-        # perf_counter() until which calls return at once, after one that overran its period.
-        self._clock_rest_until = -math.inf
-        return self.create_timer(period, self._on_clock_timer, clock=self._steady_clock)
+        """Return the tick timer of publish_clock, on the steady clock (``ClockPacer``)."""
+        self._pacer = ClockPacer(self._config.rate_hz, self._config.real_time_factor)
+        return self.create_timer(self._pacer.period, self._on_clock_timer,
+                                 clock=self._steady_clock)
 
     def _on_clock_timer(self) -> None:
-        started = time.perf_counter()
-        if started < self._clock_rest_until:
+        pacer = self._pacer
+        started = pacer.start()
+        if started is None:
             # Clears the events queued while one tick outlasted the period (many substeps).
             return
         clock = self._sim_clock
@@ -662,18 +471,7 @@ class MouseConstraintNode(Node):
         if due == 0:
             return
         self._release_if_timed_out(clock.now_ns)
-        budget = self._clock_budget
-        ran = 0
-        while due is None or ran < due:
-            self._tick(clock.advance(), clock.ticks)
-            ran += 1
-            if time.perf_counter() - started > budget:
-                # The rest stays due: the pacing slips if the lag grows beyond its bound.
-                break
-        self.ticks_run += ran
-        spent = time.perf_counter() - started
-        if spent > budget / CLOCK_BUDGET_SHARE:
-            self._clock_rest_until = started + 2.0 * spent
+        self.ticks_run += pacer.run(clock, self._tick, due, started)
 
     def _switch_clock(self, previous) -> None:
         """Start the tick timer again for a new rate or clock source, re-basing input ages."""
@@ -709,32 +507,24 @@ class MouseConstraintNode(Node):
         """
         pause = bool(request.data)
         response.success = True
+        response.message = pause_reply(pause, self._paused, self._now_ns())
         if pause == self._paused:
-            response.message = 'already paused' if pause else 'already running'
             return response
         self._paused = pause
         if pause:
             self._sim_clock.pause()
-            response.message = f'paused at {self._now_ns() * 1e-9:.9f} s'
             return response
         self._sim_clock.resume()
-        rate = self._config.rate_hz
-        self._grid = TickGrid(rate, math.ceil(MAX_CATCH_UP_SECONDS * rate))
+        self._grid = TickGrid.for_rate(self._config.rate_hz)
         self._tick_window = TickWindow()
-        response.message = f'running from {self._now_ns() * 1e-9:.9f} s'
         return response
 
     def _on_step(self, _request: Trigger.Request, response: Trigger.Response):
         """While paused: run exactly one tick and publish it; refused while running."""
-        if not self._paused:
+        refusal = step_refusal(self._paused, self.waiting_for_clock())
+        if refusal is not None:
             response.success = False
-            response.message = ('running: ~/step advances a paused simulation by one tick; '
-                                'pause it first (~/pause with data: true)')
-            return response
-        waiting = self.waiting_for_clock()
-        if waiting is not None:
-            response.success = False
-            response.message = f'waiting for {waiting}: no time to stamp a step with'
+            response.message = refusal
             return response
         if self._clock_publisher is not None:
             stamp = self._sim_clock.advance()
@@ -744,7 +534,7 @@ class MouseConstraintNode(Node):
         self._tick(stamp)
         self.ticks_run += 1
         response.success = True
-        response.message = f'one tick of {self._dt:g} s, stamped {stamp * 1e-9:.9f} s'
+        response.message = step_reply(self._dt, stamp)
         return response
 
     def _on_wrench(self, message: WrenchStamped) -> None:
@@ -764,18 +554,12 @@ class MouseConstraintNode(Node):
         self._simulation.wrench = self._held_wrench.wrench
 
     def _simulator_status(self, name: str, hardware_id: str, now: int):
-        clock, config = self._sim_clock, self._config
-        wall = time.monotonic_ns()
-        sample = (wall, clock.now_ns, clock.slipped_ns)
-        previous, self._pacing_sample = self._pacing_sample, sample
-        achieved, slipped = None, 0.0
-        if previous is not None and wall > previous[0]:
-            achieved = (sample[1] - previous[1]) / (wall - previous[0])
-            slipped = (sample[2] - previous[2]) * 1e-9
+        config = self._config
+        achieved, slipped = self._pacing.sample(time.monotonic_ns(), self._sim_clock)
         publishing = self._clock_publisher is not None
         applied = self._held_wrench.applied
         force, torque = self._simulation.wrench
-        age = None if applied is None else max(0.0, (now - applied.since_ns) * 1e-9)
+        age = None if applied is None else input_age(applied.since_ns, now)
         pacing = Pacing(publishing, self._paused, config.real_time_factor,
                         achieved if publishing else None, slipped, now * 1e-9)
         return simulator_status(name, hardware_id, pacing=pacing, force=force, torque=torque,
@@ -852,7 +636,7 @@ class MouseConstraintNode(Node):
                                 anchor_error=config.diagnostics_anchor_error)
         error = simulation.anchor_error()
         if self._user_target:
-            kind, age = USER_TARGET, max(0.0, (now - self._last_target_ns) * 1e-9)
+            kind, age = USER_TARGET, input_age(self._last_target_ns, now)
         else:
             kind, age = (NO_TARGET if simulation.target is None else INITIAL_ANCHOR), None
         name = hardware_id = self.get_fully_qualified_name()
@@ -877,35 +661,6 @@ class MouseConstraintNode(Node):
         ]))
 
 
-def requested_logger_name(args: Sequence[str]) -> str:
-    """
-    Return the node's logger name as the command line's remaps make it, without rcl.
-
-    For the one case where rcl cannot start (an unreadable params file) and so cannot say:
-    ``-r __node:=other`` (or ``__name``) and ``-r __ns:=/a/b`` give ``a.b.other``.
-    """
-    name, namespace = NODE_NAME, ''
-    for argument in args:
-        match = re.fullmatch(r'(?:[^:=]+:)?__(node|name|ns):=(.+)', argument)
-        if match and match.group(1) == 'ns':
-            namespace = match.group(2)
-        elif match:
-            name = match.group(2)
-    return '.'.join(part for part in namespace.split('/') + [name] if part)
-
-
-def rcl_reason(error: Exception) -> str:
-    """Return rcl's start-up error as one line: its sentence, without rcl's source locations."""
-    text = re.sub(r', at \S+:\d+', '', str(error)).strip()
-    text = re.sub(r'^failed to initialize rcl: ', '', text)
-    if 'Sequence should be of same type' in text:
-        text += (' (a list holds one type: write every number of a list of doubles with a '
-                 'decimal point, e.g. [0.2, 0.0, 0.05])')
-    elif 'Error opening YAML file' in text:
-        text += ' (no such file, or not readable)'
-    return text
-
-
 def main(args: Optional[List[str]] = None) -> int:
     """Run the node until Ctrl-C, SIGTERM or SIGHUP; exit 0 then, 1 when it cannot start."""
     # rcl logs "Failed to parse global arguments" of its own before it raises; the FATAL line
@@ -916,8 +671,8 @@ def main(args: Optional[List[str]] = None) -> int:
     try:
         rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     except _rclpy.RCLError as error:
-        rclpy.logging.get_logger(requested_logger_name(
-            sys.argv if args is None else args)).fatal(f'cannot start: {rcl_reason(error)}')
+        name = requested_logger_name(sys.argv if args is None else args, NODE_NAME)
+        rclpy.logging.get_logger(name).fatal(f'cannot start: {rcl_reason(error)}')
         return 1
     finally:
         if rclpy.logging.get_logger_level('rcl') == quiet:  # not set by --log-level

@@ -16,14 +16,32 @@ due), the anchor moves up as well: simulated time then runs slower than asked, a
 adds up the simulated time given up, instead of ticks being skipped.
 
 Paused, no tick is due and the clock stands still; ``step`` is the one way to advance it then,
-one tick at a time. Plain integers and floats only (no rclpy), so the pacing is tested alone.
+one tick at a time.
+
+``ClockPacer`` runs the due ticks in the node's tick timer, a steady-clock timer of a period at
+least ``MIN_CLOCK_PERIOD``: each call runs ticks for at most ``CLOCK_BUDGET_SHARE`` of the
+period. The EventsExecutor queues a timer event every period whatever the callback takes: a
+call that ends within the period leaves no backlog, so services and parameters answer within
+about a period. Nothing is dropped at the budget; the simulated clock just runs slower. A call
+that outlasts its period (one tick of many substeps) is followed by a rest of twice its length,
+in which calls return at once and so clear the events queued meanwhile.
+
+``PacingMeter`` says what the pacing achieved between two samples (the node's diagnostics).
+
+Plain integers and floats only (no rclpy), so the pacing is tested alone.
 """
 
 from fractions import Fraction
 import math
-from typing import Optional
+import time
+from typing import Callable, Optional, Tuple
 
 NANOSECONDS_PER_SECOND = 1_000_000_000
+# The shortest period (s, steady clock) of the tick timer; each call runs the ticks due (at
+# real_time_factor 0, as many as fit in CLOCK_BUDGET_SHARE of the period).
+MIN_CLOCK_PERIOD = 0.001
+# The share of the tick timer's period one call may run ticks for.
+CLOCK_BUDGET_SHARE = 0.8
 
 
 class SimulatedClock:
@@ -118,3 +136,73 @@ class SimulatedClock:
         """Run again, paced from the next ``due`` on: paused wall time is not caught up."""
         self.paused = False
         self._anchor = None
+
+
+class ClockPacer:
+    """
+    How one call of the tick timer runs the ticks a ``SimulatedClock`` says are due.
+
+    :param rate_hz: the tick rate (> 0).
+    :param real_time_factor: simulated seconds per wall second (>= 0); 0 = as fast as it runs.
+    :param clock: returns wall time in seconds (``time.perf_counter``).
+    """
+
+    def __init__(self, rate_hz: float, real_time_factor: float, *,
+                 clock: Callable[[], float] = time.perf_counter) -> None:
+        """Take the timer period of the ticks due in wall time, at least MIN_CLOCK_PERIOD."""
+        self.period = (MIN_CLOCK_PERIOD if real_time_factor == 0.0 else
+                       max(MIN_CLOCK_PERIOD, 1.0 / (rate_hz * real_time_factor)))
+        self.budget = CLOCK_BUDGET_SHARE * self.period
+        self._clock = clock
+        # Time of ``clock`` until which calls return at once, after one that overran its period.
+        self.rest_until = -math.inf
+
+    def start(self) -> Optional[float]:
+        """Return the time a call starts at, or None while resting (the call returns)."""
+        started = self._clock()
+        return None if started < self.rest_until else started
+
+    def run(self, sim_clock: SimulatedClock, tick: Callable[[int, int], object],
+            due: Optional[int], started: float) -> int:
+        """
+        Advance ``sim_clock`` and ``tick(stamp, n)`` until ``due`` ran or the budget is spent.
+
+        The ticks left stay due: the clock's pacing slips if the lag grows beyond its bound.
+
+        :param due: what ``sim_clock.due`` returned (> 0, or None: any number).
+        :param started: what ``start`` returned for this call.
+        :returns: how many ran (at least one).
+        """
+        clock, budget = self._clock, self.budget
+        advance = sim_clock.advance
+        ran = 0
+        while due is None or ran < due:
+            tick(advance(), sim_clock.ticks)
+            ran += 1
+            if clock() - started > budget:
+                break
+        spent = clock() - started
+        if spent > self.period:
+            self.rest_until = started + 2.0 * spent
+        return ran
+
+
+class PacingMeter:
+    """The simulated seconds per wall second, and the time slipped, between two samples."""
+
+    def __init__(self) -> None:
+        """Start with no sample: the first one measures nothing."""
+        # (wall ns, simulated ns, slipped ns) at the last sample.
+        self._last: Optional[Tuple[int, int, int]] = None
+
+    def sample(self, wall_ns: int, clock: SimulatedClock) -> Tuple[Optional[float], float]:
+        """
+        Return (achieved factor or None, simulated seconds slipped) since the last sample.
+
+        None before a second sample, or when the wall clock has not moved since the last one.
+        """
+        now = (wall_ns, clock.now_ns, clock.slipped_ns)
+        last, self._last = self._last, now
+        if last is None or wall_ns <= last[0]:
+            return None, 0.0
+        return (now[1] - last[1]) / (wall_ns - last[0]), (now[2] - last[2]) * 1e-9

@@ -7,12 +7,22 @@ late it is told to run every missed tick (catch-up), up to a bound; beyond the b
 ticks are dropped, so simulated time falls behind the clock instead of the node falling further
 behind. A clock that jumps backwards (a /clock replay restarting) restarts the grid at the new
 time rather than waiting for the old one to come back.
+
+The node keeps one grid on its clock (``for_rate``, catching up on at most
+``MAX_CATCH_UP_SECONDS``); the first timer call puts t0 where the timer scheduled it
+(``scheduled_origin``), and a change of clock source (``use_sim_time`` flipped) restarts it on
+the new clock. The texts of these events and of the drops are here too.
 """
 
 from fractions import Fraction
+import math
 from typing import NamedTuple, Optional
 
 NANOSECONDS_PER_SECOND = 1_000_000_000
+# Catch up on at most this much missed time in one timer callback (s); older ticks are dropped.
+MAX_CATCH_UP_SECONDS = 0.1
+# Why ticks beyond the catch-up bound were dropped.
+CATCH_UP_CAUSE = f'more than the {MAX_CATCH_UP_SECONDS:g} s catch-up bound was missed'
 
 
 class DueTicks(NamedTuple):
@@ -31,6 +41,11 @@ class TickGrid:
     :param rate_hz: ticks per second (> 0).
     :param max_catch_up: the most ticks one call may ask for; older ones are dropped.
     """
+
+    @classmethod
+    def for_rate(cls, rate_hz: float) -> 'TickGrid':
+        """Return the node's grid at ``rate_hz``: catching up on ``MAX_CATCH_UP_SECONDS``."""
+        return cls(rate_hz, math.ceil(MAX_CATCH_UP_SECONDS * rate_hz))
 
     def __init__(self, rate_hz: float, max_catch_up: int) -> None:
         """Create a grid that starts at the first ``due`` call."""
@@ -73,3 +88,37 @@ class TickGrid:
         first = self._next + dropped
         self._next = last_due + 1
         return DueTicks(first, count - dropped, dropped, restarted)
+
+
+def scheduled_origin(now: int, until_next: Optional[int], period: int) -> int:
+    """
+    Return t0 for the first timer call: where the timer scheduled it, not where it ran (ns).
+
+    Each later call then finds exactly its own tick due, however late (up to a period) it runs,
+    instead of only when its jitter beats the first call's.
+
+    :param now: the clock reading of the first call.
+    :param until_next: the timer's time until its next call (None if it cannot say).
+    :param period: the timer's period.
+    """
+    if until_next is not None and 0 <= until_next <= period:
+        return now + until_next - period
+    return now
+
+
+def clock_change_text(sim_time: bool, now: int) -> str:
+    """Return what the node logs when use_sim_time flips and the grid restarts at ``now``."""
+    return (f'clock changed to {"simulated" if sim_time else "system"} time: restarting the '
+            f'tick grid at {now * 1e-9:.9f} s without catching up')
+
+
+def clock_jump_text(now: int) -> str:
+    """Return what the node warns when its clock went backwards and the grid restarts."""
+    return f'clock jumped backwards: restarting the tick grid at {now * 1e-9:.9f} s without ' \
+        'catching up'
+
+
+def drop_text(rate_hz: float, count: int, total: int, cause: str) -> str:
+    """Return the warning of ``count`` dropped ticks (``total`` since start) and why."""
+    return (f'cannot keep {rate_hz:g} Hz: dropped {count} ticks ({total} in all): {cause}; '
+            'simulated time falls behind')

@@ -1,8 +1,13 @@
 """The fixed-rate tick grid, without ROS: exact stamps, catch-up, dropping, restarts."""
 
 from fractions import Fraction
+import math
 
-from mouse_constraint_ros.tick_grid import TickGrid
+import pytest
+
+from mouse_constraint_ros.tick_grid import (CATCH_UP_CAUSE, clock_change_text, clock_jump_text,
+                                            drop_text, MAX_CATCH_UP_SECONDS, scheduled_origin,
+                                            TickGrid)
 
 
 def test_stamps_lie_on_the_exact_grid_for_any_rate():
@@ -39,3 +44,40 @@ def test_a_clock_going_backwards_restarts_the_grid():
     assert due.restarted and (due.first, due.count, due.dropped) == (0, 1, 0)
     assert grid.origin == 1_000_000_000
     assert not grid.due(1_010_000_000).restarted
+
+
+@pytest.mark.parametrize('rate', [1.0, 7.0, 1000.0, 2999.5])
+def test_the_nodes_grid_catches_up_on_its_bound_of_time(rate):
+    grid = TickGrid.for_rate(rate)
+    assert grid.rate_hz == rate
+    assert grid.max_catch_up == max(1, math.ceil(MAX_CATCH_UP_SECONDS * rate))
+    assert str(MAX_CATCH_UP_SECONDS) in CATCH_UP_CAUSE
+
+
+def test_the_first_call_puts_t0_where_the_timer_scheduled_it():
+    """A first call that ran late by 0.3 periods: t0 goes back by those; later calls on time."""
+    period = 1_000_000
+    late = 300_000
+    now = 50_000_000
+    origin = scheduled_origin(now, period - late, period)
+    assert origin == now - late
+    grid = TickGrid(1000.0, 5)
+    grid.restart(origin)
+    assert grid.due(now).count == 1
+    # The next call, on time but with less jitter than the first: its own tick is due.
+    assert grid.due(origin + period + late // 2).count == 1
+
+
+@pytest.mark.parametrize('until_next', [None, -1, 1_000_001])
+def test_without_a_plain_schedule_t0_is_the_reading(until_next):
+    assert scheduled_origin(7, until_next, 1_000_000) == 7
+
+
+def test_the_clock_and_drop_texts_say_what_happened_and_when():
+    assert clock_change_text(True, 1_500_000_000).startswith(
+        'clock changed to simulated time: restarting the tick grid at 1.500000000 s')
+    assert clock_change_text(False, 0).startswith('clock changed to system time')
+    assert clock_jump_text(2_000_000_001) == (
+        'clock jumped backwards: restarting the tick grid at 2.000000001 s without catching up')
+    assert drop_text(1000.0, 3, 40, 'why') == (
+        'cannot keep 1000 Hz: dropped 3 ticks (40 in all): why; simulated time falls behind')

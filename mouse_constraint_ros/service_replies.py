@@ -1,0 +1,55 @@
+"""
+What the node's services answer: ``~/pause``, ``~/step``, ``~/reset`` and ``~/release``.
+
+Each reply says what happened, or why nothing did, in one line a user reads in
+``ros2 service call``'s output. ``~/step`` is refused while the physics runs (a step between
+timer ticks would be a tick off the grid) and while a simulated clock has not started (there
+is no time to stamp it with). Times are shown in seconds of the node's time, to the
+nanosecond. Plain Python only.
+"""
+
+from typing import Optional, Sequence
+
+
+def pause_reply(pause: bool, paused: bool, now_ns: int) -> str:
+    """Return the reply to ``~/pause`` with ``pause`` (true: pause) while ``paused`` or not."""
+    if pause == paused:
+        return 'already paused' if pause else 'already running'
+    return f'{"paused at" if pause else "running from"} {now_ns * 1e-9:.9f} s'
+
+
+def step_refusal(paused: bool, waiting_for: Optional[str]) -> Optional[str]:
+    """
+    Return why ``~/step`` cannot run now, or None when it can.
+
+    :param paused: whether the physics is paused.
+    :param waiting_for: what the node's clock waits for (``'/clock on <topic>'``), or None.
+    """
+    if not paused:
+        return ('running: ~/step advances a paused simulation by one tick; pause it first '
+                '(~/pause with data: true)')
+    if waiting_for is not None:
+        return f'waiting for {waiting_for}: no time to stamp a step with'
+    return None
+
+
+def step_reply(dt: float, stamp_ns: int) -> str:
+    """Return the reply to a ``~/step`` that ran one tick of ``dt`` seconds at ``stamp_ns``."""
+    return f'one tick of {dt:g} s, stamped {stamp_ns * 1e-9:.9f} s'
+
+
+def reset_refusal(configured_anchor: Sequence[float], reason: str) -> str:
+    """Return why ``~/reset`` changed nothing: the configured anchor could not be restored."""
+    return (f'cannot restore the configured anchor {list(configured_anchor)}: {reason}; '
+            'nothing reset')
+
+
+def reset_reply(hold_initial_anchor: bool) -> str:
+    """Return the reply to a ``~/reset`` that restored the initial state."""
+    return 'back to the initial state' + (
+        ', anchor held where it starts' if hold_initial_anchor else ', no target')
+
+
+def release_reply(had_target: bool) -> str:
+    """Return the reply to ``~/release``: whether there was a target to let go of."""
+    return 'released' if had_target else 'already free'

@@ -1,0 +1,208 @@
+"""
+What the node says when it starts: its refusals as one line each, its warnings, its summary.
+
+Start-up refuses what it cannot run with one FATAL line tagged with the node's real name and
+exit 1: a parameter of the wrong type or out of its declared range (``refusal_reason``), a
+configuration that is not valid as a whole (``node_config``'s reason), both ``publish_clock``
+and ``use_sim_time`` (``CLOCK_LOOP``), or a params file rcl cannot read (``rcl_reason``, under
+the name ``requested_logger_name`` finds in the command line, as rcl cannot say it then).
+Unknown keys in the parameters given to the node are not an error (one file may serve several
+nodes) but are warned about, with the nearest known name (``unknown_parameter_warnings``).
+
+Plain Python only: parameter types are named as rclpy's ``Parameter.Type`` names them
+('DOUBLE', 'INTEGER_ARRAY', ...), so that every text here is tested without rclpy.
+"""
+
+import difflib
+import math
+import re
+from typing import Any, Iterable, List, Optional, Sequence, Tuple
+
+from .parameters import NodeConfig, ParameterSpec
+
+# Why publish_clock and use_sim_time cannot both be true.
+CLOCK_LOOP = ('publish_clock: true with use_sim_time: true: a node cannot follow the clock it '
+              'publishes itself (set use_sim_time false, or publish_clock false to follow '
+              'another /clock)')
+# Parameters rclpy declares or reads by itself; not unknown keys.
+RCLPY_PARAMETER_PREFIXES = ('use_sim_time', 'start_type_description_service', 'qos_overrides.')
+# How the refusals name each rclpy parameter type (by its ``Parameter.Type`` name).
+TYPE_NAMES = {
+    'BOOL': 'a bool',
+    'INTEGER': 'an integer',
+    'DOUBLE': 'a double',
+    'STRING': 'a string',
+    'BYTE_ARRAY': 'a list of bytes',
+    'BOOL_ARRAY': 'a list of bools',
+    'INTEGER_ARRAY': 'a list of integers',
+    'DOUBLE_ARRAY': 'a list of doubles',
+    'STRING_ARRAY': 'a list of strings',
+}
+
+
+class StartupRefusal(ValueError):
+    """
+    The node cannot start with what it was given; the message says what and why.
+
+    :param logger_name: the logger of the node that refuses, with its real (remapped) name.
+    :param reason: one line naming the parameter and the reason.
+    """
+
+    def __init__(self, logger_name: str, reason: str) -> None:
+        """Keep the logger name next to the reason."""
+        super().__init__(reason)
+        self.logger_name = logger_name
+
+
+def clock_loop(publish_clock: bool, use_sim_time: bool) -> Optional[str]:
+    """Return ``CLOCK_LOOP`` when the node would follow the clock it publishes, else None."""
+    return CLOCK_LOOP if publish_clock and use_sim_time else None
+
+
+def value_type(value: Any) -> str:
+    """
+    Return the rclpy parameter type of ``value`` by name, as ``Parameter.Type`` finds it.
+
+    The type a declaration takes is its default's: bool before int (a bool is an int in
+    Python), a sequence by the type all its items share ('NOT_SET' for None).
+
+    :raises TypeError: for a value no parameter type holds.
+    """
+    if value is None:
+        return 'NOT_SET'
+    for python_type, name in ((bool, 'BOOL'), (int, 'INTEGER'), (float, 'DOUBLE'),
+                              (str, 'STRING')):
+        if isinstance(value, python_type):
+            return name
+    if isinstance(value, (list, tuple)) or type(value).__name__ == 'array':
+        for python_type, name in ((bytes, 'BYTE_ARRAY'), (bool, 'BOOL_ARRAY'),
+                                  (int, 'INTEGER_ARRAY'), (float, 'DOUBLE_ARRAY'),
+                                  (str, 'STRING_ARRAY')):
+            if all(isinstance(v, python_type) for v in value):
+                return name
+    raise TypeError(f'no parameter type holds {value!r}')
+
+
+def yaml_text(value: Any) -> str:
+    """Return ``value`` as YAML writes it (true, 2.0, [1.0, 2.0], .nan)."""
+    if isinstance(value, bool):
+        return 'true' if value else 'false'
+    if isinstance(value, float) and not math.isfinite(value):
+        return '.nan' if math.isnan(value) else ('-.inf' if value < 0 else '.inf')
+    if isinstance(value, (list, tuple)) or type(value).__name__ == 'array':
+        return '[' + ', '.join(yaml_text(v) for v in value) + ']'
+    return repr(value)
+
+
+def type_hint(value: Any, expected: str) -> Optional[str]:
+    """Return how to write ``value`` as the ``expected`` type (by name), where that is plain."""
+    if expected == 'DOUBLE' and type(value) is int:
+        return yaml_text(float(value))
+    if expected == 'DOUBLE_ARRAY' and isinstance(value, Sequence):
+        if all(type(v) in (int, float) for v in value):
+            return yaml_text([float(v) for v in value])
+    if expected == 'INTEGER' and isinstance(value, float) and value.is_integer():
+        return str(int(value))
+    if expected == 'BOOL' and type(value) is int and value in (0, 1):
+        return yaml_text(bool(value))
+    return None
+
+
+def refusal_reason(declaration: ParameterSpec, error: object,
+                   given: Optional[Tuple[Any, str]] = None) -> str:
+    """
+    Return one line saying why the ``given`` value cannot be ``declaration``'s.
+
+    rclpy refuses an override of another type than the default's (a YAML ``2`` is an integer,
+    never a double: ``ros2 param set`` refuses it the same way, so the node does not convert it
+    at start either) or outside the declared range; its exception texts name neither the
+    parameter first nor the fix.
+
+    :param declaration: the parameter as the node declares it.
+    :param error: what rclpy raised (its text is the reason when nothing plainer is known).
+    :param given: the override the node was started with, as (value, type name), or None.
+    """
+    name = declaration.name
+    if given is None:
+        return f'{name}: {error}'
+    value, given_type = given
+    expected = value_type(declaration.default)
+    if given_type != expected:
+        reason = (f'{name}: {yaml_text(value)} is {TYPE_NAMES.get(given_type, given_type)}, '
+                  f'{name} takes {TYPE_NAMES.get(expected, expected)}')
+        hint = type_hint(value, expected)
+        return reason + (f': write {hint}' if hint else '')
+    if declaration.bounds is not None:
+        low, high = declaration.bounds
+        bounds = f'its range [{yaml_text(low)}, {yaml_text(high)}]'
+        if isinstance(value, float) and math.isnan(value):
+            return f'{name}: .nan is not a number, so not within {bounds}'
+        return f'{name}: {yaml_text(value)} is outside {bounds}'
+    return f'{name}: {error}'
+
+
+def unknown_parameter_warnings(given: Iterable[str], declared: Iterable[str],
+                               known: Sequence[str]) -> List[str]:
+    """
+    Return one warning for each given parameter the node does not have, with the nearest name.
+
+    :param given: the names of the parameters the node was started with.
+    :param declared: the names the node has (its own and rclpy's).
+    :param known: the node's own names, to suggest from.
+    """
+    warnings = []
+    for name in sorted(set(given) - set(declared)):
+        if name.startswith(RCLPY_PARAMETER_PREFIXES):
+            continue
+        nearest = difflib.get_close_matches(name, known, n=1)
+        warnings.append(f'ignoring unknown parameter {name!r}'
+                        + (f': did you mean {nearest[0]!r}?' if nearest else ''))
+    return warnings
+
+
+def describe(config: NodeConfig) -> str:
+    """Return the line the node logs at start and after each change: rate, body, constraint."""
+    c = config
+    s = c.settings
+    constraint = s.constraint
+    if constraint.rigid:
+        mode = f'rigid, baumgarte {constraint.baumgarte:g}'
+    else:
+        mode = (f'soft, {constraint.frequency_hz:g} Hz, '
+                f'damping ratio {constraint.damping_ratio:g}')
+    return (f'{c.rate_hz:g} Hz x {s.substeps} substeps in frame {c.frame_id!r}: '
+            f'mass {s.body.mass:g} kg, inertia {s.body.inertia}, anchor {s.constraint.anchor},'
+            f' {mode}, max force {s.constraint.max_force:g} N, gravity {s.gravity}, damping '
+            f'{s.linear_damping:g}/{s.angular_damping:g} 1/s, target timeout '
+            f'{c.target_timeout:g} s' + (
+                f', publishing /clock at real time factor {c.real_time_factor:g}'
+                if c.publish_clock else ''))
+
+
+def requested_logger_name(args: Sequence[str], node_name: str) -> str:
+    """
+    Return the logger name of ``node_name`` as the command line's remaps make it, without rcl.
+
+    For the one case where rcl cannot start (an unreadable params file) and so cannot say:
+    ``-r __node:=other`` (or ``__name``) and ``-r __ns:=/a/b`` give ``a.b.other``.
+    """
+    name, namespace = node_name, ''
+    for argument in args:
+        match = re.fullmatch(r'(?:[^:=]+:)?__(node|name|ns):=(.+)', argument)
+        if match and match.group(1) == 'ns':
+            namespace = match.group(2)
+        elif match:
+            name = match.group(2)
+    return '.'.join(part for part in namespace.split('/') + [name] if part)
+
+
+def rcl_reason(error: object) -> str:
+    """Return rcl's start-up error as one line: its sentence, without rcl's source locations."""
+    text = re.sub(r', at \S+:\d+', '', str(error)).strip()
+    text = re.sub(r'^failed to initialize rcl: ', '', text)
+    if 'Sequence should be of same type' in text:
+        text += (' (a list holds one type: write every number of a list of doubles with a '
+                 'decimal point, e.g. [0.2, 0.0, 0.05])')
+    elif 'Error opening YAML file' in text:
+        text += ' (no such file, or not readable)'
+    return text

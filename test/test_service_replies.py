@@ -1,0 +1,35 @@
+"""The replies of ~/pause, ~/step, ~/reset and ~/release, without ROS."""
+
+import pytest
+
+from mouse_constraint_ros.service_replies import (pause_reply, release_reply, reset_refusal,
+                                                  reset_reply, step_refusal, step_reply)
+
+NOW = 12_345_678_901
+
+
+@pytest.mark.parametrize('pause, paused, reply', [
+    (True, True, 'already paused'), (False, False, 'already running'),
+    (True, False, f'paused at {NOW * 1e-9:.9f} s'),
+    (False, True, f'running from {NOW * 1e-9:.9f} s'),
+])
+def test_pause_says_what_changed_and_when(pause, paused, reply):
+    assert pause_reply(pause, paused, NOW) == reply
+    assert '12.345678901 s' in reply or reply.startswith('already')
+
+
+def test_a_step_runs_only_paused_and_with_a_clock():
+    assert 'pause it first' in step_refusal(False, None)
+    assert 'pause it first' in step_refusal(False, '/clock on /clock')
+    assert step_refusal(True, '/clock on /sim/clock') == (
+        'waiting for /clock on /sim/clock: no time to stamp a step with')
+    assert step_refusal(True, None) is None
+    assert step_reply(0.001, NOW) == 'one tick of 0.001 s, stamped 12.345678901 s'
+
+
+def test_reset_and_release_say_what_is_left():
+    assert reset_reply(True).endswith('anchor held where it starts')
+    assert reset_reply(False).endswith('no target')
+    assert reset_refusal((0.2, 0.1, 0.05), 'why') == (
+        'cannot restore the configured anchor [0.2, 0.1, 0.05]: why; nothing reset')
+    assert (release_reply(True), release_reply(False)) == ('released', 'already free')

@@ -1,0 +1,121 @@
+"""The start-up texts without ROS: refusals, unknown keys, rcl's errors, the logger's name."""
+
+import array
+import math
+
+import pytest
+from rclpy.parameter import Parameter
+
+from mouse_constraint_ros.parameters import DEFAULTS, node_config, PARAMETERS
+from mouse_constraint_ros.startup import (CLOCK_LOOP, clock_loop, describe, rcl_reason,
+                                          refusal_reason, requested_logger_name, type_hint,
+                                          TYPE_NAMES, unknown_parameter_warnings, value_type,
+                                          yaml_text)
+
+SPECS = {spec.name: spec for spec in PARAMETERS}
+
+
+@pytest.mark.parametrize('value', [
+    None, True, 0, 2, 2.0, 'world', [True, False], [1, 2], [1.0, 2.0], ['a', 'b'], [b'\x00'],
+    array.array('d', [1.0, 2.0]), array.array('q', [1, 2]), (0.0, 1.0),
+] + [spec.default for spec in PARAMETERS])
+def test_value_type_names_the_type_rclpy_finds(value):
+    """The pure type name is rclpy's own, for every default and every kind of value."""
+    assert value_type(value) == Parameter.Type.from_parameter_value(value).name
+
+
+def test_every_type_has_a_name_in_the_refusals():
+    """Each settable rclpy type reads as a phrase, so no refusal shows a bare enum name."""
+    settable = {t.name for t in Parameter.Type} - {'NOT_SET'}
+    assert set(TYPE_NAMES) == settable
+
+
+@pytest.mark.parametrize('value, text', [
+    (True, 'true'), (False, 'false'), (2.0, '2.0'), (2, '2'), (math.nan, '.nan'),
+    (math.inf, '.inf'), (-math.inf, '-.inf'), ([0, 0.5], '[0, 0.5]'),
+    (array.array('d', [1.0]), '[1.0]'), ('w', "'w'"),
+])
+def test_yaml_text_writes_values_as_a_params_file_does(value, text):
+    assert yaml_text(value) == text
+
+
+@pytest.mark.parametrize('value, expected, hint', [
+    (2, 'DOUBLE', '2.0'), ([0, 0, -10], 'DOUBLE_ARRAY', '[0.0, 0.0, -10.0]'),
+    (2.0, 'INTEGER', '2'), (1, 'BOOL', 'true'), (0, 'BOOL', 'false'),
+    (2.5, 'INTEGER', None), (2, 'BOOL', None), ('2', 'DOUBLE', None),
+])
+def test_type_hint_only_where_the_fix_is_plain(value, expected, hint):
+    assert type_hint(value, expected) == hint
+
+
+@pytest.mark.parametrize('name, value, expected', [
+    ('mass', 2, 'mass: 2 is an integer, mass takes a double: write 2.0'),
+    ('substeps', 2.0, 'substeps: 2.0 is a double, substeps takes an integer: write 2'),
+    ('hold_initial_anchor', 1,
+     'hold_initial_anchor: 1 is an integer, hold_initial_anchor takes a bool: write true'),
+    ('gravity', [0, 0, -10], 'gravity: [0, 0, -10] is a list of integers, gravity takes a list '
+     'of doubles: write [0.0, 0.0, -10.0]'),
+    ('frame_id', 3, 'frame_id: 3 is an integer, frame_id takes a string'),
+    ('rate_hz', 0.0, 'rate_hz: 0.0 is outside its range [1.0, 10000.0]'),
+    ('substeps', 0, 'substeps: 0 is outside its range [1, 1000]'),
+    ('mass', math.nan, 'mass: .nan is not a number, so not within its range [0.0, .inf]'),
+])
+def test_a_refusal_names_the_parameter_the_reason_and_the_fix(name, value, expected):
+    """The lines test_startup_refusals reads from the executable, here from the function."""
+    given = (value, Parameter.Type.from_parameter_value(value).name)
+    assert refusal_reason(SPECS[name], 'rclpy text', given) == expected
+
+
+def test_a_refusal_without_an_override_or_a_plainer_reason_is_rclpys():
+    error = ValueError('rclpy text')
+    assert refusal_reason(SPECS['mass'], error) == 'mass: rclpy text'
+    assert refusal_reason(SPECS['frame_id'], error, ('world', 'STRING')) == \
+        'frame_id: rclpy text'
+
+
+def test_unknown_keys_are_warned_about_with_the_nearest_name():
+    """The keys rclpy reads are not unknown; a key close to none gets no suggestion."""
+    known = [spec.name for spec in PARAMETERS]
+    given = ['baumgarde', 'use_sim_time', 'qos_overrides./pose.publisher.depth', 'mass',
+             'zzzzzz']
+    assert unknown_parameter_warnings(given, known + ['use_sim_time'], known) == [
+        "ignoring unknown parameter 'baumgarde': did you mean 'baumgarte'?",
+        "ignoring unknown parameter 'zzzzzz'",
+    ]
+
+
+def test_the_clock_loop_is_both_flags_at_once():
+    assert [clock_loop(p, u) for p in (False, True) for u in (False, True)] == [
+        None, None, None, CLOCK_LOOP]
+
+
+def test_the_description_names_rate_mode_and_clock():
+    config = node_config(DEFAULTS)
+    line = describe(config)
+    assert line.startswith(f'{config.rate_hz:g} Hz x {config.settings.substeps} substeps')
+    assert 'rigid, baumgarte' in line and 'publishing /clock' not in line
+    soft = describe(node_config({**DEFAULTS, 'frequency_hz': 5.0, 'publish_clock': True}))
+    assert 'soft, 5 Hz' in soft and soft.endswith(
+        f'publishing /clock at real time factor {DEFAULTS["real_time_factor"]:g}')
+
+
+@pytest.mark.parametrize('args, name', [
+    ([], 'n'),
+    (['--ros-args', '-r', '__node:=other'], 'other'),
+    (['--ros-args', '-r', '__name:=other', '-r', '__ns:=/robot/arm'], 'robot.arm.other'),
+    (['--ros-args', '-r', 'n:__ns:=/robot'], 'robot.n'),
+    (['--ros-args', '-r', 'topic:=other'], 'n'),
+])
+def test_the_requested_logger_name_follows_the_remaps(args, name):
+    assert requested_logger_name(args, 'n') == name
+
+
+def test_rcls_reason_loses_its_source_locations_and_gains_the_fix():
+    error = RuntimeError("failed to initialize rcl: Couldn't parse params file: 'Sequence "
+                         "should be of same type. Value type 'integer' do not belong', at "
+                         './src/parser.c:123, at ./src/rcl/arguments.c:406')
+    reason = rcl_reason(error)
+    assert reason.startswith("Couldn't parse params file") and '.c:' not in reason
+    assert reason.endswith('e.g. [0.2, 0.0, 0.05])')
+    assert rcl_reason(RuntimeError('Error opening YAML file, at ./x.c:1')).endswith(
+        '(no such file, or not readable)')
