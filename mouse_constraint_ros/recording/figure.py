@@ -90,10 +90,11 @@ def write_figure(path: Path, rows: Sequence[Row], *, anchor: Vector3, frame_id: 
                       fontsize='small')
 
     def point(vector) -> str:
-        return f'({", ".join(f"{c:.3g}" for c in vector)})'
+        # To the nanometre: a grab where the anchor is gives it back up to rounding.
+        return f'({", ".join(f"{round(c, 9) + 0.0:.3g}" for c in vector)})'
 
-    last = rows[-1].body_anchor
-    changed = '' if tuple(last) == tuple(anchor) else f', {point(last)} at the end'
+    last = point(rows[-1].body_anchor)
+    changed = '' if last == point(anchor) else f', {last} at the end'
     grab_note = f', {len(grabbed)} grab{"s" if len(grabbed) != 1 else ""}' if grabbed else ''
     figure.suptitle(f'{title}: {t[-1]:.1f} s, {len(rows)} ticks, anchor {point(anchor)}'
                     f'{changed} m in the body frame{grab_note}')
