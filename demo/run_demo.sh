@@ -1,15 +1,17 @@
 #!/usr/bin/env bash
-# `make demo`: start the node, record it with mouse_record while mouse_target grabs the body at
-# the centre of one face, drags that point around a circle and then clicks a jump, and leave the
-# figure in demo/figure.png (the CSV and MCAP in demo/output/).
+# `make demo`: start the node with config/params.yaml as shipped, record it with mouse_record
+# while mouse_target grabs the body at the centre of one face, drags that point around a circle
+# and then clicks a 0.5 m jump, and leave the figure in demo/figure.png (the CSV and MCAP in
+# demo/output/).
 #
 # The body starts hanging at rest from its anchor, a corner (initial_orientation puts the COM
 # below it), so the grab point's world position is known exactly, as a click on the body in RViz
 # would give it. The figure follows the grabbed point (mouse_record --anchor GRAB_POINT): until
-# the grab it stays still, and from the grab on it is the anchor: its path goes on without a
+# the grab it stays still, and from the grab on it is the anchor (mouse_record follows the
+# node's anchor change the grab makes, to the grabbed point itself): its path goes on without a
 # step, since the point becomes the anchor where it is, and its error stays near zero while the
-# body swings down from it. The drag keeps the point on the circle, and the jump shows the
-# catch-up.
+# body swings down from it. The drag keeps the point on the circle, and the jump shows how the
+# shipped joint catches up: at most max_target_speed, with the force bounded in body weights.
 #
 # It runs in your ROS_DOMAIN_ID, so RViz (Fixed Frame `world`, a MarkerArray display on
 # /mouse_constraint/markers) can watch it; nothing else named mouse_constraint should be running
@@ -55,10 +57,9 @@ print(*(repr(float(c)) for c in (x, y, z, w, *grab, *local)))
 PYTHON
 )
 
-# The node: the defaults, with the settings README recommends for dragging (baumgarte 1,
-# angular damping 5/s) so that the anchor follows the circle without lag and the spin dies out.
+# The node: config/params.yaml as shipped (the joint carries the body like a hand: rigid, a
+# bounded-slew guide, the weight bound, angular friction), only the start hanging at rest.
 "$BIN/mouse_constraint_node" --ros-args --params-file config/params.yaml \
-  -p baumgarte:=1.0 -p angular_damping:=5.0 \
   -p "initial_orientation:=[$qx, $qy, $qz, $qw]" 2> "$OUT/node.log" &
 pids+=($!)
 
@@ -85,8 +86,8 @@ sleep 1   # the body swings down from the grabbed point, which stays where it wa
 cx=$("$BIN/python" -c "print($gx - $RADIUS)")
 "$BIN/mouse_target" --circle --center "$cx" "$gy" "$gz" --radius "$RADIUS" --period 2 \
   --duration 4 2> /dev/null
-# The click jump: 0.3 m aside and 0.2 m up from where the grab was.
-read -r jx jy jz < <("$BIN/python" -c "print($gx + 0.3, $gy + 0.3, $gz + 0.2)")
+# The click jump: 0.5 m from where the grab was (and the circle ends), 0.3 m aside, 0.4 m up.
+read -r jx jy jz < <("$BIN/python" -c "print($gx + 0.3, $gy, $gz + 0.4)")
 "$BIN/mouse_target" "$jx" "$jy" "$jz" 2> /dev/null
 sleep "$SETTLE_SECONDS"
 kill -INT "$record"

@@ -14,13 +14,15 @@ ticks run late (in catch-up)       <= 25 % of them    > 25 %
 clock restarted (**)               no                 yes, in the window
 waiting for the first /clock       no                 yes
 anchor error (m)                   < anchor_warn      >= anchor_warn       >= anchor_error
-constraint force (N)               < max_force        >= 0.999 max_force
+constraint force (N) (***)         < bound            >= 0.999 bound
 target age, if target_timeout > 0  < timeout / 2      >= timeout / 2
 =================================  =================  ===================  ==============
 
 (*) allowing one tick of jitter at the window's edges: (ticks + 1) / (seconds * rate_hz).
 (**) the clock jumped backwards (a /clock replay restarting) or changed source (``use_sim_time``
 flipped): the node restarts its tick grid there, with no catch-up and no ticks dropped.
+(***) the bound the joint enforces (``physics.simulation.force_bound``): the smaller of
+``max_force`` and ``max_force_per_weight`` m |g|; no check when both are unlimited.
 
 Dropped ticks are named with their cause: missed time beyond the catch-up bound, or a timer
 callback that reached its wall-time budget (a tick costs more than the node can run at
@@ -60,7 +62,7 @@ class Thresholds(NamedTuple):
     :param late_warn: share of the window's ticks run late above which the rate is WARN.
     :param anchor_warn: anchor error (m) from which the constraint is WARN.
     :param anchor_error: anchor error (m) from which the constraint is ERROR.
-    :param force_saturated: share of max_force from which the force counts as at its bound.
+    :param force_saturated: share of the force bound from which the force counts as at its bound.
     :param target_age_warn: share of target_timeout from which an old target is WARN.
     """
 
@@ -211,7 +213,7 @@ def publishing_values(publish_rate_hz: float, tf_status: str,
 
 def constraint_status(name: str, hardware_id: str, *, target_kind: str,
                       target: Optional[Vector3], anchor_error: Optional[float], force: Vector3,
-                      max_force: float, target_age: Optional[float], target_timeout: float,
+                      force_bound: float, target_age: Optional[float], target_timeout: float,
                       thresholds: Thresholds = Thresholds()) -> DiagnosticStatus:
     """
     Return the constraint status: anchor error, constraint force, target and its age.
@@ -222,7 +224,8 @@ def constraint_status(name: str, hardware_id: str, *, target_kind: str,
     :param target: the target (m), or None.
     :param anchor_error: the anchor's distance from the target (m), or None without one.
     :param force: the constraint force (N).
-    :param max_force: the force bound (N, may be inf).
+    :param force_bound: the force bound the joint enforces (N, may be inf): ``force_bound`` of
+        the settings, the smaller of ``max_force`` and ``max_force_per_weight`` m |g|.
     :param target_age: seconds since the last user target, or None.
     :param target_timeout: the node's ``target_timeout`` (s, 0 = never).
     :param thresholds: where the levels change.
@@ -236,10 +239,10 @@ def constraint_status(name: str, hardware_id: str, *, target_kind: str,
             level = WARN
         if level != OK:
             problems.append(f'anchor {anchor_error:.3g} m from the target')
-    if (target is not None and math.isfinite(max_force)
-            and magnitude >= thresholds.force_saturated * max_force):
+    if (target is not None and math.isfinite(force_bound)
+            and magnitude >= thresholds.force_saturated * force_bound):
         level = max(level, WARN)
-        problems.append(f'force at max_force {max_force:g} N')
+        problems.append(f'force at its bound {force_bound:g} N')
     if (target_age is not None and target_timeout > 0.0
             and target_age >= thresholds.target_age_warn * target_timeout):
         level = max(level, WARN)
@@ -254,7 +257,7 @@ def constraint_status(name: str, hardware_id: str, *, target_kind: str,
         KeyValue(key='target age (s)', value=_value(target_age, 4)),
         KeyValue(key='anchor error (m)', value=_value(anchor_error)),
         KeyValue(key='constraint force (N)', value=_value(magnitude)),
-        KeyValue(key='max force (N)', value=_value(max_force)),
+        KeyValue(key='force bound (N)', value=_value(force_bound)),
         KeyValue(key='target timeout (s)', value=_value(target_timeout)),
     ]
     return _status(name, hardware_id, level=level, problems=problems, fine=fine, values=values)

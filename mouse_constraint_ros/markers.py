@@ -28,12 +28,13 @@ from visualization_msgs.msg import Marker, MarkerArray
 from .messages import fill_point, fill_pose, set_stamp
 from .physics import BodyState, Settings, STANDARD_GRAVITY
 from .physics.algebra import Vector3
+from .physics.simulation import force_bound
 
 # Sphere diameter as a fraction of the box's longest edge; the line is a third as wide.
 SPHERE_FRACTION = 0.1
 LINE_FRACTION = SPHERE_FRACTION / 3.0
-# Without max_force the line is red at this many times the body's weight (m g0): yellow when the
-# constraint carries the weight of a body at rest.
+# Without a force bound the line is red at this many times the body's weight (m g0): yellow when
+# the constraint carries the weight of a body at rest.
 WEIGHTS_FOR_RED = 2.0
 
 BODY_COLOR = (0.35, 0.55, 0.85, 0.8)
@@ -44,14 +45,17 @@ WRENCH_COLOR = (0.1, 0.8, 0.9, 1.0)
 
 def reference_force(settings: Settings) -> float:
     """
-    Return the force (N) at which the constraint line turns red.
+    Return the force (N) at which the constraint line turns red: the joint's force bound.
 
-    :param settings: the simulation's settings: ``max_force`` when finite, otherwise
-        ``WEIGHTS_FOR_RED`` times the body's weight under standard gravity.
+    The bound is the one the joint enforces (``force_bound``): the smaller of ``max_force``
+    and ``max_force_per_weight`` m |g|. Without either, ``WEIGHTS_FOR_RED`` times the body's
+    weight under standard gravity.
+
+    :param settings: the simulation's settings.
     """
-    max_force = settings.constraint.max_force
-    if math.isfinite(max_force) and max_force > 0.0:
-        return max_force
+    bound = force_bound(settings)
+    if math.isfinite(bound) and bound > 0.0:
+        return bound
     return WEIGHTS_FOR_RED * settings.body.mass * abs(STANDARD_GRAVITY[2])
 
 

@@ -47,6 +47,7 @@ from .messages import point_from_message, set_stamp
 from .parameters import node_config, PARAMETERS, ParameterSpec
 from .physics import MouseSimulation
 from .physics.algebra import Vector3
+from .physics.simulation import force_bound
 from .publish_ticks import PublishTicks
 from .service_replies import (pause_reply, release_reply, reset_refusal, reset_reply,
                               step_refusal, step_reply)
@@ -654,7 +655,7 @@ class MouseConstraintNode(Node):
                               target=simulation.target,
                               anchor_error=None if error is None else math.hypot(*error),
                               force=simulation.constraint_force,
-                              max_force=config.settings.constraint.max_force,
+                              force_bound=force_bound(config.settings),
                               target_age=age, target_timeout=config.target_timeout,
                               thresholds=thresholds),
             self._simulator_status(f'{name}: simulator', hardware_id, now),

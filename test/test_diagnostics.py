@@ -19,6 +19,7 @@ from mouse_constraint_ros.diagnostics import USER_TARGET
 from mouse_constraint_ros.diagnostics import Window
 from mouse_constraint_ros.messages import stamp_nanoseconds
 from mouse_constraint_ros.node import MouseConstraintNode
+from mouse_constraint_ros.physics.simulation import force_bound
 
 OK, WARN, ERROR = DiagnosticStatus.OK, DiagnosticStatus.WARN, DiagnosticStatus.ERROR
 TOTALS = TickCounters(1000, 3, 0, 0)
@@ -104,7 +105,7 @@ def test_anchor_error_levels(error, level):
     """The anchor error grades OK / WARN / ERROR at anchor_warn and anchor_error."""
     status = constraint_status('n: constraint', '/n', target_kind=USER_TARGET,
                                target=(0.0, 0.0, 1.0), anchor_error=error,
-                               force=(0.0, 0.0, 19.6), max_force=math.inf, target_age=0.2,
+                               force=(0.0, 0.0, 19.6), force_bound=math.inf, target_age=0.2,
                                target_timeout=0.0)
     assert status.level == level
     assert values(status)['anchor error (m)'] == f'{error:.6g}'
@@ -116,7 +117,7 @@ def test_anchor_thresholds_come_from_the_parameters():
     """Thresholds(anchor_warn, anchor_error) move the levels."""
     thresholds = Thresholds(anchor_warn=0.001, anchor_error=0.01)
     levels = [constraint_status('n', '', target_kind=USER_TARGET, target=(0.0, 0.0, 0.0),
-                                anchor_error=error, force=(0.0, 0.0, 0.0), max_force=math.inf,
+                                anchor_error=error, force=(0.0, 0.0, 0.0), force_bound=math.inf,
                                 target_age=0.0, target_timeout=0.0,
                                 thresholds=thresholds).level
               for error in (0.0005, 0.005, 0.05)]
@@ -124,22 +125,22 @@ def test_anchor_thresholds_come_from_the_parameters():
 
 
 def test_saturated_force_and_old_target_warn():
-    """A force at max_force warns; so does a target older than half of target_timeout."""
+    """A force at its bound warns; so does a target older than half of target_timeout."""
     at_bound = constraint_status('n', '', target_kind=USER_TARGET, target=(0.0, 0.0, 1.0),
-                                 anchor_error=0.01, force=(0.0, 6.0, 8.0), max_force=10.0,
+                                 anchor_error=0.01, force=(0.0, 6.0, 8.0), force_bound=10.0,
                                  target_age=0.1, target_timeout=0.0)
-    assert (at_bound.level, at_bound.message) == (WARN, 'force at max_force 10 N')
+    assert (at_bound.level, at_bound.message) == (WARN, 'force at its bound 10 N')
     below = constraint_status('n', '', target_kind=USER_TARGET, target=(0.0, 0.0, 1.0),
-                              anchor_error=0.01, force=(0.0, 6.0, 7.9), max_force=10.0,
+                              anchor_error=0.01, force=(0.0, 6.0, 7.9), force_bound=10.0,
                               target_age=0.1, target_timeout=0.0)
     assert below.level == OK
     old = constraint_status('n', '', target_kind=USER_TARGET, target=(0.0, 0.0, 1.0),
-                            anchor_error=0.01, force=(0.0, 0.0, 1.0), max_force=math.inf,
+                            anchor_error=0.01, force=(0.0, 0.0, 1.0), force_bound=math.inf,
                             target_age=0.6, target_timeout=1.0)
     assert old.level == WARN and old.message.startswith('no target for 0.60 s')
     assert values(old)['target age (s)'] == '0.6'
     assert constraint_status('n', '', target_kind=USER_TARGET, target=(0.0, 0.0, 1.0),
-                             anchor_error=0.01, force=(0.0, 0.0, 1.0), max_force=math.inf,
+                             anchor_error=0.01, force=(0.0, 0.0, 1.0), force_bound=math.inf,
                              target_age=60.0, target_timeout=0.0).level == OK
 
 
@@ -154,7 +155,7 @@ def test_statuses_take_their_values_by_keyword_only():
 def test_free_body_is_ok_with_values_not_applicable():
     """No target: OK, its position, age and anchor error n/a."""
     status = constraint_status('n', '', target_kind=NO_TARGET, target=None, anchor_error=None,
-                               force=(0.0, 0.0, 0.0), max_force=5.0, target_age=None,
+                               force=(0.0, 0.0, 0.0), force_bound=5.0, target_age=None,
                                target_timeout=1.0)
     assert (status.level, status.message) == (OK, NO_TARGET)
     assert values(status)['target position (m)'] == values(status)['anchor error (m)'] == 'n/a'
@@ -187,12 +188,13 @@ def test_node_reports_rate_and_constraint(ros):
     assert float(values(constraint)['anchor error (m)']) < 0.01
     stamps = [stamp_nanoseconds(a.header.stamp) for a in arrays]
     assert stamps == sorted(stamps) and stamps[0] > 0
+    assert values(constraint)['force bound (N)'] == f'{force_bound(node.simulation.settings):.6g}'
     # A max_force below the weight (2 kg * 9.8 m/s^2): the force saturates, the body falls away.
     assert node.set_parameters([Parameter('max_force', value=5.0)])[0].successful
     count = len(arrays)
     assert ros.spin_until(lambda: arrays[-1].status[1].level == ERROR, timeout=5.0)
     constraint = arrays[-1].status[1]
-    assert 'force at max_force 5 N' in constraint.message
+    assert 'force at its bound 5 N' in constraint.message
     assert float(values(constraint)['constraint force (N)']) == pytest.approx(5.0)
     # On its way to anchor_error (0.5 m) it spends ~0.25 s between 0.05 m and 0.5 m: WARN.
     levels = [a.status[1].level for a in arrays[count:]]
@@ -215,3 +217,26 @@ def test_namespaced_nodes_have_unique_status_names(ros):
     assert ros.spin_until(lambda: len(names()) >= 6, timeout=10.0), names()
     assert names() == {f'/{ns}/mouse_constraint: {kind}'
                        for ns in ('left', 'right') for kind in ('rate', 'constraint', 'simulator')}
+
+
+def test_the_weight_bound_counts_as_the_force_bound(ros):
+    """
+    max_force_per_weight below one weight: the force saturates at k m |g|, and diagnostics say so.
+
+    max_force stays unlimited: the bound is the joint's, not the max_force parameter.
+    """
+    per_weight = 0.25
+    node = ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
+        Parameter('rate_hz', value=200.0), Parameter('diagnostics_rate_hz', value=10.0),
+        Parameter('marker_rate_hz', value=0.0),
+        Parameter('max_force_per_weight', value=per_weight)]))
+    settings = node.simulation.settings
+    assert math.isinf(settings.constraint.max_force)
+    bound = per_weight * settings.body.mass * math.hypot(*settings.gravity)
+    arrays = ros.collect(DiagnosticArray, '/diagnostics')
+    assert ros.spin_until(lambda: arrays and 'force at its bound' in arrays[-1].status[1].message,
+                          timeout=5.0)
+    constraint = arrays[-1].status[1]
+    assert f'force at its bound {bound:g} N' in constraint.message
+    assert values(constraint)['force bound (N)'] == f'{bound:.6g}'  # six digits, as shown
+    assert float(values(constraint)['constraint force (N)']) == pytest.approx(bound, rel=1e-5)

@@ -103,10 +103,24 @@ def test_force_colour_runs_green_yellow_red(force, rgb):
     assert force_color(force, 10.0) == pytest.approx((*rgb, 1.0))
 
 
-def test_reference_force_is_max_force_or_twice_the_weight():
-    """A finite max_force is the red end; unlimited, twice the weight under standard gravity."""
+def test_reference_force_is_the_joint_force_bound_or_twice_the_weight():
+    """
+    The red end is the bound the joint enforces: the smaller of max_force and k m |g|.
+
+    Without either bound it is twice the weight under standard gravity.
+    """
     body = RigidBody.solid_box(2.0, BOX)
+    gravity = (0.0, 3.0, -4.0)
+    per_weight = 3.0 * body.mass * math.hypot(*gravity)
     assert reference_force(Settings(body, MouseConstraint(max_force=15.0))) == 15.0
+    assert reference_force(Settings(body, MouseConstraint(max_force_per_weight=3.0),
+                                    gravity=gravity)) == pytest.approx(per_weight)
+    assert reference_force(Settings(body, MouseConstraint(
+        max_force=per_weight + 1.0, max_force_per_weight=3.0),
+        gravity=gravity)) == pytest.approx(per_weight)
+    assert reference_force(Settings(body, MouseConstraint(
+        max_force=per_weight - 1.0, max_force_per_weight=3.0),
+        gravity=gravity)) == per_weight - 1.0
     assert reference_force(Settings(body, gravity=(0.0, 0.0, 0.0))) == pytest.approx(
         2.0 * 2.0 * -STANDARD_GRAVITY[2])
 

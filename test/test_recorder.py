@@ -24,6 +24,10 @@ from mcap_ros2.decoder import DecoderFactory
 import numpy as np
 from PIL import Image
 import pytest
+from rcl_interfaces.msg import Parameter as ParameterMessage
+from rcl_interfaces.msg import ParameterEvent
+from rcl_interfaces.msg import ParameterType
+from rcl_interfaces.msg import ParameterValue
 from rclpy.parameter import Parameter
 from rclpy.serialization import deserialize_message
 from rclpy.serialization import serialize_message
@@ -43,6 +47,8 @@ from mouse_constraint_ros.recording.mcap_file import message_definition
 from mouse_constraint_ros.recording.mcap_file import schema_name
 from mouse_constraint_ros.recording.outputs import check_writable
 from mouse_constraint_ros.recording.outputs import output_paths
+from mouse_constraint_ros.recording.received import anchor_change
+from mouse_constraint_ros.recording.received import PARAMETER_EVENTS_TOPIC
 from mouse_constraint_ros.recording.received import Received
 from mouse_constraint_ros.recording.rows import COLUMNS
 from mouse_constraint_ros.recording.rows import tick_rows
@@ -200,7 +206,7 @@ def test_mcap_reads_back_with_the_mcap_library(recording):
         assert reader.get_header().profile == 'ros2'
         summary = reader.get_summary()
         channels = {c.topic: c for c in summary.channels.values()}
-        assert set(channels) == {'/target', '/pose', '/twist'}
+        assert set(channels) == {'/target', '/pose', '/twist', '/grab', '/parameter_events'}
         for topic, message_type in (('/target', PointStamped), ('/pose', PoseStamped),
                                     ('/twist', TwistStamped)):
             channel = channels[topic]
@@ -278,7 +284,49 @@ def test_tick_rows_join_pose_and_twist_and_hold_the_latest_target():
     assert rows[0].anchor == (1.0, 0.0, 1.0)
     assert rows[0].anchor_error is None and rows[1].anchor_error == 0.0
     assert rows[0].speed == 5.0
-    assert rows[0].fields()[-6:] == ['', '', '', '', 5.0, 0.0]
+    assert rows[0].fields()[-12:] == ['', '', '', '', 5.0, 0.0, 1.0, 0.0, 0.0, '', '', '']
+    assert all(row.body_anchor == (1.0, 0.0, 0.0) and row.grab is None for row in rows)
+
+
+def anchor_event(node_name: str, anchor) -> Received:
+    """Return a /parameter_events message of ``node_name`` that changes its anchor."""
+    value = ParameterValue(type=ParameterType.PARAMETER_DOUBLE_ARRAY,
+                           double_array_value=list(anchor))
+    event = ParameterEvent(node=node_name, changed_parameters=[
+        ParameterMessage(name='anchor', value=value)])
+    return Received(PARAMETER_EVENTS_TOPIC, 0, serialize_message(event))
+
+
+def test_tick_rows_follow_anchor_changes_and_mark_grabs():
+    """From the pose after an anchor change the row uses it; a grab lands on the next row."""
+    def state(kind, ns):
+        message = PoseStamped() if kind == 'pose' else TwistStamped()
+        message.header.stamp.nanosec = ns
+        if kind == 'pose':
+            message.pose.orientation.w = 1.0
+        return Received(kind, ns, serialize_message(message))
+
+    grabbed = (0.1, 0.0, 0.05)
+    received = [state('pose', 10), state('twist', 10),
+                Received('grab', 0, serialize_message(point_message(grabbed, 'world', 0))),
+                anchor_event('/mouse_constraint', grabbed), state('pose', 20), state('twist', 20),
+                state('pose', 30), state('twist', 30)]
+    rows = tick_rows(received, (1.0, 0.0, 0.0))
+    assert [row.body_anchor for row in rows] == [(1.0, 0.0, 0.0), grabbed, grabbed]
+    assert [row.anchor for row in rows] == [(1.0, 0.0, 0.0), grabbed, grabbed]
+    assert [row.grab for row in rows] == [None, grabbed, None]
+    assert rows[1].fields()[-6:] == [*grabbed, *grabbed]
+
+
+def test_anchor_change_reads_only_a_three_vector_anchor():
+    """Other parameters, and an anchor that is no 3-vector, set no anchor."""
+    event = deserialize_message(anchor_event('/n', (1.0, 2.0, 3.0)).data, ParameterEvent)
+    assert anchor_change(event) == (1.0, 2.0, 3.0)
+    event.changed_parameters[0].name = 'mass'
+    assert anchor_change(event) is None
+    event.changed_parameters[0].name = 'anchor'
+    event.changed_parameters[0].value.double_array_value = [1.0, 2.0]
+    assert anchor_change(event) is None
 
 
 def test_progress_bar_and_lines_off_a_terminal():
@@ -387,3 +435,71 @@ def test_check_writable_leaves_nothing_behind(tmp_path):
     assert tree(tmp_path) == {existing: b'old'}
     assert [p.name for p in output_paths(Path('x/run'), mcap=True)] == [
         'run.csv', 'run.png', 'run.mcap']
+
+
+def test_recording_follows_a_grab(tmp_path):
+    """
+    A grab during the recording: the rows use the grabbed anchor from then on, the grab is marked.
+
+    A node of its own, in a namespace, in this process; the recorder in that namespace reads
+    its anchor at the start and follows its /parameter_events. The grab is a point on the
+    body (a body-frame point away from ANCHOR, placed by the latest pose).
+    """
+    ros = RosHarness()
+    try:
+        overrides = [
+            Parameter('rate_hz', value=RATE), Parameter('anchor', value=list(ANCHOR)),
+            Parameter('marker_rate_hz', value=0.0), Parameter('diagnostics_rate_hz', value=0.0),
+            Parameter('linear_damping', value=2.0), Parameter('angular_damping', value=2.0)]
+        node = ros.add(MouseConstraintNode(context=ros.context, namespace='grabbed',
+                                           parameter_overrides=overrides))
+        poses = ros.collect(PoseStamped, 'grabbed/pose', depth=100000)
+        grabs = ros.probe.create_publisher(PointStamped, 'grabbed/grab', 10)
+        assert ros.spin_until(lambda: grabs.get_subscription_count() > 0 and poses)
+        prefix = tmp_path / 'grab'
+        process = subprocess.Popen(
+            [str(BIN / 'mouse_record'), '-d', '1.5', '-o', str(prefix), '--mcap', '--timeout',
+             '20', '--ros-args', '-r', '__ns:=/grabbed'],
+            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        lines = []
+        reader = threading.Thread(target=lambda: lines.extend(process.stderr), daemon=True)
+        reader.start()
+        deadline, grabbed, point = time.monotonic() + 40.0, None, None
+        while process.poll() is None:
+            assert time.monotonic() < deadline, 'mouse_record did not finish'
+            ros.spin_for(0.05)
+            if grabbed is None and any(line.startswith('recording') for line in lines):
+                grabbed = time.monotonic()
+            if point is None and grabbed is not None and time.monotonic() - grabbed > 0.5:
+                point = node.simulation.state.world_point((-0.15, 0.05, 0.0))
+                grabs.publish(point_message(point, 'world', 0))
+        reader.join(timeout=5.0)
+        assert process.returncode == 0, ''.join(lines)
+        assert point is not None
+        new_anchor = tuple(node.get_parameter('anchor').value)
+        assert new_anchor != ANCHOR
+    finally:
+        ros.shutdown()
+    rows = read_csv(prefix.with_suffix('.csv'))
+    body = [(row['body_anchor_x'], row['body_anchor_y'], row['body_anchor_z']) for row in rows]
+    changed = body.index(new_anchor)
+    assert 0 < changed < len(rows) - 10
+    assert set(body[:changed]) == {ANCHOR} and set(body[changed:]) == {new_anchor}
+    marked = [i for i, row in enumerate(rows) if row['grab_x'] is not None]
+    # The grab and the anchor change come on two topics: within a tick or two of each other.
+    assert len(marked) == 1 and abs(marked[0] - changed) <= 2
+    assert (rows[marked[0]]['grab_x'], rows[marked[0]]['grab_y'],
+            rows[marked[0]]['grab_z']) == tuple(point)
+    for row, anchor in zip(rows, body):
+        q = [row['qx'], row['qy'], row['qz'], row['qw']]
+        world = np.array([row['x'], row['y'], row['z']]) + Rotation.from_quat(q).apply(anchor)
+        np.testing.assert_allclose((row['anchor_x'], row['anchor_y'], row['anchor_z']), world,
+                                   atol=1e-12)
+    with open(prefix.with_suffix('.mcap'), 'rb') as stream:
+        reader = make_reader(stream, decoder_factories=[DecoderFactory()])
+        decoded = [(channel.topic, message) for _, channel, _, message
+                   in reader.iter_decoded_messages()]
+    assert [xyz(m.point) for topic, m in decoded if topic == '/grabbed/grab'] == [tuple(point)]
+    events = [m for topic, m in decoded if topic == '/parameter_events']
+    assert [e.node for e in events] == ['/grabbed/mouse_constraint']
+    assert tuple(events[0].changed_parameters[0].value.double_array_value) == new_anchor

@@ -273,3 +273,50 @@ def test_the_factor_changes_at_run_time_without_a_jump(ros):
     values = np.array([stamp_ns(c.clock) for c in clocks])
     np.testing.assert_array_equal(np.diff(values), 4 * MS)
     assert (values[-1] - values[changed - 1]) * 1e-9 == pytest.approx(3.0 * wall, rel=0.1)
+
+
+@pytest.mark.parametrize('namespace', ['', '/fast'])
+def test_factor_zero_with_a_publish_rate_publishes_every_tenth_tick(ros, namespace):
+    """
+    Factor 0 at 1 kHz, poses at 100 Hz: at least 5x real time, pose stamps 10 ticks apart.
+
+    First only the poses are taken, over 2 s of wall time: their stamps give the factor
+    reached (printed), and they lie on the 1 ms grid exactly 10 ticks apart. Then /clock is
+    taken too, for 500 values: every /clock value at a publishing tick (a multiple of 10 ms) is
+    a pose stamp, so the poses carry /clock's values. /clock has depth 1: at this pace a Python
+    subscriber sees only some of its values, and taking them slows the node and this process
+    down, which is why the factor is measured without it and it is taken briefly. In a
+    namespace /clock stays absolute and pose is relative.
+    """
+    rate, publish_rate = 1000.0, 100.0
+    period = round(1e9 / rate)
+    every = round(rate / publish_rate)
+    arguments = ['-p', 'publish_clock:=true', '-p', 'real_time_factor:=0.0',
+                 '-p', f'rate_hz:={rate}', '-p', f'publish_rate_hz:={publish_rate}',
+                 '-p', 'marker_rate_hz:=0.0', '-p', 'diagnostics_rate_hz:=0.0']
+    if namespace:
+        arguments = ['-r', f'__ns:={namespace}', *arguments]
+    poses = ros.collect(PoseStamped, f'{namespace}/pose', depth=100000)
+    with node_process(*arguments):
+        assert ros.spin_until(lambda: len(poses) > 10, timeout=20.0)
+        first, started = len(poses), time.monotonic()
+        ros.spin_for(2.0)
+        wall = time.monotonic() - started
+        measured = np.array([stamp_ns(p.header.stamp) for p in poses[first - 1:]])
+        clocks = []
+        subscription = ros.probe.create_subscription(Clock, '/clock', clocks.append, 100000)
+        assert ros.spin_until(lambda: len(clocks) >= 500, timeout=10.0)
+        ros.probe.destroy_subscription(subscription)
+        clock_values = {stamp_ns(c.clock) for c in clocks}
+        ros.spin_for(0.3)  # the poses of the last clock values are in
+    factor = (measured[-1] - measured[0]) * 1e-9 / wall
+    print(f'real_time_factor 0 at {rate:g} Hz, poses at {publish_rate:g} Hz'
+          f'{" in " + namespace if namespace else ""}: {factor:.1f}x real time '
+          f'({len(measured) - 1} poses in {wall:.2f} s)')
+    assert factor >= 5.0
+    stamps = np.array([stamp_ns(p.header.stamp) for p in poses])
+    assert np.all(stamps % (every * period) == 0)
+    np.testing.assert_array_equal(np.diff(stamps), every * period)
+    assert all(value % period == 0 for value in clock_values)
+    publishing = {value for value in clock_values if value % (every * period) == 0}
+    assert publishing and publishing <= set(stamps.tolist())

@@ -1,22 +1,26 @@
 """
-The ``mouse_record`` command: record target, pose and twist, then draw the motion.
+The ``mouse_record`` command: record target, pose, twist and grabs, then draw the motion.
 
-``mouse_record --duration 10 --output run`` records the relative topics ``target``, ``pose`` and
-``twist`` for 10 s of the node's clock from the first pose, with a progress bar, then writes
+``mouse_record --duration 10 --output run`` records the relative topics ``target``, ``pose``,
+``twist`` and ``grab`` for 10 s of the node's clock from the first pose, with a progress bar,
+then writes
 
 - ``run.csv``: one row per tick (pose and twist of the same stamp), with the anchor's world
   position, the latest target received before that pose, the anchor error, speed and angular
-  speed;
+  speed, the body-frame anchor in effect and the grab received since the tick before;
 - ``run.png``: anchor and target paths from above and from the side, the anchor error, speed and
-  angular speed over time;
-- ``run.mcap`` with ``--mcap``: the three topics as received (CDR, ``ros2`` profile), which
-  Foxglove and ``ros2 bag info/play`` open.
+  angular speed over time, grabs marked;
+- ``run.mcap`` with ``--mcap``: the topics as received (CDR, ``ros2`` profile), with the
+  recorded node's anchor changes from ``/parameter_events``, which Foxglove and
+  ``ros2 bag info/play`` open.
 
-The anchor (body frame) is read from the ``anchor`` parameter of the node being recorded
-(``--node``, default ``mouse_constraint`` in the recorder's namespace) through its parameter
-service, so the figure always matches the node; ``--anchor X Y Z`` gives it instead and needs
-no node. Ctrl-C ends the recording early and still writes the files. The files are checked
-for writing before the recording starts: an unwritable ``--output`` fails at once.
+The anchor (body frame) is read at the start from the ``anchor`` parameter of the node being
+recorded (``--node``, default ``mouse_constraint`` in the recorder's namespace) through its
+parameter service, then followed on ``/parameter_events`` (a ``grab`` makes the grabbed point
+the node's anchor), so the figure always matches the node; ``--anchor X Y Z`` gives the
+starting anchor instead and needs no node. Ctrl-C ends the recording early and still writes
+the files. The files are checked for writing before the recording starts: an unwritable
+``--output`` fails at once.
 
 This module is the command (its options and ``main``); the recording, the rows, the figure and
 the MCAP file are in the ``recording`` package.
@@ -77,9 +81,10 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument('--mcap', action='store_true',
                         help='also write PREFIX.mcap (Foxglove, ros2 bag; default: off)')
     parser.add_argument('--anchor', nargs=3, type=_finite('--anchor'), metavar=('X', 'Y', 'Z'),
-                        help="the anchor in the body frame (m; default: the node's parameter)")
+                        help="the anchor in the body frame at the start (m; default: the node's "
+                             "parameter); changes of the node's anchor are followed")
     parser.add_argument('--node', default=NODE_NAME,
-                        help='the node whose anchor parameter to read '
+                        help='the node whose anchor parameter to read and follow '
                              '(default: %(default)s, in this namespace)')
     parser.add_argument('--timeout', type=_finite('--timeout', 0.0), default=10.0,
                         help='seconds to wait for the parameter service and the first pose '
@@ -115,7 +120,7 @@ def main(args: Optional[List[str]] = None) -> int:
               file=sys.stderr)
         return 1
     rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
-    node = Recorder()
+    node = Recorder(target_node=options.node)
     logger = node.get_logger()
     executor = EventsExecutor(context=node.context)
     executor.add_node(node)

@@ -160,7 +160,12 @@ class MouseSimulation:
     def settings(self, settings: Settings) -> None:
         if not isinstance(settings, Settings):
             raise ValueError(f'settings must be a Settings, got {settings!r}')
+        previous = getattr(self, '_settings', None)
         self._settings = settings
+        if previous is not None and previous.constraint.anchor != settings.constraint.anchor:
+            # A new anchor (a grab) is picked up where it is, as after a release: the old
+            # anchor's guide would pull the new point to where the old one was.
+            self._guide = None
 
     @property
     def state(self) -> BodyState:

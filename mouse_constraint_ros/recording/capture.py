@@ -3,9 +3,11 @@ The recording itself: a node that keeps every message of the recorded topics, an
 
 ``Recorder`` subscribes to ``TOPICS`` with deep RELIABLE queues and keeps each message serialized,
 as it arrived (``Received``), from the first message on; the recorded time starts at the first
-pose. ``fetch_anchor`` reads the body-frame anchor from the recorded node's parameter service,
-``wait_for_first_pose`` and ``capture`` spin it (``spin.spin_until``) while ``Progress`` draws
-the progress line.
+pose. It also keeps the recorded node's ``/parameter_events`` that change its ``anchor`` (a
+``grab`` makes the grabbed point the node's anchor), in the same stream, so that the rows follow
+the anchor from the moment it changed. ``fetch_anchor`` reads the body-frame anchor at the start
+from the recorded node's parameter service, ``wait_for_first_pose`` and ``capture`` spin it
+(``spin.spin_until``) while ``Progress`` draws the progress line.
 """
 
 import math
@@ -13,15 +15,16 @@ import sys
 import time
 from typing import Dict, List, Optional, TextIO
 
-from rcl_interfaces.msg import ParameterType
+from rcl_interfaces.msg import ParameterEvent, ParameterType
 from rcl_interfaces.srv import GetParameters
 from rclpy.executors import Executor
 from rclpy.node import Node
-from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.qos import HistoryPolicy, qos_profile_parameter_events, QoSProfile, ReliabilityPolicy
+from rclpy.serialization import deserialize_message
 
 from .mcap_file import offered_qos_yaml
-from .received import Received, TOPICS
-from ..interface import POSE_TOPIC
+from .received import anchor_change, PARAMETER_EVENTS_TOPIC, Received, TOPICS
+from ..interface import NODE_NAME, POSE_TOPIC
 from ..physics.algebra import Vector3
 from ..spin import spin_until, SpinEnd, StopRequest, wait_until
 
@@ -31,11 +34,18 @@ RECORD_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
 
 
 class Recorder(Node):
-    """Subscribes to the recorded topics and keeps every message, serialized, as it arrives."""
+    """
+    Subscribes to the recorded topics and keeps every message, serialized, as it arrives.
 
-    def __init__(self, **kwargs) -> None:
+    :param target_node: the recorded node (resolved in this node's namespace), whose anchor
+        changes on ``/parameter_events`` are kept.
+    """
+
+    def __init__(self, *, target_node: str = NODE_NAME, **kwargs) -> None:
         """Create the node ``mouse_record`` and its subscriptions."""
         super().__init__('mouse_record', **kwargs)
+        self.target_name = self.resolve_topic_name(target_node)
+        self.anchor_changes = 0
         self.received: List[Received] = []
         self.counts = dict.fromkeys(TOPICS, 0)
         self.offered_qos: Dict[str, str] = {}
@@ -45,14 +55,35 @@ class Recorder(Node):
             key: self.create_subscription(message_type, key, self._receiver(key), RECORD_QOS,
                                           raw=True)
             for key, message_type in TOPICS.items()}
+        self.subscriptions_by_topic[PARAMETER_EVENTS_TOPIC] = self.create_subscription(
+            ParameterEvent, PARAMETER_EVENTS_TOPIC, self._on_parameter_event,
+            qos_profile_parameter_events, raw=True)
 
     def topic_name(self, key: str) -> str:
         """Return the resolved (namespaced, remapped) name of a recorded topic."""
         return self.subscriptions_by_topic[key].topic_name
 
     def topic_names(self) -> Dict[str, str]:
-        """Return the resolved name of every recorded topic, by topic key."""
-        return {key: self.topic_name(key) for key in TOPICS}
+        """Return the resolved name of every recorded topic, by key (``MESSAGE_TYPES``)."""
+        return {key: self.topic_name(key) for key in self.subscriptions_by_topic}
+
+    def _on_parameter_event(self, data: bytes) -> None:
+        """Keep the events of the recorded node that change its anchor."""
+        if not self.recording:
+            return
+        event = deserialize_message(data, ParameterEvent)
+        if event.node != self.target_name or anchor_change(event) is None:
+            return
+        self.received.append(Received(PARAMETER_EVENTS_TOPIC, self.get_clock().now().nanoseconds,
+                                      data))
+        self.anchor_changes += 1
+        self._note_qos(PARAMETER_EVENTS_TOPIC)
+
+    def _note_qos(self, key: str) -> None:
+        if key not in self.offered_qos:
+            self.offered_qos[key] = offered_qos_yaml(
+                [e.qos_profile for e in self.get_publishers_info_by_topic(
+                    self.topic_name(key))])
 
     def _receiver(self, key: str):
         # Serialized messages (raw=True) and no message info: the EventsExecutor of this rclpy
@@ -66,10 +97,7 @@ class Recorder(Node):
             # With use_sim_time the clock reads 0 until /clock arrives: start once it runs.
             if key == POSE_TOPIC and self.first_pose_ns is None and now > 0:
                 self.first_pose_ns = now
-            if key not in self.offered_qos:
-                self.offered_qos[key] = offered_qos_yaml(
-                    [e.qos_profile for e in self.get_publishers_info_by_topic(
-                        self.topic_name(key))])
+            self._note_qos(key)
         return receive
 
     def elapsed(self) -> float:

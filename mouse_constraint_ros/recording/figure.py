@@ -25,10 +25,12 @@ def write_figure(path: Path, rows: Sequence[Row], *, anchor: Vector3, frame_id: 
     Draw the recording into a PNG of ``FIGURE_INCHES`` at ``FIGURE_DPI`` (Agg, no display).
 
     Top left the paths seen from above (x, y), top right from the side (x, z); bottom left the
-    anchor error on a log scale, bottom right speed and angular speed.
+    anchor error on a log scale, bottom right speed and angular speed. Each grab is marked: a
+    black cross at the grabbed point on the paths, a dotted vertical line at its time below.
 
     :param rows: the ticks, at least one.
-    :param anchor: the anchor in the body frame (m), named in the title.
+    :param anchor: the anchor in the body frame (m) at the start, named in the title (with the
+        last one when grabs changed it).
     :param frame_id: the frame of the positions, named on the axes.
     :raises ValueError: without rows.
     """
@@ -42,6 +44,8 @@ def write_figure(path: Path, rows: Sequence[Row], *, anchor: Vector3, frame_id: 
                         for row in rows])
     errors = np.array([np.nan if row.anchor_error is None else row.anchor_error
                        for row in rows])
+    grabbed = [row for row in rows if row.grab is not None]
+    grabs = np.array([row.grab for row in grabbed]).reshape(-1, 3)
     figure = Figure(figsize=FIGURE_INCHES, dpi=FIGURE_DPI, layout='constrained')
     (top, side), (error_axes, speed_axes) = figure.subplots(2, 2)
     for axes, (i, j), view in ((top, (0, 1), 'top view'), (side, (0, 2), 'side view')):
@@ -51,6 +55,9 @@ def write_figure(path: Path, rows: Sequence[Row], *, anchor: Vector3, frame_id: 
                   linewidth=1.0, label='target')
         axes.plot(anchors[0, i], anchors[0, j], 'o', color='tab:orange', label='anchor start')
         axes.plot(anchors[-1, i], anchors[-1, j], 's', color='tab:orange', label='anchor end')
+        if grabbed:
+            axes.plot(grabs[:, i], grabs[:, j], 'x', color='black', markersize=9,
+                      markeredgewidth=2, label='grab')
         axes.set_aspect('equal', adjustable='datalim')
         axes.set_xlabel(f'{"xyz"[i]} (m, {frame_id})')
         axes.set_ylabel(f'{"xyz"[j]} (m, {frame_id})')
@@ -72,10 +79,23 @@ def write_figure(path: Path, rows: Sequence[Row], *, anchor: Vector3, frame_id: 
                    label='angular speed |w| (rad/s)')
     spin_axes.set_ylabel('angular speed (rad/s)', color='tab:green')
     speed_axes.set_title('Speed and angular speed')
+    for axes in (error_axes, speed_axes):
+        for index, row in enumerate(grabbed):
+            axes.axvline(row.time, color='black', linestyle=':', linewidth=1.0,
+                         label='grab' if index == 0 and axes is speed_axes else None)
     speed_axes.grid(True, alpha=0.3)
-    lines = speed_axes.get_lines() + spin_axes.get_lines()
+    lines = [line for line in speed_axes.get_lines() + spin_axes.get_lines()
+             if not line.get_label().startswith('_')]
     speed_axes.legend(lines, [line.get_label() for line in lines], loc='upper right',
                       fontsize='small')
-    figure.suptitle(f'{title}: {t[-1]:.1f} s, {len(rows)} ticks, anchor '
-                    f'({", ".join(f"{c:g}" for c in anchor)}) m in the body frame')
+
+    def point(vector) -> str:
+        # To the nanometre: a grab where the anchor is gives it back up to rounding.
+        return f'({", ".join(f"{round(c, 9) + 0.0:.3g}" for c in vector)})'
+
+    last = point(rows[-1].body_anchor)
+    changed = '' if last == point(anchor) else f', {last} at the end'
+    grab_note = f', {len(grabbed)} grab{"s" if len(grabbed) != 1 else ""}' if grabbed else ''
+    figure.suptitle(f'{title}: {t[-1]:.1f} s, {len(rows)} ticks, anchor {point(anchor)}'
+                    f'{changed} m in the body frame{grab_note}')
     figure.savefig(path, dpi=FIGURE_DPI)

@@ -2,6 +2,7 @@
 The MCAP file of a recording: the messages as received (CDR) on ``ros2msg`` schemas.
 
 Foxglove and ``ros2 bag info/play`` open it: the ``ros2`` profile, one channel per recorded topic
+(target, pose, twist, grab, and ``/parameter_events`` with the recorded node's anchor changes)
 with the publishers' QoS as rosbag2 writes it (``offered_qos_profiles``), and schemas generated
 from the message classes (``message_definition``), so that no ``.msg`` files are needed.
 """
@@ -14,7 +15,7 @@ from typing import List, Mapping, Sequence
 from rclpy.qos import QoSProfile
 import yaml
 
-from .received import Received, TOPICS
+from .received import MESSAGE_TYPES, Received
 
 
 def schema_name(message_type) -> str:
@@ -74,7 +75,7 @@ def write_mcap(path: Path, received: Sequence[Received], *, topic_names: Mapping
     Write the messages as received into an MCAP file with the ``ros2`` profile.
 
     :param received: the messages, in the order they came; each its own sequence number.
-    :param topic_names: the resolved topic name of each key of ``TOPICS``.
+    :param topic_names: the resolved topic name of each key of ``MESSAGE_TYPES``.
     :param offered_qos: the publishers' QoS of each key (``offered_qos_yaml``), '' if unknown.
     """
     from mcap.writer import Writer
@@ -83,7 +84,7 @@ def write_mcap(path: Path, received: Sequence[Received], *, topic_names: Mapping
         writer = Writer(stream)
         writer.start(profile='ros2', library='mouse_constraint_ros mouse_record')
         channels = {}
-        for key, message_type in TOPICS.items():
+        for key, message_type in MESSAGE_TYPES.items():
             schema = writer.register_schema(name=schema_name(message_type), encoding='ros2msg',
                                             data=message_definition(message_type).encode())
             channels[key] = writer.register_channel(

@@ -1,8 +1,11 @@
 """
 Messages to CSV rows: one row per tick, pose and twist of one stamp, and the CSV file.
 
-The anchor column is the body-frame anchor placed by the pose (``BodyState.world_point``); the
-target of a row is the latest target received before its pose.
+The anchor columns are the body-frame anchor placed by the pose (``BodyState.world_point``); the
+body-frame anchor of a row is the one in effect when its pose came: the anchor read at the start,
+then each change the recorded node announced on ``/parameter_events`` (a ``grab`` sets the node's
+anchor to the grabbed point), from the first pose received after it. The target of a row is the
+latest target received before its pose, and its grab the grab received since the pose before.
 """
 
 import csv
@@ -11,20 +14,27 @@ from pathlib import Path
 from typing import Dict, List, NamedTuple, Optional, Sequence, Tuple
 
 from geometry_msgs.msg import PoseStamped, TwistStamped
+from rcl_interfaces.msg import ParameterEvent
 from rclpy.serialization import deserialize_message
 
-from .received import Received, TOPICS
-from ..interface import POSE_TOPIC, TARGET_TOPIC
+from .received import anchor_change, MESSAGE_TYPES, PARAMETER_EVENTS_TOPIC, Received
+from ..interface import GRAB_TOPIC, POSE_TOPIC, TARGET_TOPIC, TWIST_TOPIC
 from ..messages import point_from_message, stamp_nanoseconds, state_from_messages
 from ..physics.algebra import Vector3
 
 COLUMNS = ('time', 'stamp_ns', 'x', 'y', 'z', 'qx', 'qy', 'qz', 'qw', 'vx', 'vy', 'vz', 'wx', 'wy',
            'wz', 'anchor_x', 'anchor_y', 'anchor_z', 'target_x', 'target_y', 'target_z',
-           'anchor_error', 'speed', 'angular_speed')
+           'anchor_error', 'speed', 'angular_speed', 'body_anchor_x', 'body_anchor_y',
+           'body_anchor_z', 'grab_x', 'grab_y', 'grab_z')
 
 
 class Row(NamedTuple):
-    """One tick of the CSV, see ``COLUMNS``; the target fields are None before any target."""
+    """
+    One tick of the CSV, see ``COLUMNS``; the target fields are None before any target.
+
+    ``body_anchor`` is the anchor in the body frame in effect at this tick, ``grab`` the grab
+    point received since the previous tick (None on the ticks without one).
+    """
 
     time: float
     stamp_ns: int
@@ -37,14 +47,17 @@ class Row(NamedTuple):
     anchor_error: Optional[float]
     speed: float
     angular_speed: float
+    body_anchor: Vector3
+    grab: Optional[Vector3] = None
 
     def fields(self) -> list:
-        """Return the row's values in ``COLUMNS`` order; '' where there is no target."""
+        """Return the row's values in ``COLUMNS`` order; '' where there is no target or grab."""
         target = self.target if self.target is not None else ('', '', '')
         error = '' if self.anchor_error is None else self.anchor_error
+        grab = self.grab if self.grab is not None else ('', '', '')
         return [self.time, self.stamp_ns, *self.position, *self.orientation,
                 *self.linear_velocity, *self.angular_velocity, *self.anchor, *target, error,
-                self.speed, self.angular_speed]
+                self.speed, self.angular_speed, *self.body_anchor, *grab]
 
 
 def tick_rows(received: Sequence[Received], anchor: Vector3) -> List[Row]:
@@ -52,29 +65,38 @@ def tick_rows(received: Sequence[Received], anchor: Vector3) -> List[Row]:
     Return one row per stamp that has both a pose and a twist, in the order the poses came.
 
     The target of a row is the latest target received before its pose; there is none (None)
-    until the first target, e.g. while the node holds its initial anchor.
+    until the first target, e.g. while the node holds its initial anchor. Its body-frame anchor
+    is ``anchor`` until the first anchor change received, then the latest one before its pose.
 
     :param received: the messages as received, in order.
-    :param anchor: the anchor in the body frame (m).
+    :param anchor: the anchor in the body frame (m) at the start of the recording.
     """
     target: Optional[Vector3] = None
-    poses: Dict[int, Tuple[PoseStamped, Optional[Vector3]]] = {}
+    grab: Optional[Vector3] = None
+    poses: Dict[int, Tuple[PoseStamped, Optional[Vector3], Vector3, Optional[Vector3]]] = {}
     twists: Dict[int, TwistStamped] = {}
     for message in received:
-        decoded = deserialize_message(message.data, TOPICS[message.topic])
+        decoded = deserialize_message(message.data, MESSAGE_TYPES[message.topic])
         if message.topic == TARGET_TOPIC:
             target = point_from_message(decoded)
+        elif message.topic == GRAB_TOPIC:
+            grab = point_from_message(decoded)
+        elif message.topic == PARAMETER_EVENTS_TOPIC:
+            anchor = _changed_anchor(decoded, anchor)
         elif message.topic == POSE_TOPIC:
-            poses.setdefault(stamp_nanoseconds(decoded.header.stamp), (decoded, target))
-        else:
+            stamp = stamp_nanoseconds(decoded.header.stamp)
+            if stamp not in poses:
+                poses[stamp] = (decoded, target, anchor, grab)
+                grab = None
+        elif message.topic == TWIST_TOPIC:
             twists.setdefault(stamp_nanoseconds(decoded.header.stamp), decoded)
     rows: List[Row] = []
-    for stamp, (pose, pose_target) in poses.items():
+    for stamp, (pose, pose_target, body_anchor, pose_grab) in poses.items():
         twist = twists.get(stamp)
         if twist is None:
             continue
         state = state_from_messages(pose, twist)
-        world_anchor = state.world_point(anchor)
+        world_anchor = state.world_point(body_anchor)
         start = rows[0].stamp_ns if rows else stamp
         rows.append(Row(
             time=(stamp - start) * 1e-9, stamp_ns=stamp, position=state.position,
@@ -82,8 +104,15 @@ def tick_rows(received: Sequence[Received], anchor: Vector3) -> List[Row]:
             angular_velocity=state.angular_velocity, anchor=world_anchor, target=pose_target,
             anchor_error=None if pose_target is None else math.dist(world_anchor, pose_target),
             speed=math.hypot(*state.linear_velocity),
-            angular_speed=math.hypot(*state.angular_velocity)))
+            angular_speed=math.hypot(*state.angular_velocity), body_anchor=body_anchor,
+            grab=pose_grab))
     return rows
+
+
+def _changed_anchor(event: ParameterEvent, anchor: Vector3) -> Vector3:
+    """Return the anchor ``event`` sets, or ``anchor`` when it sets none."""
+    changed = anchor_change(event)
+    return anchor if changed is None else changed
 
 
 def write_csv(path: Path, rows: Sequence[Row]) -> None:
