@@ -20,10 +20,10 @@ from dataclasses import dataclass
 import math
 from typing import Optional, Tuple
 
-from .algebra import (cholesky, integrate_orientation, multiply, multiply_symmetric,
+from .algebra import (cholesky, multiply, multiply_symmetric,
                       multiply_transposed, rotation_matrix, solve_cholesky, Vector3)
 from .body import RigidBody
-from .gyroscopic import gyroscopic_step
+from .gyroscopic import gyroscopic_step, gyroscopic_step_diagonal
 from .limits import MAX_ACCELERATION, MAX_CONDITION, MAX_STEP, MIN_STEP
 from .mouse_joint import effective_mass, MouseConstraint
 from .state import BodyState
@@ -285,12 +285,15 @@ class MouseSimulation:
 
     def step(self, dt: float) -> BodyState:
         """Advance ``dt`` seconds in ``settings.substeps`` equal substeps; return the new state."""
-        dt = scalar('dt', dt, above=0.0, at_most=MAX_STEP)
+        if type(dt) is not float or not 0.0 < dt <= MAX_STEP:
+            # The check and its message; a float in range (every call of a running node) is
+            # taken as it is, which is what the check would return.
+            dt = scalar('dt', dt, above=0.0, at_most=MAX_STEP)
         settings = self._settings
-        h = dt / settings.substeps
+        substeps = settings.substeps
+        h = dt / substeps
         if h < MIN_STEP:
-            raise ValueError(f'dt / substeps must be >= {MIN_STEP} s, got {dt!r} / '
-                             f'{settings.substeps}')
+            raise ValueError(f'dt / substeps must be >= {MIN_STEP} s, got {dt!r} / {substeps}')
         cached_settings, cached_h = self._cache_for
         if cached_settings is not settings or cached_h != h:
             self._cache = self._coefficients(settings, h)
@@ -302,13 +305,43 @@ class MouseSimulation:
         impulse = ZERO
         velocities = self._velocities
         time = self._time
-        for index in range(settings.substeps):
-            joint = self._joint_target(px, py, pz, q, v, w, time + index * h, h)
+        # Decided once per step: a joint without a guide or feed-forward pulls at the target
+        # itself, taken as still, in every substep (what ``_joint_target`` returns for it).
+        target = self._target
+        motion = settings.target_motion
+        moving = target is not None and (motion.feed_forward or motion.guided)
+        if target is None:
+            joint = None
+        else:
+            joint = (target, None)
+            if not moving:
+                self._guide = None
+        for index in range(substeps):
+            if moving:
+                joint = self._joint_target(px, py, pz, q, v, w, time + index * h, h)
             v, w, impulse = velocities(px, py, pz, q, v, w, h, coefficients, joint)
-            px += h * v[0]
-            py += h * v[1]
-            pz += h * v[2]
-            q = integrate_orientation(q, w, h)
+            vx, vy, vz = v
+            px += h * vx
+            py += h * vy
+            pz += h * vz
+            # q = algebra.integrate_orientation(q, w, h), written out: called every substep,
+            # the call and its tuples cost a tenth of the substep.
+            wx, wy, wz = w
+            speed = math.sqrt(wx * wx + wy * wy + wz * wz)
+            half_angle = 0.5 * speed * h
+            if half_angle < 1e-4:
+                scale = 0.5 * h * (1.0 - half_angle * half_angle / 6.0)
+            else:
+                scale = math.sin(half_angle) / speed
+            c = math.cos(half_angle)
+            dx, dy, dz = wx * scale, wy * scale, wz * scale
+            x, y, z, qw = q
+            nx = c * x + dx * qw + dy * z - dz * y
+            ny = c * y - dx * z + dy * qw + dz * x
+            nz = c * z + dx * y - dy * x + dz * qw
+            nw = c * qw - dx * x - dy * y - dz * z
+            inv_norm = 1.0 / math.sqrt(nx * nx + ny * ny + nz * nz + nw * nw)
+            q = (nx * inv_norm, ny * inv_norm, nz * inv_norm, nw * inv_norm)
         self._state = BodyState((px, py, pz), q, v, w)
         self._constraint_force = (impulse[0] / h, impulse[1] / h, impulse[2] / h)
         self._time = time + dt
@@ -385,7 +418,7 @@ class MouseSimulation:
         tuples cost as much as the arithmetic they wrap.
         """
         (gx, gy, gz, linear_decay, angular_decay, a, b, max_impulse, max_turn_impulse, carry,
-         kick, inertia, joint_body) = coefficients
+         kick, gyroscopic, inertia, joint_body) = coefficients
         # R(q), as algebra.rotation_matrix.
         x, y, z, qw = q
         xx, yy, zz = x * x, y * y, z * z
@@ -408,11 +441,11 @@ class MouseSimulation:
                 multiply_transposed(torque, (r00, r01, r02, r10, r11, r12, r20, r21, r22)),
                 self._settings.body.inverse_inertia)
             w_body = (w_body[0] + h * ax, w_body[1] + h * ay, w_body[2] + h * az)
-        wbx, wby, wbz = gyroscopic_step(inertia, w_body, h)
+        wbx, wby, wbz = gyroscopic(inertia, w_body, h)
         if joint is not None and max_turn_impulse > 0.0:
             # Angular friction: the angular impulse that stops the spin, I w, within its bound;
             # it scales w, as I w and w differ by the positive definite I.
-            ixx, ixy, ixz, iyy, iyz, izz = inertia
+            ixx, ixy, ixz, iyy, iyz, izz = self._settings.body.inertia
             lx = ixx * wbx + ixy * wby + ixz * wbz
             ly = ixy * wbx + iyy * wby + iyz * wbz
             lz = ixz * wbx + iyz * wby + izz * wbz
@@ -532,7 +565,8 @@ class MouseSimulation:
                 force_bound(settings) * abs(h),
                 0.0 if start else friction_torque_bound(settings) * abs(h),
                 1.0 - a if constraint.gravity_feed_forward and not start else 0.0,
-                h * body.inverse_mass, body.inertia, _body_frame_joint(body, constraint.anchor))
+                h * body.inverse_mass, *_gyroscopic(body),
+                _body_frame_joint(body, constraint.anchor))
 
 
 def weight_scale(settings: Settings) -> float:
@@ -557,6 +591,14 @@ def friction_torque_bound(settings: Settings) -> float:
     body = settings.body
     gyration = math.sqrt(sum(body.principal_moments) / 3.0 / body.mass)
     return friction * weight_scale(settings) * gyration
+
+
+def _gyroscopic(body: RigidBody) -> Tuple:
+    """Return the gyroscopic step for ``body`` and its inertia argument, diagonal where it is."""
+    ixx, ixy, ixz, iyy, iyz, izz = body.inertia
+    if ixy == 0.0 and ixz == 0.0 and iyz == 0.0:
+        return gyroscopic_step_diagonal, (ixx, iyy, izz)
+    return gyroscopic_step, body.inertia
 
 
 def _body_frame_joint(body: RigidBody, anchor: Vector3) -> Tuple:
