@@ -138,7 +138,8 @@ class MouseSimulation:
         self._initial_state = initial_state.validated()
         self._state = self._initial_state
         self._target: Optional[Vector3] = None
-        self._constraint_force: Vector3 = ZERO
+        # The last substep's impulse P and its h: the constraint force P / h, divided when read.
+        self._impulse: Tuple[Vector3, float] = (ZERO, 1.0)
         self._wrench: Tuple[Vector3, Vector3] = (ZERO, ZERO)
         self._friction_torque = 0.0
         # Simulated time (s): the sum of the steps taken; targets' arrival times are on it.
@@ -150,6 +151,8 @@ class MouseSimulation:
         self._staggered = False
         self._cache_for: Tuple[Optional[Settings], float] = (None, 0.0)
         self._cache: Tuple[float, ...] = ()
+        # Whether the cached settings move the joint's target (a guide or feed-forward).
+        self._moving_target = False
 
     @property
     def settings(self) -> Settings:
@@ -240,7 +243,8 @@ class MouseSimulation:
     @property
     def constraint_force(self) -> Vector3:
         """Return the constraint force P / h of the last substep (N), zero without a target."""
-        return self._constraint_force
+        (ix, iy, iz), h = self._impulse
+        return (ix / h, iy / h, iz / h)
 
     def anchor_position(self) -> Vector3:
         """Return the anchor's world position x + R r_local."""
@@ -266,7 +270,7 @@ class MouseSimulation:
         self._target = None
         self._stream.clear()
         self._guide = None
-        self._constraint_force = ZERO
+        self._impulse = (ZERO, 1.0)
         self._friction_torque = 0.0
 
     def kinetic_energy(self) -> float:
@@ -292,24 +296,26 @@ class MouseSimulation:
         settings = self._settings
         substeps = settings.substeps
         h = dt / substeps
-        if h < MIN_STEP:
-            raise ValueError(f'dt / substeps must be >= {MIN_STEP} s, got {dt!r} / {substeps}')
         cached_settings, cached_h = self._cache_for
         if cached_settings is not settings or cached_h != h:
+            # Checked here only: a cached h has passed.
+            if h < MIN_STEP:
+                raise ValueError(
+                    f'dt / substeps must be >= {MIN_STEP} s, got {dt!r} / {substeps}')
             self._cache = self._coefficients(settings, h)
             self._cache_for = (settings, h)
+            motion = settings.target_motion
+            self._moving_target = motion.feed_forward or motion.guided
         if not self._staggered:
             self._stagger(h)
         coefficients = self._cache
         (px, py, pz), q, v, w = self._state
-        impulse = ZERO
         velocities = self._velocities
         time = self._time
         # Decided once per step: a joint without a guide or feed-forward pulls at the target
         # itself, taken as still, in every substep (what ``_joint_target`` returns for it).
         target = self._target
-        motion = settings.target_motion
-        moving = target is not None and (motion.feed_forward or motion.guided)
+        moving = target is not None and self._moving_target
         if target is None:
             joint = None
         else:
@@ -342,8 +348,8 @@ class MouseSimulation:
             nw = c * qw - dx * x - dy * y - dz * z
             inv_norm = 1.0 / math.sqrt(nx * nx + ny * ny + nz * nz + nw * nw)
             q = (nx * inv_norm, ny * inv_norm, nz * inv_norm, nw * inv_norm)
-        self._state = BodyState((px, py, pz), q, v, w)
-        self._constraint_force = (impulse[0] / h, impulse[1] / h, impulse[2] / h)
+        self._state = BodyState._make(((px, py, pz), q, v, w))
+        self._impulse = (impulse, h)
         self._time = time + dt
         return self._state
 
