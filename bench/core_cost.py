@@ -251,3 +251,7 @@ def run(quick: bool = False) -> dict:
         'naive_max_difference': agreement,
         'elapsed_s': time.perf_counter() - start,
     }
+
+
+if __name__ == '__main__':
+    print(common.section_markdown(run()))

@@ -100,3 +100,66 @@ def gyroscopic_step(inertia: Symmetric3, w: Vector3, h: float) -> Vector3:
         scale = math.sqrt(energy0 / energy1)
         return (vx * scale, vy * scale, vz * scale)
     return (vx, vy, vz)
+
+
+def gyroscopic_step_diagonal(moments: Vector3, w: Vector3, h: float) -> Vector3:
+    """
+    Return ``gyroscopic_step`` for the diagonal inertia diag(``moments``), at half its cost.
+
+    The same arithmetic in the same order with every product of an off-diagonal element (an
+    exact zero, whose product with a finite number adds nothing) left out: the result is the
+    general step's to the bit, up to the sign of a zero. Bodies whose frame is their principal
+    frame, boxes, cylinders and most URDF links, have such an inertia.
+    """
+    wx, wy, wz = w
+    if wx == 0.0 and wy == 0.0 and wz == 0.0:
+        return w
+    ixx, iyy, izz = moments
+    k = 0.5 * h
+    lx, ly, lz = ixx * wx, iyy * wy, izz * wz
+    j00, j11, j22 = ixx, iyy, izz
+    j01 = k * (lz - wz * iyy)
+    j02 = k * (wy * izz - ly)
+    j10 = k * (wz * ixx - lz)
+    j12 = k * (lx - wx * izz)
+    j20 = k * (ly - wy * ixx)
+    j21 = k * (wx * iyy - lx)
+    c00 = j11 * j22 - j12 * j21
+    c01 = j12 * j20 - j10 * j22
+    c02 = j10 * j21 - j11 * j20
+    det = j00 * c00 + j01 * c01 + j02 * c02
+    if det == 0.0:
+        return w
+    inv_det = 1.0 / det
+    n00, n01, n02 = c00 * inv_det, (j02 * j21 - j01 * j22) * inv_det, \
+        (j01 * j12 - j02 * j11) * inv_det
+    n10, n11, n12 = c01 * inv_det, (j00 * j22 - j02 * j20) * inv_det, \
+        (j02 * j10 - j00 * j12) * inv_det
+    n20, n21, n22 = c02 * inv_det, (j01 * j20 - j00 * j21) * inv_det, \
+        (j00 * j11 - j01 * j10) * inv_det
+    gx = k * (wy * lz - wz * ly)
+    gy = k * (wz * lx - wx * lz)
+    gz = k * (wx * ly - wy * lx)
+    mx, my, mz = wx, wy, wz
+    for _ in range(_GYROSCOPIC_ITERATIONS):
+        dx = n00 * gx + n01 * gy + n02 * gz
+        dy = n10 * gx + n11 * gy + n12 * gz
+        dz = n20 * gx + n21 * gy + n22 * gz
+        mx -= dx
+        my -= dy
+        mz -= dz
+        if dx * dx + dy * dy + dz * dz <= _CONVERGED * (mx * mx + my * my + mz * mz):
+            break
+        ax, ay, az = ixx * mx, iyy * my, izz * mz
+        gx = ixx * (mx - wx) + k * (my * az - mz * ay)
+        gy = iyy * (my - wy) + k * (mz * ax - mx * az)
+        gz = izz * (mz - wz) + k * (mx * ay - my * ax)
+    vx, vy, vz = 2.0 * mx - wx, 2.0 * my - wy, 2.0 * mz - wz
+    energy0 = wx * lx + wy * ly + wz * lz
+    energy1 = vx * (ixx * vx) + vy * (iyy * vy) + vz * (izz * vz)
+    if not math.isfinite(energy1):
+        return w
+    if energy1 > energy0:
+        scale = math.sqrt(energy0 / energy1)
+        return (vx * scale, vy * scale, vz * scale)
+    return (vx, vy, vz)

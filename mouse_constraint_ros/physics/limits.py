@@ -29,10 +29,10 @@ MAX_CORRECTION_SPEED = 4.0 / MIN_STEP * 3.0 * MAX_DISTANCE
 
 # The largest condition number accepted for the inertia (largest over smallest principal moment)
 # and for the effective mass K = m^-1 I3 + [r]x I_w^-1 [r]x^T, which is at most
-# 1 + m |r|^2 / I_min. The step factors K by Cholesky each substep; rounding perturbs K by some
-# 1e-16 of its largest eigenvalue, which must stay far below its smallest, 1 / m, or a pivot goes
-# negative (a math domain error) or zero (a division by zero). 1e12 leaves a factor 1e4 and
-# solves K to 1e-4 at worst.
+# 1 + m |r|^2 / I_min. The step factors K by Cholesky (its body-frame form, once per settings);
+# rounding perturbs K by some 1e-16 of its largest eigenvalue, which must stay far below its
+# smallest, 1 / m, or a pivot goes negative (a math domain error) or zero (a division by zero).
+# 1e12 leaves a factor 1e4 and solves K to 1e-4 at worst.
 MAX_CONDITION = 1e12
 
 # Principal moments of inertia (kg m^2). The gyroscopic step inverts its Jacobian

@@ -20,10 +20,10 @@ from dataclasses import dataclass
 import math
 from typing import Optional, Tuple
 
-from .algebra import (cholesky, congruence, integrate_orientation, multiply, multiply_symmetric,
+from .algebra import (cholesky, multiply, multiply_symmetric,
                       multiply_transposed, rotation_matrix, solve_cholesky, Vector3)
 from .body import RigidBody
-from .gyroscopic import gyroscopic_step
+from .gyroscopic import gyroscopic_step, gyroscopic_step_diagonal
 from .limits import MAX_ACCELERATION, MAX_CONDITION, MAX_STEP, MIN_STEP
 from .mouse_joint import effective_mass, MouseConstraint
 from .state import BodyState
@@ -138,7 +138,8 @@ class MouseSimulation:
         self._initial_state = initial_state.validated()
         self._state = self._initial_state
         self._target: Optional[Vector3] = None
-        self._constraint_force: Vector3 = ZERO
+        # The last substep's impulse P and its h: the constraint force P / h, divided when read.
+        self._impulse: Tuple[Vector3, float] = (ZERO, 1.0)
         self._wrench: Tuple[Vector3, Vector3] = (ZERO, ZERO)
         self._friction_torque = 0.0
         # Simulated time (s): the sum of the steps taken; targets' arrival times are on it.
@@ -150,6 +151,8 @@ class MouseSimulation:
         self._staggered = False
         self._cache_for: Tuple[Optional[Settings], float] = (None, 0.0)
         self._cache: Tuple[float, ...] = ()
+        # Whether the cached settings move the joint's target (a guide or feed-forward).
+        self._moving_target = False
 
     @property
     def settings(self) -> Settings:
@@ -245,7 +248,8 @@ class MouseSimulation:
     @property
     def constraint_force(self) -> Vector3:
         """Return the constraint force P / h of the last substep (N), zero without a target."""
-        return self._constraint_force
+        (ix, iy, iz), h = self._impulse
+        return (ix / h, iy / h, iz / h)
 
     def anchor_position(self) -> Vector3:
         """Return the anchor's world position x + R r_local."""
@@ -271,7 +275,7 @@ class MouseSimulation:
         self._target = None
         self._stream.clear()
         self._guide = None
-        self._constraint_force = ZERO
+        self._impulse = (ZERO, 1.0)
         self._friction_torque = 0.0
 
     def kinetic_energy(self) -> float:
@@ -290,32 +294,67 @@ class MouseSimulation:
 
     def step(self, dt: float) -> BodyState:
         """Advance ``dt`` seconds in ``settings.substeps`` equal substeps; return the new state."""
-        dt = scalar('dt', dt, above=0.0, at_most=MAX_STEP)
+        if type(dt) is not float or not 0.0 < dt <= MAX_STEP:
+            # The check and its message; a float in range (every call of a running node) is
+            # taken as it is, which is what the check would return.
+            dt = scalar('dt', dt, above=0.0, at_most=MAX_STEP)
         settings = self._settings
-        h = dt / settings.substeps
-        if h < MIN_STEP:
-            raise ValueError(f'dt / substeps must be >= {MIN_STEP} s, got {dt!r} / '
-                             f'{settings.substeps}')
+        substeps = settings.substeps
+        h = dt / substeps
         cached_settings, cached_h = self._cache_for
         if cached_settings is not settings or cached_h != h:
+            # Checked here only: a cached h has passed.
+            if h < MIN_STEP:
+                raise ValueError(
+                    f'dt / substeps must be >= {MIN_STEP} s, got {dt!r} / {substeps}')
             self._cache = self._coefficients(settings, h)
             self._cache_for = (settings, h)
+            motion = settings.target_motion
+            self._moving_target = motion.feed_forward or motion.guided
         if not self._staggered:
             self._stagger(h)
         coefficients = self._cache
         (px, py, pz), q, v, w = self._state
-        impulse = ZERO
         velocities = self._velocities
         time = self._time
-        for index in range(settings.substeps):
-            joint = self._joint_target(px, py, pz, q, v, w, time + index * h, h)
+        # Decided once per step: a joint without a guide or feed-forward pulls at the target
+        # itself, taken as still, in every substep (what ``_joint_target`` returns for it).
+        target = self._target
+        moving = target is not None and self._moving_target
+        if target is None:
+            joint = None
+        else:
+            joint = (target, None)
+            if not moving:
+                self._guide = None
+        for index in range(substeps):
+            if moving:
+                joint = self._joint_target(px, py, pz, q, v, w, time + index * h, h)
             v, w, impulse = velocities(px, py, pz, q, v, w, h, coefficients, joint)
-            px += h * v[0]
-            py += h * v[1]
-            pz += h * v[2]
-            q = integrate_orientation(q, w, h)
-        self._state = BodyState((px, py, pz), q, v, w)
-        self._constraint_force = (impulse[0] / h, impulse[1] / h, impulse[2] / h)
+            vx, vy, vz = v
+            px += h * vx
+            py += h * vy
+            pz += h * vz
+            # q = algebra.integrate_orientation(q, w, h), written out: called every substep,
+            # the call and its tuples cost a tenth of the substep.
+            wx, wy, wz = w
+            speed = math.sqrt(wx * wx + wy * wy + wz * wz)
+            half_angle = 0.5 * speed * h
+            if half_angle < 1e-4:
+                scale = 0.5 * h * (1.0 - half_angle * half_angle / 6.0)
+            else:
+                scale = math.sin(half_angle) / speed
+            c = math.cos(half_angle)
+            dx, dy, dz = wx * scale, wy * scale, wz * scale
+            x, y, z, qw = q
+            nx = c * x + dx * qw + dy * z - dz * y
+            ny = c * y - dx * z + dy * qw + dz * x
+            nz = c * z + dx * y - dy * x + dz * qw
+            nw = c * qw - dx * x - dy * y - dz * z
+            inv_norm = 1.0 / math.sqrt(nx * nx + ny * ny + nz * nz + nw * nw)
+            q = (nx * inv_norm, ny * inv_norm, nz * inv_norm, nw * inv_norm)
+        self._state = BodyState._make(((px, py, pz), q, v, w))
+        self._impulse = (impulse, h)
         self._time = time + dt
         return self._state
 
@@ -378,70 +417,101 @@ class MouseSimulation:
         self._staggered = True
 
     def _velocities(self, px: float, py: float, pz: float, q, v: Vector3, w: Vector3, h: float,
-                    coefficients: Tuple[float, ...],
-                    joint: Optional[Tuple[Vector3, Optional[Vector3]]]):
+                    coefficients: Tuple, joint: Optional[Tuple[Vector3, Optional[Vector3]]]):
         """
         Return the velocities after a substep's velocity stage, and the constraint impulse.
 
         :param joint: None for a free body, else the point the anchor is pulled to and the
             velocity it moves at (None: the seed's joint, which takes it as still).
+
+        The hot path of the core: the algebra helpers (``rotation_matrix``, ``multiply``, ...)
+        are written out inline here, in the same operation order, because a Python call and its
+        tuples cost as much as the arithmetic they wrap.
         """
-        gx, gy, gz, linear_decay, angular_decay, a, b, max_impulse, max_turn_impulse, carry = \
-            coefficients
-        body = self._settings.body
-        rotation = rotation_matrix(q)
+        (gx, gy, gz, linear_decay, angular_decay, a, b, max_impulse, max_turn_impulse, carry,
+         kick, gyroscopic, inertia, joint_body) = coefficients
+        # R(q), as algebra.rotation_matrix.
+        x, y, z, qw = q
+        xx, yy, zz = x * x, y * y, z * z
+        xy, xz, yz = x * y, x * z, y * z
+        wx, wy, wz = qw * x, qw * y, qw * z
+        r00, r01, r02 = 1.0 - 2.0 * (yy + zz), 2.0 * (xy - wz), 2.0 * (xz + wy)
+        r10, r11, r12 = 2.0 * (xy + wz), 1.0 - 2.0 * (xx + zz), 2.0 * (yz - wx)
+        r20, r21, r22 = 2.0 * (xz - wy), 2.0 * (yz + wx), 1.0 - 2.0 * (xx + yy)
         (fx, fy, fz), torque = self._wrench
-        kick = h * body.inverse_mass
         vx = (v[0] + gx + kick * fx) * linear_decay
         vy = (v[1] + gy + kick * fy) * linear_decay
         vz = (v[2] + gz + kick * fz) * linear_decay
-        w_body = multiply_transposed(w, rotation)
+        # The body-frame angular velocity R^T w.
+        wx, wy, wz = w
+        w_body = (r00 * wx + r10 * wy + r20 * wz, r01 * wx + r11 * wy + r21 * wz,
+                  r02 * wx + r12 * wy + r22 * wz)
         if torque != ZERO:
             # The torque's angular impulse, in the body frame: w += h I_b^-1 R^T tau.
-            ax, ay, az = multiply_symmetric(multiply_transposed(torque, rotation),
-                                            body.inverse_inertia)
+            ax, ay, az = multiply_symmetric(
+                multiply_transposed(torque, (r00, r01, r02, r10, r11, r12, r20, r21, r22)),
+                self._settings.body.inverse_inertia)
             w_body = (w_body[0] + h * ax, w_body[1] + h * ay, w_body[2] + h * az)
-        w_body = gyroscopic_step(body.inertia, w_body, h)
+        wbx, wby, wbz = gyroscopic(inertia, w_body, h)
         if joint is not None and max_turn_impulse > 0.0:
             # Angular friction: the angular impulse that stops the spin, I w, within its bound;
             # it scales w, as I w and w differ by the positive definite I.
-            spin = math.sqrt(sum(c * c for c in multiply_symmetric(w_body, body.inertia)))
+            ixx, ixy, ixz, iyy, iyz, izz = self._settings.body.inertia
+            lx = ixx * wbx + ixy * wby + ixz * wbz
+            ly = ixy * wbx + iyy * wby + iyz * wbz
+            lz = ixz * wbx + iyz * wby + izz * wbz
+            spin = math.sqrt(lx * lx + ly * ly + lz * lz)
             if spin > 0.0:
                 kept = max(0.0, 1.0 - max_turn_impulse / spin)
                 self._friction_torque = spin * (1.0 - kept) / abs(h)
-                w_body = (w_body[0] * kept, w_body[1] * kept, w_body[2] * kept)
+                wbx, wby, wbz = wbx * kept, wby * kept, wbz * kept
             else:
                 self._friction_torque = 0.0
         elif h > 0.0:
             self._friction_torque = 0.0
-        wx, wy, wz = multiply(w_body, rotation)
-        wx *= angular_decay
-        wy *= angular_decay
-        wz *= angular_decay
         if joint is None:
-            return (vx, vy, vz), (wx, wy, wz), ZERO
-        target, target_velocity = joint
-        inverse_mass = body.inverse_mass
-        inverse_inertia = congruence(rotation, body.inverse_inertia)
-        rx, ry, rz = multiply(self._settings.constraint.anchor, rotation)
-        cx = px + rx - target[0]
-        cy = py + ry - target[1]
-        cz = pz + rz - target[2]
-        # J V = v + w x r (eq. 1.2).
-        jvx = vx + wy * rz - wz * ry
-        jvy = vy + wz * rx - wx * rz
-        jvz = vz + wx * ry - wy * rx
+            # w = R w_body, damped.
+            return ((vx, vy, vz),
+                    ((r00 * wbx + r01 * wby + r02 * wbz) * angular_decay,
+                     (r10 * wbx + r11 * wby + r12 * wbz) * angular_decay,
+                     (r20 * wbx + r21 * wby + r22 * wbz) * angular_decay),
+                    ZERO)
+        # The constraint is solved in the body frame, where K and the lever are constant:
+        # with r = R r_b and I_w^-1 = R I_b^-1 R^T, K = R K_b R^T for
+        # K_b = m^-1 I3 + [r_b]x I_b^-1 [r_b]x^T (eq. 1.10 in the body frame), so
+        # P = R P_b with P_b = -K_b^-1 R^T (a J V + b C), and the angular velocity change
+        # I_w^-1 (r x P) = R I_b^-1 [r_b]x P_b. K_b^-1 and I_b^-1 [r_b]x are computed once per
+        # settings (``_coefficients``); rotations keep every norm below.
+        (rbx, rby, rbz), (k00, k01, k02, k11, k12, k22), \
+            (m00, m01, m02, m10, m11, m12, m20, m21, m22), inverse_mass = joint_body
+        wbx *= angular_decay
+        wby *= angular_decay
+        wbz *= angular_decay
+        (tx, ty, tz), target_velocity = joint
+        # C = x + r - x_mouse (eq. 1.1) in the body frame: R^T (x - x_mouse) + r_b.
+        dx, dy, dz = px - tx, py - ty, pz - tz
+        cx = r00 * dx + r10 * dy + r20 * dz + rbx
+        cy = r01 * dx + r11 * dy + r21 * dz + rby
+        cz = r02 * dx + r12 * dy + r22 * dz + rbz
         if target_velocity is not None:
             # The joint follows the target's motion: J V - v_target is driven to zero.
-            jvx -= target_velocity[0]
-            jvy -= target_velocity[1]
-            jvz -= target_velocity[2]
-        factor = cholesky(effective_mass(inverse_mass, inverse_inertia, (rx, ry, rz)))
+            ux, uy, uz = vx - target_velocity[0], vy - target_velocity[1], \
+                vz - target_velocity[2]
+        else:
+            ux, uy, uz = vx, vy, vz
+        # J V = v + w x r (eq. 1.2), in the body frame R^T v + w_b x r_b.
+        jvx = r00 * ux + r10 * uy + r20 * uz + wby * rbz - wbz * rby
+        jvy = r01 * ux + r11 * uy + r21 * uz + wbz * rbx - wbx * rbz
+        jvz = r02 * ux + r12 * uy + r22 * uz + wbx * rby - wby * rbx
         # The position correction -K^-1 b C, limited in the turn it asks of a substep.
-        bx, by, bz = solve_cholesky(factor, (-b * cx, -b * cy, -b * cz))
-        tx, ty, tz = multiply_symmetric(
-            (ry * bz - rz * by, rz * bx - rx * bz, rx * by - ry * bx), inverse_inertia)
-        turn = abs(h) * math.sqrt(tx * tx + ty * ty + tz * tz)
+        sx, sy, sz = -b * cx, -b * cy, -b * cz
+        bx = k00 * sx + k01 * sy + k02 * sz
+        by = k01 * sx + k11 * sy + k12 * sz
+        bz = k02 * sx + k12 * sy + k22 * sz
+        ax = m00 * bx + m01 * by + m02 * bz
+        ay = m10 * bx + m11 * by + m12 * bz
+        az = m20 * bx + m21 * by + m22 * bz
+        turn = abs(h) * math.sqrt(ax * ax + ay * ay + az * az)
         if turn > MAX_CORRECTION_TURN:
             scale = MAX_CORRECTION_TURN / turn
             bx *= scale
@@ -451,23 +521,30 @@ class MouseSimulation:
             # Gravity feed-forward: the share 1 - a of this substep's g h that the spring's
             # velocity term leaves is removed too, so the weight does not sag a soft spring
             # (g / omega^2 otherwise); 1 - a = 0 in rigid mode, which carries it anyway.
-            ix, iy, iz = solve_cholesky(factor, (-a * jvx - carry * gx, -a * jvy - carry * gy,
-                                                 -a * jvz - carry * gz))
+            sx = -a * jvx - carry * (r00 * gx + r10 * gy + r20 * gz)
+            sy = -a * jvy - carry * (r01 * gx + r11 * gy + r21 * gz)
+            sz = -a * jvz - carry * (r02 * gx + r12 * gy + r22 * gz)
         else:
-            ix, iy, iz = solve_cholesky(factor, (-a * jvx, -a * jvy, -a * jvz))
-        ix += bx
-        iy += by
-        iz += bz
+            sx, sy, sz = -a * jvx, -a * jvy, -a * jvz
+        ix = k00 * sx + k01 * sy + k02 * sz + bx
+        iy = k01 * sx + k11 * sy + k12 * sz + by
+        iz = k02 * sx + k12 * sy + k22 * sz + bz
         norm = math.sqrt(ix * ix + iy * iy + iz * iz)
         if norm > max_impulse:
             scale = max_impulse / norm
             ix *= scale
             iy *= scale
             iz *= scale
-        dwx, dwy, dwz = multiply_symmetric(
-            (ry * iz - rz * iy, rz * ix - rx * iz, rx * iy - ry * ix), inverse_inertia)
+        wbx += m00 * ix + m01 * iy + m02 * iz
+        wby += m10 * ix + m11 * iy + m12 * iz
+        wbz += m20 * ix + m21 * iy + m22 * iz
+        # Back to the world frame: P = R P_b, w = R w_b.
+        ix, iy, iz = (r00 * ix + r01 * iy + r02 * iz, r10 * ix + r11 * iy + r12 * iz,
+                      r20 * ix + r21 * iy + r22 * iz)
         return ((vx + ix * inverse_mass, vy + iy * inverse_mass, vz + iz * inverse_mass),
-                (wx + dwx, wy + dwy, wz + dwz), (ix, iy, iz))
+                (r00 * wbx + r01 * wby + r02 * wbz, r10 * wbx + r11 * wby + r12 * wbz,
+                 r20 * wbx + r21 * wby + r22 * wbz),
+                (ix, iy, iz))
 
     @staticmethod
     def _coefficients(settings: Settings, h: float, start: bool = False) -> Tuple[float, ...]:
@@ -493,11 +570,14 @@ class MouseSimulation:
             # over h (< 0): a first-order kick, as running a damped spring backwards exactly
             # would amplify it exponentially.
             a, b = -damping, omega * omega * h
+        body = settings.body
         return (gx * h, gy * h, gz * h, _decay(settings.linear_damping, h, start),
                 _decay(settings.angular_damping, h, start), a, b,
                 force_bound(settings) * abs(h),
                 0.0 if start else friction_torque_bound(settings) * abs(h),
-                1.0 - a if constraint.gravity_feed_forward and not start else 0.0)
+                1.0 - a if constraint.gravity_feed_forward and not start else 0.0,
+                h * body.inverse_mass, *_gyroscopic(body),
+                _body_frame_joint(body, constraint.anchor))
 
 
 def weight_scale(settings: Settings) -> float:
@@ -522,6 +602,35 @@ def friction_torque_bound(settings: Settings) -> float:
     body = settings.body
     gyration = math.sqrt(sum(body.principal_moments) / 3.0 / body.mass)
     return friction * weight_scale(settings) * gyration
+
+
+def _gyroscopic(body: RigidBody) -> Tuple:
+    """Return the gyroscopic step for ``body`` and its inertia argument, diagonal where it is."""
+    ixx, ixy, ixz, iyy, iyz, izz = body.inertia
+    if ixy == 0.0 and ixz == 0.0 and iyz == 0.0:
+        return gyroscopic_step_diagonal, (ixx, iyy, izz)
+    return gyroscopic_step, body.inertia
+
+
+def _body_frame_joint(body: RigidBody, anchor: Vector3) -> Tuple:
+    """
+    Return what the body-frame constraint solve holds constant: r_b, K_b^-1, I_b^-1 [r_b]x, 1/m.
+
+    K_b = m^-1 I3 + [r_b]x I_b^-1 [r_b]x^T is eq. 1.10 in the body frame (K = R K_b R^T); its
+    inverse is built from its Cholesky factor, column by column, as a symmetric 6-tuple. The
+    lever I_b^-1 [r_b]x maps an impulse P_b at the anchor to the angular velocity change
+    I_b^-1 (r_b x P_b), row-major.
+    """
+    factor = cholesky(effective_mass(body.inverse_mass, body.inverse_inertia, anchor))
+    c0 = solve_cholesky(factor, (1.0, 0.0, 0.0))
+    c1 = solve_cholesky(factor, (0.0, 1.0, 0.0))
+    c2 = solve_cholesky(factor, (0.0, 0.0, 1.0))
+    a00, a01, a02, a11, a12, a22 = body.inverse_inertia
+    rx, ry, rz = anchor
+    lever = (a01 * rz - a02 * ry, a02 * rx - a00 * rz, a00 * ry - a01 * rx,
+             a11 * rz - a12 * ry, a12 * rx - a01 * rz, a01 * ry - a11 * rx,
+             a12 * rz - a22 * ry, a22 * rx - a02 * rz, a02 * ry - a12 * rx)
+    return (anchor, (c0[0], c0[1], c0[2], c1[1], c1[2], c2[2]), lever, body.inverse_mass)
 
 
 def _decay(rate: float, h: float, start: bool) -> float:
