@@ -19,6 +19,7 @@ import re
 from typing import Any, Iterable, List, Optional, Sequence, Tuple
 
 from .parameters import NodeConfig, ParameterSpec
+from .physics.simulation import force_bound
 
 # Why publish_clock and use_sim_time cannot both be true.
 CLOCK_LOOP = ('publish_clock: true with use_sim_time: true: a node cannot follow the clock it '
@@ -170,11 +171,15 @@ def describe(config: NodeConfig) -> str:
     else:
         mode = (f'soft, {constraint.frequency_hz:g} Hz, '
                 f'damping ratio {constraint.damping_ratio:g}')
+    motion = s.target_motion
     return (f'{c.rate_hz:g} Hz x {s.substeps} substeps in frame {c.frame_id!r}: '
             f'mass {s.body.mass:g} kg, inertia {s.body.inertia}, anchor {s.constraint.anchor},'
-            f' {mode}, max force {s.constraint.max_force:g} N, gravity {s.gravity}, damping '
+            f' {mode}, force bound {force_bound(s):g} N, angular friction '
+            f'{constraint.angular_friction:g}, guide {motion.max_speed:g} m/s '
+            f'{motion.max_acceleration:g} m/s^2, gravity {s.gravity}, damping '
             f'{s.linear_damping:g}/{s.angular_damping:g} 1/s, target timeout '
             f'{c.target_timeout:g} s' + (
+                f', publishing at {c.publish_rate_hz:g} Hz' if c.publish_rate_hz else '') + (
                 f', publishing /clock at real time factor {c.real_time_factor:g}'
                 if c.publish_clock else ''))
 

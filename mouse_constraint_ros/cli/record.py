@@ -39,6 +39,7 @@ from rclpy.experimental import EventsExecutor
 from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
+from .help_text import plain_text
 from ..interface import NODE_NAME
 from ..physics.algebra import Vector3
 from ..recording.capture import capture, fetch_anchor, Progress, Recorder, wait_for_first_pose
@@ -61,11 +62,6 @@ def _finite(name: str, minimum: Optional[float] = None):
                 + f', got {text}')
         return value
     return parse
-
-
-def plain_text(text: str) -> str:
-    """Return docstring text for a terminal: without reST literals' backticks, one line."""
-    return ' '.join(text.replace('``', '').split())
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -30,6 +30,7 @@ from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
+from .help_text import plain_text
 from ..interface import GRAB_TOPIC, NODE_NAME, TARGET_QOS, TARGET_TOPIC
 from ..messages import point_message
 from ..spin import Interrupted, POLL_PERIOD, spin_until, SpinEnd, StopRequest, wait_until
@@ -37,11 +38,6 @@ from ..target_gate import TargetGate
 
 # The frame of the targets when the node's frame_id cannot be read.
 FALLBACK_FRAME = 'world'
-
-
-def plain_text(text: str) -> str:
-    """Return docstring text for a terminal: without reST literals' backticks, one line."""
-    return ' '.join(text.replace('``', '').split())
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -25,7 +25,8 @@ from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
-from .target import plain_text, POLL_PERIOD
+from .help_text import plain_text
+from .target import POLL_PERIOD
 from ..interface import WRENCH_QOS, WRENCH_TOPIC
 from ..messages import wrench_message
 from ..parameters import DEFAULTS
