@@ -48,7 +48,7 @@ from .parameters import node_config, PARAMETERS, ParameterSpec
 from .physics import MouseSimulation
 from .physics.algebra import Vector3
 from .physics.simulation import force_bound
-from .publish_ticks import PublishTicks
+from .publish_ticks import PublishTicks, ticks_per_callback
 from .service_replies import (pause_reply, release_reply, reset_refusal, reset_reply,
                               step_refusal, step_reply)
 from .sim_clock import ClockPacer, PacingMeter, SimulatedClock
@@ -223,7 +223,8 @@ class MouseConstraintNode(Node):
         if self._config.publish_clock:
             self._timer = self._start_clock_timer()
         else:
-            self._timer = self.create_timer(self._dt, self._on_timer)
+            batch = ticks_per_callback(rate, self._config.publish_rate_hz)
+            self._timer = self.create_timer(batch * self._dt, self._on_timer)
 
     def _hold_initial_anchor(self) -> None:
         self._user_target = False
@@ -421,6 +422,11 @@ class MouseConstraintNode(Node):
         if config.rate_hz == previous.rate_hz and \
                 config.publish_rate_hz != previous.publish_rate_hz:
             self._publish_ticks = PublishTicks(config.rate_hz, config.publish_rate_hz)
+            if not config.publish_clock:
+                # The same grid on a timer of the new batch: no restart, no tick lost.
+                self.destroy_timer(self._timer)
+                batch = ticks_per_callback(config.rate_hz, config.publish_rate_hz)
+                self._timer = self.create_timer(batch * self._dt, self._on_timer)
         if (config.marker_rate_hz, config.diagnostics_rate_hz) != (
                 previous.marker_rate_hz, previous.diagnostics_rate_hz):
             self._start_monitor_timers()

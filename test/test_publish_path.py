@@ -24,7 +24,8 @@ from mouse_constraint_ros.messages import fill_odometry, fill_pose, fill_twist, 
 from mouse_constraint_ros.node import MouseConstraintNode
 from mouse_constraint_ros.parameters import DEFAULTS, node_config
 from mouse_constraint_ros.physics import BodyState
-from mouse_constraint_ros.publish_ticks import PublishTicks
+from mouse_constraint_ros.publish_ticks import (MAX_BATCH_SECONDS, PublishTicks,
+                                                ticks_per_callback)
 from mouse_constraint_ros.state_publishers import StatePublishers
 
 NS = 1_000_000_000
@@ -73,6 +74,32 @@ def test_a_publish_rate_that_does_not_divide_keeps_the_mean_rate_exact(rate_hz,
     for start, length in zip(rng.integers(0, count // 2, 200), rng.integers(1, count // 2, 200)):
         published = cumulative[start + length] - cumulative[start]
         assert abs(published - length * publish_rate_hz / rate_hz) < 1.0
+
+
+@pytest.mark.parametrize('rate_hz, publish_rate_hz', [
+    (1000.0, 0.0), (1000.0, 1000.0), (1000.0, 100.0), (1000.0, 300.0), (1000.0, 1.0),
+    (10000.0, 100.0), (250.0, 60.0), (1.0, 0.5)])
+def test_a_callback_runs_one_publish_period_of_ticks_within_the_batch_bound(
+        rate_hz, publish_rate_hz):
+    """The timer's batch: whole ticks within one publish period and the batch bound, >= 1."""
+    batch = ticks_per_callback(rate_hz, publish_rate_hz)
+    assert batch >= 1
+    if publish_rate_hz == 0.0:
+        assert batch == 1
+        return
+    period = min(1.0 / publish_rate_hz, MAX_BATCH_SECONDS)
+    assert batch == 1 or batch / rate_hz <= period * (1.0 + 1e-9)
+    assert (batch + 1) / rate_hz > period or batch == 1
+
+
+def test_the_node_timer_fires_once_per_batch_and_follows_the_publish_rate(ros):
+    """100 Hz at 1 kHz: a 10 ms timer (10 ticks a call); back to every tick: 1 ms."""
+    node = sim_node(ros, rate_hz=1000.0, publish_rate_hz=100.0)
+    assert node._timer.timer_period_ns == 10_000_000
+    assert node.set_parameters([Parameter('publish_rate_hz', value=0.0)])[0].successful
+    assert node._timer.timer_period_ns == 1_000_000
+    assert node.set_parameters([Parameter('publish_rate_hz', value=300.0)])[0].successful
+    assert node._timer.timer_period_ns == 3_000_000
 
 
 @pytest.mark.parametrize('publish_rate_hz', [-1.0, 1000.5, math.nan])
