@@ -36,6 +36,7 @@ from mouse_constraint_ros.messages import state_from_messages
 from mouse_constraint_ros.parameters import DEFAULTS
 from mouse_constraint_ros.parameters import node_config
 from mouse_constraint_ros.physics import MouseSimulation
+from test_support.mouse_feel import seed_joint
 
 RATE_HZ = 1000.0
 TRIALS = 400
@@ -175,7 +176,10 @@ def _rows(node: str, result: dict) -> list:
 def run(quick: bool = False) -> dict:
     start = time.perf_counter()
     trials = QUICK_TRIALS if quick else TRIALS
-    parameters = {'rate_hz': RATE_HZ}
+    # The note's joint: a published state then determines the next, which the replay needs (the
+    # guide and the target stream hold state no message carries). The target path, from the
+    # subscription to the tick that uses a target, is the same whatever the joint.
+    parameters = {'rate_hz': RATE_HZ, 'publish_rate_hz': 0.0, **seed_joint()}
     runs = (('mouse_constraint_node', ros_process.node_command(parameters)),)
     rows, notes, raw = [], [], {}
     for name, command in runs:

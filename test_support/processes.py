@@ -10,6 +10,7 @@ its resident set, and how long its main thread waited for a CPU while runnable (
 not a slow process, shows there).
 """
 
+import math
 import os
 from pathlib import Path
 import signal
@@ -39,6 +40,15 @@ def private_environment(domain_id: Optional[int] = None,
     return environment
 
 
+def yaml_float(value: float) -> str:
+    """Return a float as YAML writes it: ``.inf``, ``-.inf`` and ``.nan`` for the non-finite."""
+    if math.isnan(value):
+        return '.nan'
+    if math.isinf(value):
+        return '.inf' if value > 0.0 else '-.inf'
+    return repr(value)
+
+
 def parameter_arguments(parameters: Mapping[str, object]) -> List[str]:
     """Return ``-p name:=value`` ROS arguments for ``parameters`` (doubles as float literals)."""
     arguments = []
@@ -46,7 +56,9 @@ def parameter_arguments(parameters: Mapping[str, object]) -> List[str]:
         if isinstance(value, bool):
             text = 'true' if value else 'false'
         elif isinstance(value, (list, tuple)):
-            text = '[' + ', '.join(repr(float(v)) for v in value) + ']'
+            text = '[' + ', '.join(yaml_float(float(v)) for v in value) + ']'
+        elif isinstance(value, float):
+            text = yaml_float(value)
         else:
             text = repr(value)
         arguments += ['-p', f'{name}:={text}']
