@@ -11,9 +11,8 @@ assert on a shorter flood. Cases:
 - 5 000 targets/s from a plain rclpy publisher (message objects, ``publish(msg)``): the rate
   the node holds (within 1 %);
 - unbounded: a plain rclpy publisher as fast as it can publish (a core of its own): outputs
-  finite, any
-  dropped ticks warned in the node's log, and the time after the flood's end at which the
-  last missing tick was due (back at full rate: within 1 s);
+  finite, any dropped ticks warned in the node's log, and the time after the flood's end at
+  which the last missing tick was due (back at full rate: within 1 s);
 - 20 000 targets/s, every other one hostile (NaN, inf, 1e300, beyond the workspace, foreign
   frames, absurd stamps): the same figures while the node rejects half of what it gets.
 
