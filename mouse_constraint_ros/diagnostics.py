@@ -1,5 +1,5 @@
 """
-The node's ``/diagnostics``: a tick-rate status and a constraint status (no rclpy here).
+The node's ``/diagnostics``: tick-rate, constraint and simulator statuses (no rclpy here).
 
 The node samples its tick counters into a ``TickWindow`` at the diagnostics rate; the window's
 differences give the achieved rate (ticks actually run per second of the node's clock, not the

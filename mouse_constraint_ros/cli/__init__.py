@@ -1,1 +1,1 @@
-"""The package's command-line tools: ``mouse_target`` and ``mouse_record``."""
+"""The package's command-line tools: ``mouse_target``, ``mouse_wrench`` and ``mouse_record``."""
