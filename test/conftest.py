@@ -18,6 +18,9 @@ SYSTEM_MODULES = {'test_cli_refusals', 'test_hardening', 'test_launch', 'test_pr
                   'test_recorder', 'test_startup_refusals'}
 
 
+TIERS = ('unit', 'ros', 'system')
+
+
 def pytest_collection_modifyitems(items) -> None:
     """
     Mark each test with its tier.
@@ -26,6 +29,8 @@ def pytest_collection_modifyitems(items) -> None:
     in-process); unit: everything else (pure code).
     """
     for item in items:
+        if any(item.get_closest_marker(tier) for tier in TIERS):
+            continue  # marked by the test itself (a process test in a mostly in-process module)
         if item.module.__name__.rpartition('.')[2] in SYSTEM_MODULES:
             item.add_marker(pytest.mark.system)
         elif 'ros' in getattr(item, 'fixturenames', ()):

@@ -129,6 +129,7 @@ def node_process(*arguments: str):
         process.wait(timeout=10.0)
 
 
+@pytest.mark.system
 def test_publish_clock_runs_four_times_real_time_in_a_namespace(ros):
     """
     /clock advances 4 s per wall second, monotonically; poses are stamped with its values.
@@ -170,6 +171,7 @@ def run_four_times(ros):
     return clocks, poses, follower, first, (end_value - start_value) * 1e-9, wall
 
 
+@pytest.mark.system
 def test_factor_zero_runs_as_fast_as_it_can(ros):
     """
     real_time_factor 0 at 1 kHz: at least 5x real time, as /diagnostics reports it.
@@ -275,6 +277,7 @@ def test_the_factor_changes_at_run_time_without_a_jump(ros):
     assert (values[-1] - values[changed - 1]) * 1e-9 == pytest.approx(3.0 * wall, rel=0.1)
 
 
+@pytest.mark.system
 @pytest.mark.parametrize('namespace', ['', '/fast'])
 def test_factor_zero_with_a_publish_rate_publishes_every_tenth_tick(ros, namespace):
     """

@@ -2,8 +2,10 @@
 
 import copy
 import math
+import signal
 import subprocess
 import sys
+import time
 
 from geometry_msgs.msg import WrenchStamped
 import numpy as np
@@ -249,6 +251,7 @@ def test_markers_show_the_applied_force(ros):
     assert ros.spin_until(lambda: arrow().action == Marker.DELETE)
 
 
+@pytest.mark.system
 def test_the_wrench_cli_pushes_for_its_duration_then_stops(ros):
     """mouse_wrench: the wrench is applied for --duration, then a zero wrench ends it."""
     node = start_node(ros, rate_hz=200.0, wrench_timeout=0.0, **FREE)
@@ -269,9 +272,27 @@ def test_the_wrench_cli_pushes_for_its_duration_then_stops(ros):
     assert 'pushed with force' in process.stdout.read()
 
 
+@pytest.mark.system
 def test_the_wrench_cli_refuses_what_the_node_would_ignore():
     """A force over the default max_wrench_force: exit 1 with the reason, nothing sent."""
     result = subprocess.run(
         [sys.executable, '-m', 'mouse_constraint_ros.cli.wrench', '--force', '2000', '0', '0'],
         capture_output=True, text=True, timeout=20.0)
     assert result.returncode == 1 and 'max_wrench_force' in result.stderr
+
+
+@pytest.mark.system
+def test_the_wrench_cli_interrupted_before_a_subscriber_sends_nothing():
+    """SIGINT while it waits for a subscriber: exit 130 at once, no traceback, nothing sent."""
+    process = subprocess.Popen(
+        [sys.executable, '-m', 'mouse_constraint_ros.cli.wrench', '--force', '1', '0', '0',
+         '--duration', '5'], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        time.sleep(2.0)
+        process.send_signal(signal.SIGINT)
+        stdout, stderr = process.communicate(timeout=10.0)
+    finally:
+        if process.poll() is None:
+            process.kill()
+    assert process.returncode == 130, stderr
+    assert 'Traceback' not in stderr and 'pushed' not in stdout

@@ -8,8 +8,8 @@ must beat that timeout (default 0.5 s). Time is this command's clock: with
 ``--ros-args -p use_sim_time:=true`` the duration and the rate follow ``/clock``, so a push
 lasts D simulated seconds whatever the node's ``real_time_factor``. A wrench the node would
 ignore (non-finite, or over its default bounds of 1000 N and 100 N m) is refused here with exit
-status 1, and so is having no subscriber within 10 s. Ctrl-C or SIGTERM stops it, with the
-zero wrench.
+status 1, and so is having no subscriber within 10 s. Ctrl-C or SIGTERM during a push ends it
+with the zero wrench (exit 0); before the push, it exits 128 + the signal having sent nothing.
 """
 
 import argparse
@@ -26,11 +26,10 @@ from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
 from .help_text import plain_text
-from .target import POLL_PERIOD
 from ..interface import WRENCH_QOS, WRENCH_TOPIC
 from ..messages import wrench_message
 from ..parameters import DEFAULTS
-from ..spin import StopRequest
+from ..spin import spin_until, SpinEnd, StopRequest
 from ..wrench_gate import WrenchGate
 
 # How long to wait for the node's subscription before giving up (s, wall time).
@@ -79,19 +78,20 @@ def main(args: Optional[List[str]] = None) -> int:
             push = wrench_message(options.force, options.torque, options.frame)
             clock = node.get_clock()
             node.create_timer(1.0 / options.rate, lambda: publisher.publish(push))
-            deadline = time.monotonic() + SUBSCRIBER_TIMEOUT
-            while not stop and publisher.get_subscription_count() == 0:
-                if time.monotonic() > deadline:
-                    print(f'mouse_wrench: no subscriber on {publisher.topic_name} within '
-                          f'{SUBSCRIBER_TIMEOUT:g} s', file=sys.stderr)
-                    return 1
-                executor.spin_once(timeout_sec=POLL_PERIOD)
-            while not stop and clock.now().nanoseconds == 0:
-                executor.spin_once(timeout_sec=POLL_PERIOD)  # use_sim_time before a /clock
+            matched = spin_until(
+                executor, stop, condition=lambda: publisher.get_subscription_count() > 0,
+                deadline=time.monotonic() + SUBSCRIBER_TIMEOUT)
+            if matched is SpinEnd.DEADLINE:
+                print(f'mouse_wrench: no subscriber on {publisher.topic_name} within '
+                      f'{SUBSCRIBER_TIMEOUT:g} s', file=sys.stderr)
+                return 1
+            # With use_sim_time the clock reads 0 until a /clock comes.
+            spin_until(executor, stop, condition=lambda: clock.now().nanoseconds != 0)
+            if stop:
+                return 128 + stop.signal  # Interrupted before the push: nothing was sent.
             publisher.publish(push)
             end = clock.now().nanoseconds + int(options.duration * 1e9)
-            while not stop and clock.now().nanoseconds < end:
-                executor.spin_once(timeout_sec=POLL_PERIOD)
+            spin_until(executor, stop, condition=lambda: clock.now().nanoseconds >= end)
             publisher.publish(wrench_message((0.0,) * 3, (0.0,) * 3, options.frame))
             print(f'pushed with force {tuple(options.force)} N, torque '
                   f'{tuple(options.torque)} N m for {options.duration:g} s', flush=True)
