@@ -58,8 +58,8 @@ def ticks_per_callback(rate_hz: float, publish_rate_hz: float) -> int:
 
     An executor turn costs about as much as the physics of a tick, so at a lower publish rate
     the node's timer fires once per publish period, not per tick, and each call runs the ticks
-    due since the last (each stepped on the grid exactly as before, the publishing ones
-    published with their own stamps). The batch is the whole number of ticks in one publish
+    due since the last: each is stepped on the grid, and the publishing ones are published with
+    their own stamps. The batch is the whole number of ticks in one publish
     period, at most ``MAX_BATCH_SECONDS`` of them (10 ms: the callback stays far inside its
     wall budget, and a target waits at most that long). The trade: a target that arrives during
     a batch is used from the next one, up to one batch later than at every-tick publishing,
