@@ -157,11 +157,14 @@ def test_csv_matches_what_was_published(recording):
     """Each row is a published pose and twist of one stamp, bit for bit, plus derived columns."""
     rows = read_csv(recording['prefix'].with_suffix('.csv'))
     poses, twists = recording['poses'], recording['twists']
-    assert len(rows) == pytest.approx(DURATION * RATE, rel=0.25)
     stamps = np.array([row['stamp_ns'] for row in rows])
     assert np.all(np.diff(stamps) > 0)
-    # The first pose may have waited in the queue a little: the stamps span about DURATION.
-    assert (stamps[-1] - stamps[0]) * 1e-9 == pytest.approx(DURATION, abs=0.25)
+    # At least DURATION of the node's ticks, one row per tick with none beyond them; a loaded
+    # machine may let the recorder run a little past DURATION before it sees the time.
+    span = (stamps[-1] - stamps[0]) * 1e-9
+    assert span >= DURATION - 0.25
+    ticks = round(span * RATE) + 1
+    assert 0.75 * ticks <= len(rows) <= ticks
     np.testing.assert_allclose([row['time'] for row in rows], (stamps - stamps[0]) * 1e-9)
     targets = set(recording['targets'])
     with_target = 0
