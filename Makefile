@@ -6,7 +6,7 @@
 #   make lint   flake8 (ament_flake8 settings, see .flake8)
 #   make run    run the node with config/params.yaml
 #   make bench  run the benchmark suite (python -m bench.run_all): bench/results.md, .json
-#   make demo   run the node, drive a circle and a jump, record: demo/figure.png
+#   make demo   run the node, grab it, drag a circle, a click jump; record: demo/figure.png
 #   make clean  remove .venv and build artefacts
 
 SHELL := /bin/bash
@@ -73,7 +73,8 @@ $(BENCH_STAMP): $(STAMP) $(BENCH_REQS)
 bench: bench-venv
 	$(VPY) -m bench.run_all $(BENCH_ARGS)
 
-# The node, mouse_target (a circle, then a jump) and mouse_record; see demo/run_demo.sh.
+# The node, mouse_target (a grab, a circle, then a click jump) and mouse_record; see
+# demo/run_demo.sh.
 demo: venv
 	demo/run_demo.sh
 
