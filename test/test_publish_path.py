@@ -18,7 +18,6 @@ import pytest
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.serialization import deserialize_message, serialize_message
-from rosgraph_msgs.msg import Clock
 
 from mouse_constraint_ros.messages import fill_odometry, fill_pose, fill_twist, set_stamp
 from mouse_constraint_ros.node import MouseConstraintNode
@@ -27,6 +26,7 @@ from mouse_constraint_ros.physics import BodyState
 from mouse_constraint_ros.publish_ticks import (MAX_BATCH_SECONDS, PublishTicks,
                                                 ticks_per_callback)
 from mouse_constraint_ros.state_publishers import StatePublishers
+from test_support.ros_harness import SimClock, stamp_of
 
 NS = 1_000_000_000
 
@@ -238,30 +238,6 @@ def test_the_node_hands_bytes_to_its_publishers(ros):
 
 
 # publish_rate_hz on the node, on a simulated clock.
-
-class SimClock:
-    """Drives a node's /clock from the probe, and waits until the node has seen each time."""
-
-    def __init__(self, ros, node) -> None:
-        """Create the /clock publisher and wait for the node's subscription."""
-        self.ros, self.node = ros, node
-        self.publisher = ros.probe.create_publisher(Clock, '/clock', 10)
-        assert ros.spin_until(lambda: self.publisher.get_subscription_count() > 0)
-
-    def advance_to(self, ns: int) -> None:
-        """Publish ``ns`` and spin until the node's clock reads it and its timer ran."""
-        message = Clock()
-        set_stamp(message.clock, ns)
-        self.publisher.publish(message)
-        assert self.ros.spin_until(lambda: self.node.get_clock().now().nanoseconds == ns,
-                                   timeout=5.0)
-        self.ros.spin_for(0.03)
-
-
-def stamp_of(message) -> int:
-    """Return a header stamp in nanoseconds."""
-    return message.header.stamp.sec * NS + message.header.stamp.nanosec
-
 
 def sim_node(ros, **overrides) -> MouseConstraintNode:
     """Start the node on a simulated clock with ``overrides``, markers and diagnostics off."""

@@ -14,13 +14,15 @@ import numpy as np
 import pytest
 from rclpy.parameter import Parameter
 from scipy.spatial.transform import Rotation
-from test_publish_path import SimClock, stamp_of, START
 
 from mouse_constraint_ros.messages import odometry_message, state_from_messages
 from mouse_constraint_ros.node import MouseConstraintNode
 from mouse_constraint_ros.state_publishers import TF_UNAVAILABLE
+from test_support.ros_harness import SimClock, stamp_of
 
 NS = 1_000_000_000
+# Where the simulated clock of the publish-rate tests starts.
+START = 1_000 * NS
 
 
 class RecordingBroadcaster:

@@ -7,6 +7,7 @@ import rclpy
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rosgraph_msgs.msg import Clock
 
 
 class RosHarness:
@@ -58,3 +59,28 @@ class RosHarness:
         for node in self.nodes:
             node.destroy_node()
         rclpy.try_shutdown(context=self.context)
+
+
+def stamp_of(message) -> int:
+    """Return a message's header stamp in nanoseconds."""
+    stamp = message.header.stamp
+    return stamp.sec * 1_000_000_000 + stamp.nanosec
+
+
+class SimClock:
+    """Drives a node's /clock from the harness's probe, and waits until the node saw each time."""
+
+    def __init__(self, ros: RosHarness, node: Node) -> None:
+        """Create the /clock publisher and wait for the node's subscription."""
+        self.ros, self.node = ros, node
+        self.publisher = ros.probe.create_publisher(Clock, '/clock', 10)
+        assert ros.spin_until(lambda: self.publisher.get_subscription_count() > 0)
+
+    def advance_to(self, ns: int) -> None:
+        """Publish ``ns`` and spin until the node's clock reads it and its timer ran."""
+        message = Clock()
+        message.clock.sec, message.clock.nanosec = divmod(ns, 1_000_000_000)
+        self.publisher.publish(message)
+        assert self.ros.spin_until(lambda: self.node.get_clock().now().nanoseconds == ns,
+                                   timeout=5.0)
+        self.ros.spin_for(0.03)
