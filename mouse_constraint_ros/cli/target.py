@@ -4,13 +4,15 @@ The ``mouse_target`` command: publish mouse targets on the relative topic ``targ
 ``mouse_target X Y Z`` publishes one target and exits once a subscriber has acknowledged it;
 ``mouse_target --circle`` moves the target around a circle until Ctrl-C (or ``--duration``);
 ``mouse_target --grab X Y Z`` publishes one grab on ``grab`` instead: the node makes that point of
-the body the anchor (and says so when the point is off the body, which this command cannot see).
-Before publishing it reads the node's ``frame_id`` and ``workspace_radius`` parameters
-(``--node``, default ``mouse_constraint`` in this command's namespace) and refuses, with the
-reason and exit status 1, a target (or grab) the node would ignore: another frame, or beyond
-the workspace (for ``--circle``, any point of the circle). When the parameter service does not
-answer within ``--timeout`` it says so and publishes the target unchecked, since the subscriber
-need not be ``mouse_constraint``. Ctrl-C or SIGTERM stops it at once, also while waiting.
+the body the anchor. Before publishing it waits for ``--subscribers`` subscribers (default 1),
+reads the node's ``frame_id`` and ``workspace_radius`` parameters (``--node``, default
+``mouse_constraint`` in this command's namespace) and refuses, with the reason and exit status
+1, a target (or grab) the node would ignore: another frame, or beyond the workspace (for
+``--circle``, any point of the circle). A grab is also checked against the body: its latest
+``pose`` and the node's ``box_size`` and ``grab_margin``, with the node's own test (``grab``
+module), so a grab off the body is refused too. When the parameters or a pose do not come
+within ``--timeout`` it says so and publishes unchecked, since the subscriber need not be
+``mouse_constraint``. Ctrl-C or SIGTERM stops it at once, also while waiting.
 ROS arguments work as for any node: ``--ros-args -r __ns:=/robot -r target:=/clicked_point``.
 """
 
@@ -20,7 +22,7 @@ import sys
 import time
 from typing import List, Optional
 
-from geometry_msgs.msg import PointStamped
+from geometry_msgs.msg import PointStamped, PoseStamped
 from rcl_interfaces.msg import ParameterType
 from rcl_interfaces.srv import GetParameters
 import rclpy
@@ -31,13 +33,20 @@ from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
 from .help_text import plain_text
-from ..interface import GRAB_TOPIC, NODE_NAME, TARGET_QOS, TARGET_TOPIC
+from ..grab import grab
+from ..interface import GRAB_TOPIC, NODE_NAME, POSE_TOPIC, STATE_QOS, TARGET_QOS, TARGET_TOPIC
 from ..messages import point_message
+from ..physics import BodyState
 from ..spin import Interrupted, POLL_PERIOD, spin_until, SpinEnd, StopRequest, wait_until
 from ..target_gate import TargetGate
 
 # The frame of the targets when the node's frame_id cannot be read.
 FALLBACK_FRAME = 'world'
+# The node's parameters a target is checked against, and those a grab is checked against too.
+GATE_PARAMETERS = {'frame_id': ParameterType.PARAMETER_STRING,
+                   'workspace_radius': ParameterType.PARAMETER_DOUBLE}
+GRAB_PARAMETERS = {'box_size': ParameterType.PARAMETER_DOUBLE_ARRAY,
+                   'grab_margin': ParameterType.PARAMETER_DOUBLE}
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -59,8 +68,11 @@ def build_parser() -> argparse.ArgumentParser:
                         help='the node whose frame_id and workspace_radius the targets must fit '
                              '(default: %(default)s, in this namespace)')
     parser.add_argument('--timeout', type=float, default=10.0,
-                        help='seconds to wait for a subscriber, the parameters and the '
-                             'acknowledgement (default: %(default)g)')
+                        help='seconds to wait for the subscribers, the parameters (and for a '
+                             'grab the pose) and the acknowledgement (default: %(default)g)')
+    parser.add_argument('--subscribers', type=int, default=1, metavar='N',
+                        help='publish once N subscribers have matched, e.g. 2 for the node and '
+                             'a mouse_record that must see every target (default: %(default)s)')
     circle = parser.add_argument_group('moving target')
     circle.add_argument('--circle', action='store_true',
                         help='move the target around a horizontal circle until Ctrl-C '
@@ -95,6 +107,8 @@ def parse_arguments(argv: List[str]) -> argparse.Namespace:
         parser.error('--radius and --rate must be > 0 and --period non-zero')
     if not options.timeout > 0.0:
         parser.error('--timeout must be > 0')
+    if options.subscribers < 1:
+        parser.error('--subscribers must be >= 1')
     return options
 
 
@@ -122,13 +136,15 @@ class TargetPublisher(Node):
         self.publisher.publish(
             point_message(point, frame_id, self.get_clock().now().nanoseconds))
 
-    def wait_for_subscriber(self, executor, deadline: float, stop: StopRequest) -> bool:
+    def wait_for_subscribers(self, executor, count: int, deadline: float,
+                             stop: StopRequest) -> bool:
         """
-        Spin until a subscriber has matched; return False at ``deadline`` (monotonic).
+        Spin until ``count`` subscribers have matched; return False at ``deadline`` (monotonic).
 
         :raises Interrupted: on Ctrl-C or SIGTERM.
         """
-        return wait_until(executor, stop, lambda: self.publisher.get_subscription_count() > 0,
+        return wait_until(executor, stop,
+                          lambda: self.publisher.get_subscription_count() >= count,
                           deadline=deadline)
 
     def wait_for_ack(self, executor, deadline: float, stop: StopRequest) -> bool:
@@ -146,10 +162,10 @@ class TargetPublisher(Node):
             lambda: self.publisher.wait_for_all_acked(Duration(seconds=POLL_PERIOD)),
             deadline=deadline)
 
-    def fetch_gate(self, executor, target_node: str, deadline: float,
-                   stop: StopRequest) -> TargetGate:
+    def fetch_parameters(self, executor, target_node: str, types: dict, deadline: float,
+                         stop: StopRequest) -> dict:
         """
-        Return the target policy of ``target_node`` from its parameter service.
+        Return the values of the parameters ``types`` names (name: ParameterType) of a node.
 
         :raises RuntimeError: saying why the parameters could not be read by ``deadline``.
         :raises Interrupted: on Ctrl-C or SIGTERM.
@@ -158,18 +174,74 @@ class TargetPublisher(Node):
         try:
             if not wait_until(executor, stop, client.service_is_ready, deadline=deadline):
                 raise RuntimeError(f'no parameter service {client.srv_name}')
-            future = client.call_async(
-                GetParameters.Request(names=['frame_id', 'workspace_radius']))
+            future = client.call_async(GetParameters.Request(names=list(types)))
             if not wait_until(executor, stop, future.done, deadline=deadline):
                 raise RuntimeError(f'{client.srv_name} did not answer')
             values = future.result().values
-            if len(values) != 2 or values[0].type != ParameterType.PARAMETER_STRING \
-                    or values[1].type != ParameterType.PARAMETER_DOUBLE:
-                raise RuntimeError(f'{target_node} has no string frame_id and double '
-                                   'workspace_radius parameters')
-            return TargetGate(values[0].string_value, values[1].double_value)
+            if [value.type for value in values] != list(types.values()):
+                raise RuntimeError(f'{target_node} has not the parameters {", ".join(types)} '
+                                   'of mouse_constraint')
+            return {name: parameter_value(value) for name, value in zip(types, values)}
         finally:
             self.destroy_client(client)
+
+    def fetch_gate(self, executor, target_node: str, deadline: float,
+                   stop: StopRequest) -> TargetGate:
+        """
+        Return the target policy of ``target_node`` from its parameter service.
+
+        :raises RuntimeError: saying why the parameters could not be read by ``deadline``.
+        :raises Interrupted: on Ctrl-C or SIGTERM.
+        """
+        values = self.fetch_parameters(executor, target_node, GATE_PARAMETERS, deadline, stop)
+        return TargetGate(values['frame_id'], values['workspace_radius'])
+
+    def fetch_pose(self, executor, deadline: float, stop: StopRequest) -> BodyState:
+        """
+        Return the body's pose from the next message on ``pose`` (velocities zero).
+
+        :raises RuntimeError: when none came by ``deadline`` (e.g. the node is paused).
+        :raises Interrupted: on Ctrl-C or SIGTERM.
+        """
+        poses = []
+        subscription = self.create_subscription(PoseStamped, POSE_TOPIC, poses.append,
+                                                STATE_QOS)
+        try:
+            if not wait_until(executor, stop, lambda: bool(poses), deadline=deadline):
+                raise RuntimeError(f'no pose on {subscription.topic_name}')
+            p, q = poses[-1].pose.position, poses[-1].pose.orientation
+            return BodyState((p.x, p.y, p.z), (q.x, q.y, q.z, q.w))
+        finally:
+            self.destroy_subscription(subscription)
+
+    def grab_refusal(self, executor, target_node: str, point: List[float], deadline: float,
+                     stop: StopRequest) -> Optional[str]:
+        """
+        Return why ``target_node`` would ignore a grab at ``point`` as off its body, or None.
+
+        The node's own test (``grab.grab``) on its latest pose, ``box_size`` and
+        ``grab_margin``.
+
+        :raises RuntimeError: saying why the body could not be read by ``deadline``.
+        :raises Interrupted: on Ctrl-C or SIGTERM.
+        """
+        values = self.fetch_parameters(executor, target_node, GRAB_PARAMETERS, deadline, stop)
+        state = self.fetch_pose(executor, deadline, stop)
+        margin = values['grab_margin']
+        landed = grab(state, values['box_size'], point)
+        if landed.taken(margin):
+            return None
+        return (f'{tuple(point)}: {landed.distance:.6g} m off the body at '
+                f'{tuple(state.position)}, farther than grab_margin {margin:g} m from its box')
+
+
+def parameter_value(value) -> object:
+    """Return the Python value of an ``rcl_interfaces/ParameterValue`` of the types used here."""
+    if value.type == ParameterType.PARAMETER_STRING:
+        return value.string_value
+    if value.type == ParameterType.PARAMETER_DOUBLE_ARRAY:
+        return [float(c) for c in value.double_array_value]
+    return value.double_value
 
 
 def main(args: Optional[List[str]] = None) -> int:
@@ -192,12 +264,14 @@ def main(args: Optional[List[str]] = None) -> int:
     try:
         with StopRequest() as stop:
             try:
-                logger.info(f'waiting up to {options.timeout:g} s for a subscriber on {topic}')
-                if not node.wait_for_subscriber(executor, deadline, stop):
+                wanted = options.subscribers
+                logger.info(f'waiting up to {options.timeout:g} s for {wanted} '
+                            f'subscriber{"s" if wanted > 1 else ""} on {topic}')
+                if not node.wait_for_subscribers(executor, wanted, deadline, stop):
                     logger.error(
-                        f'no subscriber on {topic} after {options.timeout:g} s: is '
-                        'mouse_constraint running with the same ROS_DOMAIN_ID, namespace and '
-                        'remappings?')
+                        f'{node.publisher.get_subscription_count()} of {wanted} subscribers on '
+                        f'{topic} after {options.timeout:g} s: is mouse_constraint running '
+                        'with the same ROS_DOMAIN_ID, namespace and remappings?')
                     return 1
                 frame = options.frame
                 try:
@@ -215,6 +289,18 @@ def main(args: Optional[List[str]] = None) -> int:
                     if refusal is not None:
                         logger.error(f'{options.node} would ignore {what} {refusal.reason}; '
                                      'nothing published')
+                        return 1
+                if gate is not None and options.grab:
+                    try:
+                        off = node.grab_refusal(executor, options.node, options.point,
+                                                deadline, stop)
+                    except RuntimeError as error:
+                        logger.warning(f'cannot check the grab against the body: {error} '
+                                       f'within {options.timeout:g} s; publishing it unchecked')
+                        off = None
+                    if off is not None:
+                        logger.error(f'{options.node} would ignore grab {off}; nothing '
+                                     'published')
                         return 1
                 if not options.circle:
                     node.publish_point(options.point, frame)
