@@ -6,7 +6,8 @@
 #   make lint   flake8 (ament_flake8 settings, see .flake8)
 #   make run    run the node with config/params.yaml
 #   make bench  run the benchmark suite (python -m bench.run_all): bench/results.md, .json
-#   make demo   run the node, grab it, drag a circle, a click jump; record: demo/figure.png
+#   make demo   run the node, grab it, drag a circle, a click jump; record into demo/output/
+#   make demo-figure  the same, and the figure replaces the committed demo/figure.png
 #   make clean  remove .venv and build artefacts
 
 SHELL := /bin/bash
@@ -27,7 +28,7 @@ ifneq ($(shell $(VPY) -c 'print(1)' 2>/dev/null),1)
 $(shell rm -f $(STAMP))
 endif
 
-.PHONY: venv test test-unit lint run bench bench-venv demo clean
+.PHONY: venv test test-unit lint run bench bench-venv demo demo-figure clean
 
 # Peer engines for the benchmarks only (PyBullet, MuJoCo): installed into .venv by `make bench`,
 # never by `make venv`, `make test` or CI (requirements/bench/ is outside the wildcard above).
@@ -74,9 +75,12 @@ bench: bench-venv
 	$(VPY) -m bench.run_all $(BENCH_ARGS)
 
 # The node, mouse_target (a grab, a circle, then a click jump) and mouse_record; see
-# demo/run_demo.sh.
+# demo/run_demo.sh. `make run` must not be running (the demo starts its own node).
 demo: venv
 	demo/run_demo.sh
+
+demo-figure: venv
+	UPDATE_FIGURE=1 demo/run_demo.sh
 
 clean:
 	rm -rf $(VENV) build install log .pytest_cache .hypothesis *.egg-info

@@ -15,7 +15,7 @@ import pytest  # noqa: E402 (after the environment is set, as rclpy reads it)
 
 # Modules whose tests start executables as processes (or build with colcon): the system tier.
 SYSTEM_MODULES = {'test_cli_refusals', 'test_hardening', 'test_launch', 'test_processes',
-                  'test_recorder', 'test_startup_refusals'}
+                  'test_demo', 'test_recorder', 'test_startup_refusals'}
 
 
 TIERS = ('unit', 'ros', 'system')

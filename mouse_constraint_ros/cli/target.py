@@ -319,15 +319,24 @@ def main(args: Optional[List[str]] = None) -> int:
                 f'{frame!r}, {abs(options.period):g} s per turn, {options.rate:g} Hz on {topic};'
                 ' Ctrl-C stops')
 
+            published = []
+
             def tick() -> None:
-                node.publish_point(circle_point(options.center, options.radius, options.period,
-                                                time.monotonic() - start), frame)
+                published.append(circle_point(options.center, options.radius, options.period,
+                                              time.monotonic() - start))
+                node.publish_point(published[-1], frame)
 
             node.create_timer(1.0 / options.rate, tick)
             tick()
             # Ctrl-C is how a moving target ends: exit 0.
             end = spin_until(executor, stop, deadline=start + options.duration)
-            return 1 if end is SpinEnd.SHUTDOWN else 0
+            if end is SpinEnd.SHUTDOWN:
+                return 1
+            # The last targets reach every subscriber before the publisher goes.
+            acked = node.publisher.wait_for_all_acked(Duration(seconds=min(options.timeout, 1.0)))
+            logger.info(f'{len(published)} targets published on {topic}'
+                        + ('' if acked else ', the last not acknowledged'))
+            return 0
     except ExternalShutdownException:
         return 1
     finally:
