@@ -18,6 +18,8 @@ from geometry_msgs.msg import PoseStamped
 import pytest
 import yaml
 
+from test_support import qt_window_state
+
 PACKAGE = 'mouse_constraint_ros'
 ROOT = Path(__file__).resolve().parent.parent
 BIN = Path(sys.executable).parent
@@ -147,6 +149,160 @@ def test_rviz_configuration_names_the_node_topics_and_the_world_frame():
     points = [t['Topic']['Value'] for t in manager['Tools']
               if t['Class'] == 'rviz_default_plugins/PublishPoint']
     assert points == [NODE_TOPICS['grab'], NODE_TOPICS['target']]
+
+
+# What rviz2 (Jazzy) reads from a .rviz, per place and per plugin class: the keys its load()
+# functions ask for and the names of the properties each class creates (whose children load
+# under the same names, and whose own value is the special key 'Value'). ANY: read whole, by
+# names the file chooses (TF frames, marker namespaces). A key outside these is ignored.
+ANY = object()
+XYZ = {'X': None, 'Y': None, 'Z': None}
+TREE = {'Expanded': None, 'Splitter Ratio': None}   # PropertyTreeWidget::load
+# RosTopicProperty with its QosProfileProperty children (displays resubscribe when they change).
+TOPIC = {'Value': None, 'Depth': None, 'History Policy': None, 'Reliability Policy': None,
+         'Durability Policy': None}
+PANELS = {
+    'rviz_common/Displays': {'Property Tree Widget': TREE, 'Tree Height': None,
+                             'Help Height': None},
+    'rviz_common/Selection': {},
+    'rviz_common/Tool Properties': TREE,
+    'rviz_common/Views': TREE,
+}
+DISPLAY = {'Class': None, 'Name': None, 'Enabled': None, 'Value': None}
+DISPLAYS = {
+    'rviz_default_plugins/Grid': {
+        'Alpha': None, 'Cell Size': None, 'Color': None,
+        'Line Style': {'Value': None, 'Line Width': None}, 'Normal Cell Count': None,
+        'Offset': XYZ, 'Plane': None, 'Plane Cell Count': None, 'Reference Frame': None},
+    'rviz_default_plugins/MarkerArray': {'Topic': TOPIC, 'Namespaces': ANY},
+    'rviz_default_plugins/Pose': {
+        'Alpha': None, 'Axes Length': None, 'Axes Radius': None, 'Color': None,
+        'Head Length': None, 'Head Radius': None, 'Shaft Length': None, 'Shaft Radius': None,
+        'Shape': None, 'Topic': dict(TOPIC, **{'Filter size': None})},
+    'rviz_default_plugins/TF': {
+        'Frame Timeout': None, 'Frames': ANY, 'Marker Scale': None, 'Show Arrows': None,
+        'Show Axes': None, 'Show Names': None, 'Tree': ANY, 'Update Interval': None,
+        'Filter (blacklist)': None, 'Filter (whitelist)': None},
+}
+# Tool::load reads only the tool's properties: no name, no shortcut. The Publish Point tool's
+# Topic has QoS children too, but its publisher is made before they are read: none is listed.
+TOOLS = {
+    'rviz_default_plugins/Interact': {'Hide Inactive Objects': None},
+    'rviz_default_plugins/MoveCamera': {},
+    'rviz_default_plugins/Select': {},
+    'rviz_default_plugins/FocusCamera': {},
+    'rviz_default_plugins/Measure': {'Line color': None},
+    'rviz_default_plugins/PublishPoint': {'Single click': None, 'Topic': {'Value': None}},
+}
+VIEWS = {
+    'rviz_default_plugins/Orbit': {
+        'Class': None, 'Name': None, 'Value': None, 'Distance': None, 'Focal Point': XYZ,
+        'Focal Shape Fixed Size': None, 'Focal Shape Size': None, 'Pitch': None, 'Yaw': None,
+        'Target Frame': None, 'Invert Z Axis': None, 'Near Clip Distance': None,
+        'Enable Stereo Rendering': {'Value': None, 'Stereo Eye Separation': None,
+                                    'Stereo Focal Distance': None, 'Swap Stereo Eyes': None}},
+}
+WINDOW = {'X': None, 'Y': None, 'Width': None, 'Height': None, 'QMainWindow State': None,
+          'Hide Left Dock': None, 'Hide Right Dock': None}
+
+
+def unread_keys(value, schema, path: str) -> list:
+    """Return the paths of the keys in ``value`` that ``schema`` does not list."""
+    if schema is ANY:
+        return []
+    if schema is None:
+        return [] if not isinstance(value, dict) else [f'{path} (a map where rviz2 reads a value)']
+    if not isinstance(value, dict):
+        return [f'{path} (a value where rviz2 reads a map)']
+    unread = []
+    for key, child in value.items():
+        if key not in schema:
+            unread.append(f'{path}/{key}')
+        else:
+            unread += unread_keys(child, schema[key], f'{path}/{key}')
+    return unread
+
+
+def by_class(items: list, classes: dict, base: dict, path: str) -> list:
+    """Return the unread keys of a list of plugin configurations, each read by its Class."""
+    unread = []
+    for index, item in enumerate(items):
+        name = item.get('Class')
+        if name not in classes:
+            unread.append(f'{path}[{index}] (class {name!r} not listed)')
+        else:
+            unread += unread_keys(item, {**base, 'Class': None, **classes[name]},
+                                  f'{path}[{index}]')
+    return unread
+
+
+def test_rviz_configuration_has_only_keys_rviz2_reads():
+    """
+    Every key of the .rviz is one rviz2 reads (its sources, Jazzy): none is silently ignored.
+
+    Panels, displays, tools and views by their class; the window geometry with one map per panel
+    (its dock's 'collapsed'); the visualization manager's own keys.
+    """
+    configuration = yaml.safe_load((ROOT / 'rviz' / RVIZ_FILE).read_text())
+    assert set(configuration) == {'Panels', 'Visualization Manager', 'Window Geometry'}
+    panels = configuration['Panels']
+    unread = by_class(panels, PANELS, {'Name': None}, '/Panels')
+    geometry = dict(WINDOW, **{panel['Name']: {'collapsed': None} for panel in panels})
+    unread += unread_keys(configuration['Window Geometry'], geometry, '/Window Geometry')
+    manager = dict(configuration['Visualization Manager'])
+    path = '/Visualization Manager'
+    unread += by_class(manager.pop('Displays'), DISPLAYS, DISPLAY, path + '/Displays')
+    unread += by_class(manager.pop('Tools'), TOOLS, {}, path + '/Tools')
+    views = manager.pop('Views')
+    unread += unread_keys(views, {'Current': ANY, 'Saved': None}, path + '/Views')
+    unread += by_class([views['Current']], VIEWS, {}, path + '/Views/Current')
+    unread += unread_keys(manager, {
+        'Enabled': None, 'Name': None, 'Value': None,
+        'Global Options': {'Background Color': None, 'Fixed Frame': None, 'Frame Rate': None},
+        'Transformation': {'Current': {'Class': None}}}, path)
+    assert unread == []
+
+
+def test_rviz_window_state_docks_every_panel():
+    """
+    The QMainWindow State docks each panel by its name (rviz2 floats any it does not name).
+
+    Displays, Views and Tool Properties are docked and shown; no panel floats; the state is the
+    one docked_layout writes (read back byte for byte).
+    """
+    configuration = yaml.safe_load((ROOT / 'rviz' / RVIZ_FILE).read_text())
+    names = [panel['Name'] for panel in configuration['Panels']]
+    data = bytes.fromhex(configuration['Window Geometry']['QMainWindow State'])
+    state = qt_window_state.decode(data)
+    assert qt_window_state.encode(state) == data
+    widgets = {widget.name: widget for widget in state.dock_widgets()}
+    assert len(widgets) == len(state.dock_widgets())
+    assert sorted(widgets) == sorted(names)
+    assert all(not widget.flags & qt_window_state.FLOATING for widget in widgets.values())
+    for name in ('Displays', 'Views', 'Tool Properties'):
+        assert widgets[name].flags & qt_window_state.VISIBLE, name
+    [(_, [toolbar])] = state.toolbars
+    assert toolbar.name == 'Tools'   # rviz2's toolbar of tools
+
+
+def test_qt_window_state_reads_what_qt_writes():
+    """The decoder on a state with every kind of item: tabs, nested, floating, placeholders."""
+    state = qt_window_state.WindowState(
+        docks={qt_window_state.LEFT: ((200, 500), qt_window_state.Sequence(
+            qt_window_state.VERTICAL, [
+                qt_window_state.DockWidget('a', qt_window_state.VISIBLE, (65, 250, 0, 99)),
+                qt_window_state.Nested((315, 250, 0, 0), qt_window_state.Sequence(
+                    qt_window_state.HORIZONTAL, [
+                        qt_window_state.DockWidget('b', 0, (0, 100, 0, 0)),
+                        qt_window_state.DockWidget('c', 3, (10, 20, 300, 400))], tab=1))]))},
+        central_size=(800, 500), corners=qt_window_state.DEFAULT_CORNERS)
+    data = qt_window_state.encode(state)
+    assert qt_window_state.decode(data) == state
+    assert [w.name for w in qt_window_state.decode(data).dock_widgets()] == ['a', 'b', 'c']
+    with pytest.raises(ValueError):
+        qt_window_state.decode(data + b'\0')
+    with pytest.raises(ValueError):
+        qt_window_state.decode(b'\0' * 8 + data[8:])
 
 
 @pytest.fixture
