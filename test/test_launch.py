@@ -104,7 +104,8 @@ def test_launch_file_names_the_installed_params_and_rviz_files(install, monkeypa
     assert share_directory == share(install)
     arguments = {ast.literal_eval(call.args[0]): keywords(call)
                  for call in launch_calls(path, 'DeclareLaunchArgument')}
-    assert list(arguments) == ['namespace', 'params_file', 'use_sim_time', 'rviz']
+    assert list(arguments) == ['namespace', 'params_file', 'use_sim_time', 'rviz',
+                               'body_frame_id']
     assert all(ast.literal_eval(argument['description']) for argument in arguments.values())
     params_file = share_path(arguments['params_file']['default_value'], share_directory)
     assert params_file == share(install) / 'config' / 'params.yaml'
@@ -117,7 +118,10 @@ def test_launch_file_names_the_installed_params_and_rviz_files(install, monkeypa
     assert executable == 'mouse_constraint_node'
     assert ast.unparse(node['name']) == 'NODE_NAME' and f"NODE_NAME = '{NODE_NAME}'" in source
     assert (install / 'lib' / PACKAGE / executable).is_file()
-    assert "LaunchConfiguration('params_file')" in ast.unparse(node['parameters'])
+    assert ast.unparse(node['parameters']).startswith("[LaunchConfiguration('params_file'), {")
+    assert "'body_frame_id': LaunchConfiguration('body_frame_id')" in ast.unparse(
+        node['parameters'])
+    assert all(ast.literal_eval(n['output']) == 'screen' for n in nodes.values())
     rviz = nodes['rviz2']
     rviz_arguments = rviz['arguments']
     assert ast.literal_eval(rviz_arguments.elts[0]) == '-d'
@@ -322,17 +326,22 @@ def test_launch_file_parses_and_describes_its_arguments(real_launch, install, mo
     description = get_launch_description_from_python_launch_file(
         str(share(install) / 'launch' / LAUNCH_FILE))
     arguments = description.get_launch_arguments()
-    defaults = {a.name: perform_substitutions(LaunchContext(), a.default_value)
-                for a in arguments}
-    assert defaults == {
-        'namespace': '', 'params_file': str(share(install) / 'config' / 'params.yaml'),
-        'use_sim_time': 'false', 'rviz': 'false'}
     assert all(a.description and a.description != 'no description given' for a in arguments)
+    for namespace, body_frame in (('', 'body'), ('/robot', 'robot/body'),
+                                  ('/a/b/', 'a/b/body')):
+        context = LaunchContext()
+        context.launch_configurations['namespace'] = namespace
+        defaults = {a.name: perform_substitutions(context, a.default_value) for a in arguments}
+        assert defaults == {
+            'namespace': '', 'params_file': str(share(install) / 'config' / 'params.yaml'),
+            'use_sim_time': 'false', 'rviz': 'false', 'body_frame_id': body_frame}
+    choices = {a.name: a.choices for a in arguments}
+    assert choices['rviz'] == choices['use_sim_time'] and {'True', 'true'} <= set(
+        choices['rviz'])
 
 
-def test_launch_starts_the_node_in_the_namespace(real_launch, ros, install):
-    """With the real ``launch``: namespace:=/robot runs /robot/mouse_constraint on /robot/pose."""
-    poses = ros.collect(PoseStamped, '/robot/pose')
+def launch_process(install: Path, arguments: list) -> subprocess.Popen:
+    """Start the installed launch file with the real ``launch`` in a process, output piped."""
     site_packages = next(install.glob('lib/python3*/site-packages'))
     python_path = os.pathsep.join(filter(None, [str(site_packages),
                                                 os.environ.get('PYTHONPATH')]))
@@ -347,21 +356,87 @@ def test_launch_starts_the_node_in_the_namespace(real_launch, ros, install):
         'service = LaunchService()\n'
         'service.include_launch_description(IncludeLaunchDescription(\n'
         '    PythonLaunchDescriptionSource(sys.argv[1]),\n'
-        '    launch_arguments=[("namespace", "/robot")]))\n'
+        '    launch_arguments=[a.split(":=", 1) for a in sys.argv[2:]]))\n'
         'sys.exit(service.run())\n')
-    process = subprocess.Popen(
-        [sys.executable, '-c', script, str(share(install) / 'launch' / LAUNCH_FILE)],
-        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=environment)
+    return subprocess.Popen(
+        [sys.executable, '-c', script, str(share(install) / 'launch' / LAUNCH_FILE),
+         *arguments], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+        env=environment)
+
+
+def stop(process: subprocess.Popen) -> str:
+    """SIGINT the launch process, wait for it; return its output."""
+    process.send_signal(signal.SIGINT)
+    try:
+        process.wait(timeout=15.0)
+    finally:
+        process.kill()
+    output, _ = process.communicate()
+    return output
+
+
+def node_parameters(ros, node: str, names: list) -> list:
+    """Return the values of ``names`` from ``node``'s parameter service (Python values)."""
+    from rcl_interfaces.srv import GetParameters
+    from rclpy.parameter import parameter_value_to_python
+
+    client = ros.probe.create_client(GetParameters, f'{node}/get_parameters')
+    assert ros.spin_until(client.service_is_ready, timeout=30.0)
+    future = client.call_async(GetParameters.Request(names=names))
+    assert ros.spin_until(future.done, timeout=10.0)
+    return [parameter_value_to_python(value) for value in future.result().values]
+
+
+def test_launch_starts_the_node_in_the_namespace(real_launch, ros, install):
+    """
+    With the real ``launch``: namespace:=/robot runs /robot/mouse_constraint on /robot/pose.
+
+    Its body frame on /tf is robot/body, so a second instance in another namespace publishes
+    another child frame.
+    """
+    poses = ros.collect(PoseStamped, '/robot/pose')
+    process = launch_process(install, ['namespace:=/robot'])
     try:
         assert ros.spin_until(lambda: len(poses) > 10, timeout=30.0)
-        publishers = ros.probe.get_publishers_info_by_topic('/robot/pose')
-        assert [(p.node_namespace, p.node_name) for p in publishers] == [('/robot', NODE_NAME)]
+
+        def publishers() -> list:
+            return [(p.node_namespace, p.node_name)
+                    for p in ros.probe.get_publishers_info_by_topic('/robot/pose')]
+        # The publisher's node name comes with discovery, a little after its first messages.
+        assert ros.spin_until(lambda: publishers() == [('/robot', NODE_NAME)], timeout=10.0), \
+            publishers()
+        assert node_parameters(ros, f'/robot/{NODE_NAME}', ['body_frame_id', 'frame_id']) == [
+            'robot/body', 'world']
     finally:
-        process.send_signal(signal.SIGINT)
-        try:
-            process.wait(timeout=15.0)
-        finally:
-            process.kill()
-    output, _ = process.communicate()
+        output = stop(process)
     assert process.returncode == 0, output
     assert 'process has finished cleanly' in output, output
+
+
+def test_launch_takes_capitalised_booleans(real_launch, ros, install):
+    """use_sim_time:=True and rviz:=False are taken: the node follows /clock, no RViz."""
+    process = launch_process(install, ['namespace:=/caps', 'use_sim_time:=True', 'rviz:=False',
+                                       'body_frame_id:=caps_body'])
+    try:
+        assert node_parameters(ros, f'/caps/{NODE_NAME}', ['use_sim_time', 'body_frame_id']) == [
+            True, 'caps_body']
+    finally:
+        output = stop(process)
+    assert process.returncode == 0, output
+    assert 'rviz2' not in output, output
+
+
+def test_rviz_true_without_rviz2_fails_before_the_node_starts(real_launch, install):
+    """
+    Where rviz2 is not installed, rviz:=true exits 1 naming it, and no node was started.
+
+    The launch process's ament index is the colcon install alone, so rviz2 is not in it.
+    """
+    process = launch_process(install, ['namespace:=/no_rviz', 'rviz:=true'])
+    try:
+        output, _ = process.communicate(timeout=60.0)
+    finally:
+        process.kill()
+    assert process.returncode == 1, output
+    assert "package 'rviz2' not found" in output, output
+    assert 'mouse_constraint_node' not in output, output
