@@ -231,8 +231,9 @@ class TargetPublisher(Node):
         landed = grab(state, values['box_size'], point)
         if landed.taken(margin):
             return None
-        return (f'{tuple(point)}: {landed.distance:.6g} m off the body at '
-                f'{tuple(state.position)}, farther than grab_margin {margin:g} m from its box')
+        at = ', '.join(f'{c:.3f}' for c in state.position)
+        return (f'{tuple(point)}: {landed.distance:.6g} m off the body at ({at}), farther '
+                f'than grab_margin {margin:g} m from its box')
 
 
 def parameter_value(value) -> object:
