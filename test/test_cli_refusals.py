@@ -108,7 +108,7 @@ def test_unanswered_parameters_are_said_and_the_target_still_goes_out(ros):
     """A subscriber but no parameter service: a warning, then the target, unchecked; exit 0."""
     received = ros.collect(PointStamped, 'target')
     result = run_while_spinning(ros, [str(BIN / 'mouse_target'), '1e9', '0', '0', '--node',
-                                      'nobody_here', '--timeout', '1'])
+                                      'nobody_here', '--timeout', '5'])
     assert result.returncode == 0, result.stderr
     assert 'no parameter service nobody_here/get_parameters' in result.stderr
     assert 'publishing it unchecked' in result.stderr
@@ -262,10 +262,10 @@ def test_grab_within_the_margin_is_published_and_taken(ros, resting_node):
 def test_subscribers_waits_for_that_many_and_says_how_many_matched(ros, node):
     """--subscribers 2 with only the node: exit 1 naming 1 of 2; with a second one: published."""
     short = run_while_spinning(ros, [str(BIN / 'mouse_target'), '0.5', '0', '1', '--subscribers',
-                                     '2', '--timeout', '1'])
+                                     '2', '--timeout', '5'])
     assert short.returncode == 1, short.stderr
     [line] = error_lines(short.stderr)
-    assert '1 of 2 subscribers on /target after 1 s' in line
+    assert '1 of 2 subscribers on /target after 5 s' in line
     received = ros.collect(PointStamped, 'target')
     result = run_while_spinning(ros, [str(BIN / 'mouse_target'), '0.5', '0', '1',
                                       '--subscribers', '2'])

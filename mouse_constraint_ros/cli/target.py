@@ -22,9 +22,7 @@ import sys
 import time
 from typing import List, Optional
 
-from geometry_msgs.msg import PointStamped, PoseStamped
-from rcl_interfaces.msg import ParameterType
-from rcl_interfaces.srv import GetParameters
+from geometry_msgs.msg import PointStamped
 import rclpy
 from rclpy.duration import Duration
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
@@ -33,20 +31,13 @@ from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
 from .help_text import plain_text
-from ..grab import grab
-from ..interface import GRAB_TOPIC, NODE_NAME, POSE_TOPIC, STATE_QOS, TARGET_QOS, TARGET_TOPIC
+from .node_checks import fetch_gate, grab_refusal
+from ..interface import GRAB_TOPIC, NODE_NAME, TARGET_QOS, TARGET_TOPIC
 from ..messages import point_message
-from ..physics import BodyState
 from ..spin import Interrupted, POLL_PERIOD, spin_until, SpinEnd, StopRequest, wait_until
-from ..target_gate import TargetGate
 
 # The frame of the targets when the node's frame_id cannot be read.
 FALLBACK_FRAME = 'world'
-# The node's parameters a target is checked against, and those a grab is checked against too.
-GATE_PARAMETERS = {'frame_id': ParameterType.PARAMETER_STRING,
-                   'workspace_radius': ParameterType.PARAMETER_DOUBLE}
-GRAB_PARAMETERS = {'box_size': ParameterType.PARAMETER_DOUBLE_ARRAY,
-                   'grab_margin': ParameterType.PARAMETER_DOUBLE}
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -162,88 +153,6 @@ class TargetPublisher(Node):
             lambda: self.publisher.wait_for_all_acked(Duration(seconds=POLL_PERIOD)),
             deadline=deadline)
 
-    def fetch_parameters(self, executor, target_node: str, types: dict, deadline: float,
-                         stop: StopRequest) -> dict:
-        """
-        Return the values of the parameters ``types`` names (name: ParameterType) of a node.
-
-        :raises RuntimeError: saying why the parameters could not be read by ``deadline``.
-        :raises Interrupted: on Ctrl-C or SIGTERM.
-        """
-        client = self.create_client(GetParameters, f'{target_node}/get_parameters')
-        try:
-            if not wait_until(executor, stop, client.service_is_ready, deadline=deadline):
-                raise RuntimeError(f'no parameter service {client.srv_name}')
-            future = client.call_async(GetParameters.Request(names=list(types)))
-            if not wait_until(executor, stop, future.done, deadline=deadline):
-                raise RuntimeError(f'{client.srv_name} did not answer')
-            values = future.result().values
-            if [value.type for value in values] != list(types.values()):
-                raise RuntimeError(f'{target_node} has not the parameters {", ".join(types)} '
-                                   'of mouse_constraint')
-            return {name: parameter_value(value) for name, value in zip(types, values)}
-        finally:
-            self.destroy_client(client)
-
-    def fetch_gate(self, executor, target_node: str, deadline: float,
-                   stop: StopRequest) -> TargetGate:
-        """
-        Return the target policy of ``target_node`` from its parameter service.
-
-        :raises RuntimeError: saying why the parameters could not be read by ``deadline``.
-        :raises Interrupted: on Ctrl-C or SIGTERM.
-        """
-        values = self.fetch_parameters(executor, target_node, GATE_PARAMETERS, deadline, stop)
-        return TargetGate(values['frame_id'], values['workspace_radius'])
-
-    def fetch_pose(self, executor, deadline: float, stop: StopRequest) -> BodyState:
-        """
-        Return the body's pose from the next message on ``pose`` (velocities zero).
-
-        :raises RuntimeError: when none came by ``deadline`` (e.g. the node is paused).
-        :raises Interrupted: on Ctrl-C or SIGTERM.
-        """
-        poses = []
-        subscription = self.create_subscription(PoseStamped, POSE_TOPIC, poses.append,
-                                                STATE_QOS)
-        try:
-            if not wait_until(executor, stop, lambda: bool(poses), deadline=deadline):
-                raise RuntimeError(f'no pose on {subscription.topic_name}')
-            p, q = poses[-1].pose.position, poses[-1].pose.orientation
-            return BodyState((p.x, p.y, p.z), (q.x, q.y, q.z, q.w))
-        finally:
-            self.destroy_subscription(subscription)
-
-    def grab_refusal(self, executor, target_node: str, point: List[float], deadline: float,
-                     stop: StopRequest) -> Optional[str]:
-        """
-        Return why ``target_node`` would ignore a grab at ``point`` as off its body, or None.
-
-        The node's own test (``grab.grab``) on its latest pose, ``box_size`` and
-        ``grab_margin``.
-
-        :raises RuntimeError: saying why the body could not be read by ``deadline``.
-        :raises Interrupted: on Ctrl-C or SIGTERM.
-        """
-        values = self.fetch_parameters(executor, target_node, GRAB_PARAMETERS, deadline, stop)
-        state = self.fetch_pose(executor, deadline, stop)
-        margin = values['grab_margin']
-        landed = grab(state, values['box_size'], point)
-        if landed.taken(margin):
-            return None
-        at = ', '.join(f'{c:.3f}' for c in state.position)
-        return (f'{tuple(point)}: {landed.distance:.6g} m off the body at ({at}), farther '
-                f'than grab_margin {margin:g} m from its box')
-
-
-def parameter_value(value) -> object:
-    """Return the Python value of an ``rcl_interfaces/ParameterValue`` of the types used here."""
-    if value.type == ParameterType.PARAMETER_STRING:
-        return value.string_value
-    if value.type == ParameterType.PARAMETER_DOUBLE_ARRAY:
-        return [float(c) for c in value.double_array_value]
-    return value.double_value
-
 
 def main(args: Optional[List[str]] = None) -> int:
     """
@@ -276,7 +185,7 @@ def main(args: Optional[List[str]] = None) -> int:
                     return 1
                 frame = options.frame
                 try:
-                    gate = node.fetch_gate(executor, options.node, deadline, stop)
+                    gate = fetch_gate(node, executor, options.node, deadline, stop)
                 except RuntimeError as error:
                     logger.warning(f'cannot check the {what} against {options.node}: {error} '
                                    f'within {options.timeout:g} s (is --node right?); '
@@ -293,8 +202,8 @@ def main(args: Optional[List[str]] = None) -> int:
                         return 1
                 if gate is not None and options.grab:
                     try:
-                        off = node.grab_refusal(executor, options.node, options.point,
-                                                deadline, stop)
+                        off = grab_refusal(node, executor, options.node, options.point,
+                                           deadline, stop)
                     except RuntimeError as error:
                         logger.warning(f'cannot check the grab against the body: {error} '
                                        f'within {options.timeout:g} s; publishing it unchecked')
