@@ -13,11 +13,11 @@ from rcl_interfaces.msg import ParameterType
 from rcl_interfaces.srv import GetParameters
 from rclpy.node import Node
 
-from ..grab import grab
-from ..interface import POSE_TOPIC, STATE_QOS
+from ..inputs.grab import grab
+from ..inputs.target_gate import TargetGate
 from ..physics import BodyState
-from ..spin import StopRequest, wait_until
-from ..target_gate import TargetGate
+from ..timing.spin import StopRequest, wait_until
+from ..wire.interface import POSE_TOPIC, STATE_QOS
 
 # The node's parameters a target is checked against, and those a grab is checked against too.
 GATE_PARAMETERS = {'frame_id': ParameterType.PARAMETER_STRING,
