@@ -6,9 +6,9 @@
 # figure also replaces the committed demo/figure.png.
 #
 # Every mouse_target waits until two subscribers matched its topic, the node and mouse_record,
-# so that the recording holds every target the node took and the figure is the same on every
-# run: each mouse_target is a new participant, and a volatile subscriber that discovers it late
-# never gets what was published before.
+# so that the recording holds every target the node took, in order, and every run draws the
+# same paths: each mouse_target is a new participant, and a volatile subscriber that discovers
+# it late never gets what was published before.
 #
 # The body starts hanging at rest from its anchor, a corner (initial_orientation puts the COM
 # below it), so the grab point's world position is known exactly, as a click on the body in RViz
