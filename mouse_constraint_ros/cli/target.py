@@ -192,9 +192,10 @@ def main(args: Optional[List[str]] = None) -> int:
                 logger.info(f'waiting up to {options.timeout:g} s for {wanted} '
                             f'subscriber{"s" if wanted > 1 else ""} on {topic}')
                 if not node.wait_for_subscribers(executor, wanted, deadline, stop):
+                    matched = node.publisher.get_subscription_count()
                     logger.error(
-                        f'{node.publisher.get_subscription_count()} of {wanted} subscribers on '
-                        f'{topic} after {options.timeout:g} s: is mouse_constraint running '
+                        f'{f"{matched} of {wanted} subscribers" if matched else "no subscriber"}'
+                        f' on {topic} after {options.timeout:g} s: is mouse_constraint running '
                         'with the same ROS_DOMAIN_ID, namespace and remappings?')
                     return 1
                 frame = options.frame
