@@ -34,8 +34,9 @@ def architecture_module_paths():
     """
     Yield (line, path) for every module docs/architecture.md names.
 
-    A path starting with the package's name is from the repository's root; a bare name in the
-    bullet of a folder is in that folder; any other is in the package.
+    A path starting with the package's name (or test/, test_support/, bench/) is from the
+    repository's root; a bare name in the bullet of a folder is in that folder; any other is in
+    the package.
     """
     folder = PACKAGE
     for line in ARCHITECTURE.read_text().splitlines():
@@ -45,7 +46,7 @@ def architecture_module_paths():
         elif not line.startswith('  '):
             folder = PACKAGE
         for name in re.findall(r'`([\w/]+\.py)`', line):
-            if name.startswith(PACKAGE + '/'):
+            if name.split('/')[0] in (PACKAGE, 'test', 'test_support', 'bench'):
                 yield line, ROOT / name
             else:
                 yield line, ROOT / folder / name
