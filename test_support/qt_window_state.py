@@ -30,7 +30,7 @@ The state is a ``QDataStream`` (big-endian) of:
 - the central widget's ``QSize`` and four ``int`` corners (which area owns each corner);
 - ``uchar 0xfc`` and the toolbar lines: an ``int`` count, each an ``int`` position and an ``int``
   count of toolbars, each its object name, ``uchar`` shown and orientation (1 shown, 2
-  horizontal), ``int`` position, ``int`` preferred size and two ``uint32`` of floating geometry.
+  vertical), ``int`` position, ``int`` preferred size and two ``uint32`` of floating geometry.
 
 This is the layout of qdockarealayout.cpp and qtoolbararealayout.cpp (Qt 5.15), read here so that
 a test can check which panels a .rviz docks; ``encode`` writes the same layout.
