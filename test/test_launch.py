@@ -303,6 +303,46 @@ def test_rviz_window_state_docks_every_panel():
     assert toolbar.name == 'Tools'   # rviz2's toolbar of tools
 
 
+def test_rviz_window_state_restores_in_qt(monkeypatch):
+    """
+    Qt itself, where PyQt5 is importable: the state docks rviz2's floating panels as intended.
+
+    As rviz2 does: every panel a floating dock widget named after it, then ``restoreState``;
+    Qt's own ``saveState`` afterwards reads back with the decoder.
+    """
+    widgets = pytest.importorskip('PyQt5.QtWidgets', reason='PyQt5 is not installed (Qt: '
+                                  'python3-pyqt5 on apt, where RViz is)')
+    from PyQt5 import QtCore
+    monkeypatch.setenv('QT_QPA_PLATFORM', 'offscreen')
+    configuration = yaml.safe_load((ROOT / 'rviz' / RVIZ_FILE).read_text())
+    application = widgets.QApplication.instance() or widgets.QApplication(['rviz_state'])
+    window = widgets.QMainWindow()
+    window.setCentralWidget(widgets.QWidget())
+    window.addToolBar('Tools').setObjectName('Tools')
+    docks = {}
+    for panel in configuration['Panels']:
+        dock = docks[panel['Name']] = widgets.QDockWidget(panel['Name'])
+        dock.setObjectName(panel['Name'])
+        dock.setFloating(True)
+        window.addDockWidget(QtCore.Qt.LeftDockWidgetArea, dock)
+    geometry = configuration['Window Geometry']
+    window.resize(geometry['Width'], geometry['Height'])
+    assert window.restoreState(QtCore.QByteArray.fromHex(
+        geometry['QMainWindow State'].encode()))
+    window.show()
+    application.processEvents()
+    areas = {name: window.dockWidgetArea(dock) for name, dock in docks.items()}
+    assert areas == {'Displays': QtCore.Qt.LeftDockWidgetArea,
+                     'Selection': QtCore.Qt.RightDockWidgetArea,
+                     'Tool Properties': QtCore.Qt.RightDockWidgetArea,
+                     'Views': QtCore.Qt.RightDockWidgetArea}
+    assert not any(dock.isFloating() for dock in docks.values())
+    assert [name for name, dock in docks.items() if not dock.isVisible()] == ['Selection']
+    saved = qt_window_state.decode(bytes(window.saveState()))
+    assert sorted(w.name for w in saved.dock_widgets()) == sorted(docks)
+    window.close()
+
+
 def test_qt_window_state_reads_what_qt_writes():
     """The decoder on a state with every kind of item: tabs, nested, floating, placeholders."""
     state = qt_window_state.WindowState(
