@@ -310,9 +310,9 @@ def test_rviz_window_state_restores_in_qt(monkeypatch):
     As rviz2 does: every panel a floating dock widget named after it, then ``restoreState``;
     Qt's own ``saveState`` afterwards reads back with the decoder.
     """
-    widgets = pytest.importorskip('PyQt5.QtWidgets', reason='PyQt5 is not installed (Qt: '
-                                  'python3-pyqt5 on apt, where RViz is)')
-    from PyQt5 import QtCore
+    reason = 'PyQt5 is not installed (Qt: python3-pyqt5 on apt, where RViz is)'
+    widgets = pytest.importorskip('PyQt5.QtWidgets', reason=reason)
+    QtCore = pytest.importorskip('PyQt5.QtCore', reason=reason)
     monkeypatch.setenv('QT_QPA_PLATFORM', 'offscreen')
     configuration = yaml.safe_load((ROOT / 'rviz' / RVIZ_FILE).read_text())
     application = widgets.QApplication.instance() or widgets.QApplication(['rviz_state'])
