@@ -196,7 +196,7 @@ class MouseViewNode(Node):
     def call(self, service: str, data: Optional[bool] = None) -> None:
         """Call one of the node's services; show its answer on the page."""
         client = self._node_services[service]
-        name = client.srv_name
+        name = self.target_node + service[1:]
         if not client.service_is_ready():
             self.scene.show_reply(f'{name}: no such service (is the node running?)')
             return
