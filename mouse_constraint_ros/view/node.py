@@ -87,7 +87,8 @@ class MouseViewNode(Node):
         self._twist_raw: Optional[bytes] = None
         self._latest: Optional[Pose] = None
         self._target: Optional[object] = None
-        self._present = self._parameters_known = False
+        self._present: Optional[bool] = None  # not looked yet
+        self._parameters_known = False
         self.pushes = 0
         self.grab_publisher = self.create_publisher(PointStamped, GRAB_TOPIC, TARGET_QOS)
         self.target_publisher = self.create_publisher(PointStamped, TARGET_TOPIC, TARGET_QOS)
@@ -267,7 +268,11 @@ class MouseViewNode(Node):
         self.scene.apply_parameters(self.parameters)
 
     def _look_for_node(self) -> None:
-        present = self.count_publishers(self.pose_subscription.topic_name) > 0
+        topic = self.pose_subscription.topic_name
+        present = self.count_publishers(topic) > 0
+        if present != self._present:
+            self.get_logger().info(f'{self.target_node} publishes on {topic}' if present else
+                                   f'no node on {topic}: waiting for it')
         if not present:
             self.readouts, self._parameters_known = Readouts(), False
         elif not self._parameters_known and self._get_parameters.service_is_ready():
