@@ -13,7 +13,7 @@ import sys
 from typing import List, Optional
 
 import rclpy
-from rclpy.executors import SingleThreadedExecutor
+from rclpy.experimental import EventsExecutor
 from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 import viser
@@ -92,7 +92,7 @@ def main(args: Optional[List[str]] = None) -> int:
                 node.get_logger().warning(warning)
             print(f'mouse_view: open {page_address(options.host, server.get_port())} '
                   f'(viewing {node.target_node})', flush=True)
-            executor = SingleThreadedExecutor(context=node.context)
+            executor = EventsExecutor(context=node.context)
             executor.add_node(node)
             spin_until(executor, stop)
     finally:

@@ -7,8 +7,10 @@ node's parameters and /diagnostics say. All names are the ``interface`` module's
 view's namespace, so ``--ros-args -r __ns:=/robot`` views ``/robot/mouse_constraint``.
 
 viser calls the pointer and button callbacks on its own threads; they only queue work with the
-time of the event and wake the executor (a guard condition), so every publish and service call
-happens on the executor's thread. Poses and twists are taken raw and decoded only when used.
+time of the event, which a timer runs every ``WORK_PERIOD`` on the executor's thread, so every
+publish and service call happens there (the EventsExecutor has no guard conditions to wake it
+sooner). The same timer takes the newest pose (``NewestMessage``: no callback per pose) and
+offers it to the throttle; poses and twists are decoded only when used.
 """
 
 import queue
@@ -27,6 +29,7 @@ from visualization_msgs.msg import Marker, MarkerArray
 
 from .geometry import Pose, world_point
 from .gestures import Action, Camera, Gestures, GRAB, RELEASE
+from .newest_message import NewestMessage
 from .node_readouts import number_text, Readouts, ViewParameters
 from .push_throttle import PushThrottle
 from ..interface import (DIAGNOSTICS_TOPIC, GRAB_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH, NODE_NAME,
@@ -37,8 +40,9 @@ from ..messages import point_message
 # Only the newest pose and twist matter to the view: depth 1, best effort (a reliable
 # publisher serves it).
 LATEST_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)
-# Periods (s): the throttle's flush, the panel's numbers, the look for the node.
-FLUSH_PERIOD, PANEL_PERIOD, PRESENCE_PERIOD = 1.0 / 120.0, 0.2, 0.5
+# Periods (s): the queued work and the throttle's flush, the panel's numbers, the look for
+# the node.
+WORK_PERIOD, PANEL_PERIOD, PRESENCE_PERIOD = 0.004, 0.2, 0.5
 # The parameters the page is drawn with.
 PARAMETER_NAMES = list(ViewParameters._fields)
 
@@ -92,10 +96,12 @@ class MouseViewNode(Node):
         self.pushes = 0
         self.grab_publisher = self.create_publisher(PointStamped, GRAB_TOPIC, TARGET_QOS)
         self.target_publisher = self.create_publisher(PointStamped, TARGET_TOPIC, TARGET_QOS)
-        self.pose_subscription = self.create_subscription(
-            PoseStamped, POSE_TOPIC, self._on_pose, LATEST_QOS, raw=True)
-        self.create_subscription(TwistStamped, TWIST_TOPIC, self._on_twist, LATEST_QOS,
-                                 raw=True)
+        # Never spun: its pose and twist subscriptions are only taken from (NewestMessage).
+        self.reader = Node(f'{VIEW_NODE_NAME}_reader', context=self.context,
+                           namespace=self.get_namespace())
+        self.pose_subscription = NewestMessage(self.reader, PoseStamped, POSE_TOPIC, LATEST_QOS)
+        self.twist_subscription = NewestMessage(self.reader, TwistStamped, TWIST_TOPIC,
+                                                LATEST_QOS)
         self.create_subscription(MarkerArray, node_name(MARKERS_TOPIC), self._on_markers,
                                  MONITOR_DEPTH)
         self.create_subscription(DiagnosticArray, DIAGNOSTICS_TOPIC, self._on_diagnostics,
@@ -107,10 +113,9 @@ class MouseViewNode(Node):
             (RELEASE_SERVICE, Trigger))}
         self._get_parameters = self.create_client(GetParameters,
                                                   f'{NODE_NAME}/get_parameters')
-        self._wake = self.create_guard_condition(self._drain)
         self.scene = scene_factory(self.parameters)
         self._bind_scene()
-        self._timers = [self.create_timer(FLUSH_PERIOD, self._flush),
+        self._timers = [self.create_timer(WORK_PERIOD, self._run_work),
                         self.create_timer(PANEL_PERIOD, self._update_panel),
                         self.create_timer(PRESENCE_PERIOD, self._look_for_node)]
         self._look_for_node()
@@ -118,11 +123,15 @@ class MouseViewNode(Node):
     # Work from viser's threads: queued with the event's time, run on the executor's.
 
     def queue(self, work: Callable[[], None]) -> None:
-        """Run ``work()`` on the executor's thread, soon (thread-safe)."""
+        """Run ``work()`` on the executor's thread within ``WORK_PERIOD`` (thread-safe)."""
         self._work.put(work)
-        self._wake.trigger()
 
-    def _drain(self) -> None:
+    def _run_work(self) -> None:
+        raw = self.pose_subscription.take()
+        if raw is not None:
+            self._on_pose(raw)
+        elif self.throttle.flush(self._monotonic()) is not None:
+            self._push()
         while True:
             try:
                 work = self._work.get_nowait()
@@ -224,9 +233,6 @@ class MouseViewNode(Node):
         if self.throttle.offer(raw, self._monotonic()) is not None:
             self._push()
 
-    def _on_twist(self, raw: bytes) -> None:
-        self._twist_raw = raw
-
     def latest_pose(self) -> Optional[Pose]:
         """Return the node's latest pose (None before the first), decoded once."""
         if self._latest is None and self._pose_raw is not None:
@@ -235,10 +241,6 @@ class MouseViewNode(Node):
             except Exception:  # A malformed pose is passed over.
                 self._pose_raw = None
         return self._latest
-
-    def _flush(self) -> None:
-        if self.throttle.flush(self._monotonic()) is not None:
-            self._push()
 
     def _push(self) -> None:
         pose = self.latest_pose()
@@ -291,6 +293,7 @@ class MouseViewNode(Node):
 
     def _update_panel(self) -> None:
         speed = None
+        self._twist_raw = self.twist_subscription.take() or self._twist_raw
         if self._twist_raw is not None:
             try:
                 linear = deserialize_message(self._twist_raw, TwistStamped).twist.linear
@@ -312,4 +315,5 @@ class MouseViewNode(Node):
         """Stop the timers, then destroy the node."""
         for timer in self._timers:
             timer.cancel()
+        self.reader.destroy_node()
         super().destroy_node()

@@ -21,8 +21,9 @@ from .node_readouts import ViewParameters
 from ..markers import ANCHOR_COLOR, BODY_COLOR, LINE_FRACTION, SPHERE_FRACTION, TARGET_COLOR
 from ..physics.algebra import Vector3
 
-# Anchor positions the trail keeps: about a second at the push rate.
-TRAIL_LENGTH = 60
+# The trail keeps every TRAIL_EVERY-th anchor position pushed, TRAIL_LENGTH of them: about a
+# second at 60 pushes a second.
+TRAIL_EVERY, TRAIL_LENGTH = 3, 20
 TRAIL_COLOR = (1.0, 0.75, 0.4)
 FLOOR_COLOR = (0.55, 0.55, 0.55)
 # The floor drawn: a square slab this wide (m) and thin, its top at floor_height.
@@ -45,6 +46,7 @@ class ViewScene:
     def __init__(self, server: viser.ViserServer, parameters: ViewParameters) -> None:
         """Add every scene node and panel element."""
         scene, gui = server.scene, server.gui
+        self._server = server
         scene.world_axes.visible = True
         scene.add_grid('/grid', GRID_WIDTH, GRID_WIDTH, plane='xy', cell_size=GRID_CELL,
                        section_size=1.0)
@@ -54,7 +56,8 @@ class ViewScene:
         self.body = scene.add_box('/body', _rgb(BODY_COLOR), parameters.box_size,
                                   opacity=BODY_COLOR[3])
         radius = 0.5 * SPHERE_FRACTION * max(parameters.box_size)
-        self.anchor = scene.add_icosphere('/anchor', radius, _rgb(ANCHOR_COLOR))
+        # A child of the body: it moves with the body's pose, at no cost per push.
+        self.anchor = scene.add_icosphere('/body/anchor', radius, _rgb(ANCHOR_COLOR))
         self.target = scene.add_icosphere('/target', radius, _rgb(TARGET_COLOR), visible=False)
         self._line_width = LINE_FRACTION * max(parameters.box_size)
         self.line = scene.add_line_segments('/constraint', np.zeros((1, 2, 3)),
@@ -74,6 +77,7 @@ class ViewScene:
         self.numbers = gui.add_markdown('')
         self.reply = gui.add_markdown('')
         self.shown: Optional[Pose] = None
+        self._pushes = 0
         self._anchor: Optional[Vector3] = None
         self._target: Optional[Vector3] = None
         self.apply_parameters(parameters)
@@ -81,21 +85,29 @@ class ViewScene:
     def apply_parameters(self, parameters: ViewParameters) -> None:
         """Draw the box at ``box_size`` and the floor as the node's parameters say."""
         self.body.dimensions = parameters.box_size
+        self.anchor.position = parameters.anchor
         self.floor.visible = parameters.floor
         self.floor.position = (0.0, 0.0, parameters.floor_height - 0.5 * FLOOR_THICKNESS)
 
     def show_pose(self, pose: Pose, anchor: Vector3) -> None:
-        """Move the body to ``pose`` and the anchor sphere to ``anchor``; extend the trail."""
-        self.body.position, self.body.wxyz = pose.position, wxyz(pose.orientation)
-        self.anchor.position = anchor
-        self.shown = pose
-        self._trail.append(anchor)
-        if len(self._trail) >= 2:
-            points = np.asarray(self._trail)
-            self.trail.points = np.stack([points[:-1], points[1:]], axis=1)
-            self.trail.visible = True
-        self._anchor = anchor
-        self._update_line()
+        """
+        Move the body (and its anchor sphere) to ``pose``; extend the trail and the line.
+
+        :param pose: the body's pose.
+        :param anchor: the anchor's world position at ``pose``.
+        """
+        with self._server.atomic():  # position and orientation land in one frame
+            self.body.position, self.body.wxyz = pose.position, wxyz(pose.orientation)
+        self.shown, self._anchor = pose, anchor
+        self._pushes += 1
+        if self._pushes % TRAIL_EVERY == 0:
+            self._trail.append(anchor)
+            if len(self._trail) >= 2:
+                points = np.asarray(self._trail)
+                self.trail.points = np.stack([points[:-1], points[1:]], axis=1)
+                self.trail.visible = True
+        if self._target is not None:
+            self._update_line()
 
     def show_target(self, target: Optional[Vector3]) -> None:
         """Show the target and the line to it, or hide both (a free body)."""
