@@ -139,7 +139,8 @@ def test_a_real_mouse_grabs_drags_and_releases_the_body(ros, chromium_page, tmp_
             wait_for(lambda: np.linalg.norm(np.subtract(world_point(
                 view.latest_pose(), anchor), expected)) < 0.01, 10.0,
                 "the anchor followed the drag to the pointer's plane point")
-            time.sleep(1.0)  # the page catches up before the picture
+            # The picture while the body is on its way back: target, line and trail in sight.
+            page.mouse.move(*(end - 1.5 * DRAG), steps=4)
             shot = Path(os.environ.get('MOUSE_VIEW_SCREENSHOT', tmp_path / 'view.png'))
             page.screenshot(path=str(shot))
             assert shot.stat().st_size > 10_000

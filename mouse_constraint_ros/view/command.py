@@ -26,7 +26,7 @@ from ..spin import spin_until, StopRequest
 LOOPBACK = '127.0.0.1'
 DEFAULT_PORT = 8080
 # Where the camera starts (m, world): the shipped body hangs about 1 m up at the origin.
-INITIAL_CAMERA, INITIAL_LOOK_AT = (1.6, -2.0, 1.6), (0.0, 0.0, 0.8)
+INITIAL_CAMERA, INITIAL_LOOK_AT = (1.2, -1.6, 1.4), (0.0, 0.0, 0.9)
 
 
 def build_parser() -> argparse.ArgumentParser:
