@@ -41,6 +41,9 @@ AT_REST = {'gravity': [0.0, 0.0, 0.0], 'hold_initial_anchor': False, 'box_size':
 DEFAULT_ANCHOR = (0.2, 0.1, 0.05)
 # The drag, in pixels from the press.
 DRAG = np.array([120.0, -80.0])
+# How long presses are tried until the page has drawn the body (s): SwiftShader's first frame
+# takes 10-20 s, several times that on a loaded machine.
+GRAB_TIMEOUT = 180.0
 
 
 @contextlib.contextmanager
@@ -183,7 +186,7 @@ def _grab(page, node, aim):
 
     :returns: the camera and the pressed pixel of the try that grabbed.
     """
-    deadline = time.monotonic() + 60.0
+    deadline = time.monotonic() + GRAB_TIMEOUT
     while True:
         camera, press = aim()
         page.mouse.move(*press)
@@ -196,5 +199,8 @@ def _grab(page, node, aim):
         except pytest.fail.Exception:
             page.mouse.up()  # the page was not drawn yet: press again
             if time.monotonic() > deadline:
-                pytest.fail('no grab reached the node within 60 s of pressing on the body')
+                shot = Path(os.environ.get('MOUSE_VIEW_SCREENSHOT', '/tmp/view.png'))
+                page.screenshot(path=str(shot.with_name('view-no-grab.png')))
+                pytest.fail(f'no grab reached the node within {GRAB_TIMEOUT:g} s of pressing at '
+                            f'{press}: see {shot.with_name("view-no-grab.png")}')
             time.sleep(1.0)

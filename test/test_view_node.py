@@ -8,6 +8,7 @@ The browser tier (test_view_browser) drives the same callbacks through a real br
 """
 
 import asyncio
+import time
 from types import SimpleNamespace
 
 import numpy as np
@@ -19,6 +20,7 @@ from mouse_constraint_ros.view.command import serve
 from mouse_constraint_ros.view.geometry import world_point
 from mouse_constraint_ros.view.gestures import HOLD_MODIFIER
 from mouse_constraint_ros.view.node import MouseViewNode
+from mouse_constraint_ros.view.push_throttle import MAX_PUSH_RATE
 from mouse_constraint_ros.view.scene import ViewScene
 
 AT_REST = {'gravity': [0.0, 0.0, 0.0], 'hold_initial_anchor': False}
@@ -109,10 +111,14 @@ def test_a_held_release_keeps_the_target_and_a_click_grabs_on_the_box(ros, serve
 
 
 def test_the_page_follows_the_nodes_parameters_and_buttons(ros, server):
-    """box_size and floor changes redraw the page; pause, step, reset answer through the page."""
+    """At most 60 pushes a second; a box_size change redraws it; pause, step, reset answer."""
     node = _node(ros)
     view = _view(ros, server)
     _ready(ros, view, node)
+    pushes, start = view.pushes, time.monotonic()
+    ros.spin_for(2.0)
+    rate = (view.pushes - pushes) / (time.monotonic() - start)
+    assert 5.0 < rate <= MAX_PUSH_RATE + 1.0  # the node publishes at 1 kHz
     node.set_parameters([Parameter('box_size', value=[0.5, 0.3, 0.2])])
     assert ros.spin_until(lambda: tuple(view.scene.body.dimensions) == (0.5, 0.3, 0.2))
     view.toggle_pause()

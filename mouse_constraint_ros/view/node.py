@@ -72,7 +72,7 @@ class MouseViewNode(Node):
     """
     The view of one ``mouse_constraint`` node in this namespace.
 
-    :param scene: the page (``ViewScene``), or anything with its methods.
+    :param scene_factory: makes the page (``ViewScene``) from the node's parameters as known.
     :param clock: seconds of a monotonic clock (the throttle's time).
     :param kwargs: passed to ``rclpy.node.Node``.
     """
@@ -90,10 +90,9 @@ class MouseViewNode(Node):
         self._pose_raw: Optional[bytes] = None
         self._twist_raw: Optional[bytes] = None
         self._latest: Optional[Pose] = None
-        self._target: Optional[object] = None
         self._present: Optional[bool] = None  # not looked yet
         self._parameters_known = False
-        self.pushes = 0
+        self.pushes = 0  # poses pushed to the page
         self.grab_publisher = self.create_publisher(PointStamped, GRAB_TOPIC, TARGET_QOS)
         self.target_publisher = self.create_publisher(PointStamped, TARGET_TOPIC, TARGET_QOS)
         # Never spun: its pose and twist subscriptions are only taken from (NewestMessage).
@@ -195,13 +194,11 @@ class MouseViewNode(Node):
         """Publish grabs and targets stamped ``stamp_ns``, call ``~/release`` for a release."""
         for action in actions:
             if action.kind == RELEASE:
-                self._target = None
                 self.call(RELEASE_SERVICE)
                 continue
             message = point_message(action.point, self.parameters.frame_id, stamp_ns)
             (self.grab_publisher if action.kind == GRAB else self.target_publisher).publish(
                 message)
-            self._target = action.point
 
     def call(self, service: str, data: Optional[bool] = None) -> None:
         """Call one of the node's services; show its answer on the page."""
