@@ -37,7 +37,9 @@ CHROMIUM_ARGS = ['--headless', '--no-sandbox', '--disable-gpu', '--disable-backg
                  '--disable-component-update', '--disable-sync', '--no-first-run']
 VIEWPORT = {'width': 1280, 'height': 720}
 BOX = (0.4, 0.2, 0.1)
-AT_REST = {'gravity': [0.0, 0.0, 0.0], 'hold_initial_anchor': False, 'box_size': list(BOX)}
+# The body at rest where it starts; a slow guide, so that the picture catches it on its way.
+AT_REST = {'gravity': [0.0, 0.0, 0.0], 'hold_initial_anchor': False, 'box_size': list(BOX),
+           'max_target_speed': 0.25}
 DEFAULT_ANCHOR = (0.2, 0.1, 0.05)
 # The drag, in pixels from the press.
 DRAG = np.array([120.0, -80.0])
@@ -144,6 +146,7 @@ def test_a_real_mouse_grabs_drags_and_releases_the_body(ros, chromium_page, tmp_
                 "the anchor followed the drag to the pointer's plane point")
             # The picture while the body is on its way back: target, line and trail in sight.
             page.mouse.move(*(end - 1.5 * DRAG), steps=4)
+            time.sleep(0.5)
             shot = Path(os.environ.get('MOUSE_VIEW_SCREENSHOT', tmp_path / 'view.png'))
             page.screenshot(path=str(shot))
             assert shot.stat().st_size > 10_000
