@@ -23,8 +23,8 @@ import pytest
 from rclpy.parameter import Parameter
 from scipy.spatial.transform import Rotation
 
-from mouse_constraint_ros.grab import box_distance
-from mouse_constraint_ros.node import MouseConstraintNode
+from mouse_constraint_ros.inputs.grab import box_distance
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.view.command import page_address, serve
 from mouse_constraint_ros.view.geometry import camera_plane_point, world_point
 from mouse_constraint_ros.view.node import MouseViewNode

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from mouse_constraint_ros.grab import grab
+from mouse_constraint_ros.inputs.grab import grab
 from mouse_constraint_ros.physics import BodyState
 from mouse_constraint_ros.view.geometry import (camera_plane_point, material_point, Pose,
                                                 ray_box_hit, world_point, wxyz)

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from rclpy.parameter import Parameter
 
-from mouse_constraint_ros.node import MouseConstraintNode
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.view.command import serve
 from mouse_constraint_ros.view.geometry import world_point
 from mouse_constraint_ros.view.gestures import HOLD_MODIFIER

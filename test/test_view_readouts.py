@@ -6,9 +6,9 @@ from hypothesis import given, settings, strategies as st
 import pytest
 from rcl_interfaces.msg import ParameterType, ParameterValue
 
-from mouse_constraint_ros.diagnostics import (constraint_status, diagnostic_array, Pacing,
-                                              rate_status, simulator_status, TickCounters,
-                                              USER_TARGET, Window)
+from mouse_constraint_ros.monitoring.diagnostics import (constraint_status, diagnostic_array,
+                                                         Pacing, rate_status, simulator_status,
+                                                         TickCounters, USER_TARGET, Window)
 from mouse_constraint_ros.view.command import host_warning, page_address
 from mouse_constraint_ros.view.node_readouts import number_text, Readouts, ViewParameters
 from mouse_constraint_ros.view.push_throttle import MAX_PUSH_RATE, PushThrottle

@@ -21,7 +21,7 @@ import viser
 from .node import MouseViewNode
 from .scene import ViewScene
 from ..cli.help_text import plain_text
-from ..spin import spin_until, StopRequest
+from ..timing.spin import spin_until, StopRequest
 
 LOOPBACK = '127.0.0.1'
 DEFAULT_PORT = 8080

@@ -32,10 +32,11 @@ from .gestures import Action, Camera, Gestures, GRAB, RELEASE
 from .newest_message import NewestMessage
 from .node_readouts import number_text, Readouts, ViewParameters
 from .push_throttle import PushThrottle
-from ..interface import (DIAGNOSTICS_TOPIC, GRAB_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH, NODE_NAME,
-                         PAUSE_SERVICE, POSE_TOPIC, RELEASE_SERVICE, RESET_SERVICE,
-                         STEP_SERVICE, TARGET_QOS, TARGET_TOPIC, TWIST_TOPIC, VIEW_NODE_NAME)
-from ..messages import point_message
+from ..wire.interface import (DIAGNOSTICS_TOPIC, GRAB_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH,
+                              NODE_NAME, PAUSE_SERVICE, POSE_TOPIC, RELEASE_SERVICE,
+                              RESET_SERVICE, STEP_SERVICE, TARGET_QOS, TARGET_TOPIC, TWIST_TOPIC,
+                              VIEW_NODE_NAME)
+from ..wire.messages import point_message
 
 # Only the newest pose and twist matter to the view: depth 1, best effort (a reliable
 # publisher serves it).

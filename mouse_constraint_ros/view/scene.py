@@ -18,7 +18,8 @@ import viser
 
 from .geometry import Pose, wxyz
 from .node_readouts import ViewParameters
-from ..markers import ANCHOR_COLOR, BODY_COLOR, LINE_FRACTION, SPHERE_FRACTION, TARGET_COLOR
+from ..monitoring.markers import (ANCHOR_COLOR, BODY_COLOR, LINE_FRACTION, SPHERE_FRACTION,
+                                  TARGET_COLOR)
 from ..physics.algebra import Vector3
 
 # The trail keeps every TRAIL_EVERY-th anchor position pushed, TRAIL_LENGTH of them: about a
