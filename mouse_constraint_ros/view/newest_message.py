@@ -3,7 +3,7 @@ The newest message of a fast topic, taken when the view wants it rather than eac
 
 The node publishes its pose and twist at its publish rate, 1 kHz by default; the view needs the
 newest at most 60 times a second. A subscription in an executor costs a Python callback per
-message (about 15 % of a core at 1 kHz here); ``NewestMessage`` keeps its subscription out of
+message, 2 000 a second for pose and twist; ``NewestMessage`` keeps its subscription out of
 every executor (on a node of its own that is never spun) with depth 1, so the middleware keeps
 only the newest message, and ``take`` reads it, serialized, with rclpy's own take (as
 ``rclpy.wait_for_message`` does).
