@@ -25,7 +25,8 @@ from scipy.spatial.transform import Rotation
 
 from mouse_constraint_ros.inputs.grab import box_distance
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
-from mouse_constraint_ros.view.command import page_address, serve
+from mouse_constraint_ros.view.command import (INITIAL_CAMERA, INITIAL_LOOK_AT, page_address,
+                                               serve)
 from mouse_constraint_ros.view.geometry import camera_plane_point, world_point
 from mouse_constraint_ros.view.node import MouseViewNode
 from mouse_constraint_ros.view.scene import ViewScene
@@ -169,8 +170,16 @@ def _facing(pose, local, camera: PinholeCamera) -> float:
 
 
 def _aim(server, view):
-    """Return the browser's camera and the pixel of the centre of the face that looks at it."""
-    camera = PinholeCamera(next(iter(server.get_clients().values())).camera)
+    """
+    Return the browser's camera and the pixel of the centre of the face that looks at it.
+
+    The camera is put back where it starts first: a press before the page has drawn the body
+    orbits it.
+    """
+    client = next(iter(server.get_clients().values()))
+    client.camera.position, client.camera.look_at = INITIAL_CAMERA, INITIAL_LOOK_AT
+    time.sleep(0.5)
+    camera = PinholeCamera(client.camera)
     assert abs(camera.width / camera.height - 1280 / 720) < 0.05
     pose = view.latest_pose()
     faces = [tuple(s * h if i == axis else 0.0 for i, h in enumerate(np.array(BOX) / 2))
@@ -185,7 +194,7 @@ def _grab(page, node, aim):
     """
     Press on the body and move past the drag threshold until the node takes the grab.
 
-    A press before the page has drawn the body orbits the camera a little: each try aims anew.
+    Each try aims anew, the camera put back where it starts.
 
     :returns: the camera and the pressed pixel of the try that grabbed.
     """

@@ -87,8 +87,8 @@ def test_press_drag_release_reach_the_node(ros, server):
         lambda: view.scene.reply.content == '/mouse_constraint/release: released')
 
 
-def test_a_held_release_keeps_the_target_and_a_click_grabs_on_the_box(ros, server):
-    """Shift at release: no release. A click: a grab where the ray meets the box, a release."""
+def test_a_held_release_keeps_the_target(ros, server):
+    """Shift at release: the last target stays, no release."""
     node = _node(ros)
     view = _view(ros, server)
     _ready(ros, view, node)
@@ -99,6 +99,13 @@ def test_a_held_release_keeps_the_target_and_a_click_grabs_on_the_box(ros, serve
                           and abs(node.simulation.target[2] - 1.3) < 0.05)
     ros.spin_for(0.3)
     assert node.simulation.target is not None
+
+
+def test_a_click_grabs_where_its_ray_meets_the_box_and_releases(ros, server):
+    """A click on the body at rest: the anchor on its top face, then the body free."""
+    node = _node(ros)
+    view = _view(ros, server)
+    _ready(ros, view, node)
     pose = view.latest_pose()
     top = world_point(pose, (0.05, 0.0, 0.05))
     ray = np.array(top) - (0.0, 0.0, 3.0)
@@ -163,3 +170,11 @@ def test_the_view_follows_a_namespace(ros, server):
     ros.add(MouseConstraintNode(context=ros.context, namespace='/robot'))
     assert ros.spin_until(lambda: view.scene.shown is not None
                           and '/robot/mouse_constraint' in view.scene.status.content)
+
+
+def test_the_page_stays_live_on_a_clock_that_stands_still(ros, server):
+    """With use_sim_time and no /clock the view's timers still run: the page says no node."""
+    view = ros.add(MouseViewNode(scene_factory=lambda p: ViewScene(server, p),
+                                 context=ros.context,
+                                 parameter_overrides=[Parameter('use_sim_time', value=True)]))
+    assert ros.spin_until(lambda: 'no node on /pose' in view.scene.status.content)

@@ -21,6 +21,7 @@ from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
 from rcl_interfaces.msg import ParameterEvent
 from rcl_interfaces.srv import GetParameters
+from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from rclpy.qos import qos_profile_parameter_events, QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
@@ -115,9 +116,11 @@ class MouseViewNode(Node):
                                                   f'{NODE_NAME}/get_parameters')
         self.scene = scene_factory(self.parameters)
         self._bind_scene()
-        self._timers = [self.create_timer(WORK_PERIOD, self._run_work),
-                        self.create_timer(PANEL_PERIOD, self._update_panel),
-                        self.create_timer(PRESENCE_PERIOD, self._look_for_node)]
+        # On the steady clock: the page stays live while a simulated clock stands still.
+        steady = Clock(clock_type=ClockType.STEADY_TIME)
+        self._timers = [self.create_timer(period, callback, clock=steady) for period, callback in (
+            (WORK_PERIOD, self._run_work), (PANEL_PERIOD, self._update_panel),
+            (PRESENCE_PERIOD, self._look_for_node))]
         self._look_for_node()
 
     # Work from viser's threads: queued with the event's time, run on the executor's.
