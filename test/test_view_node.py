@@ -13,6 +13,8 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from rcl_interfaces.msg import Parameter as RclParameter, ParameterEvent, ParameterType, \
+    ParameterValue
 from rclpy.parameter import Parameter
 
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
@@ -21,7 +23,7 @@ from mouse_constraint_ros.view.geometry import world_point
 from mouse_constraint_ros.view.gestures import HOLD_MODIFIER
 from mouse_constraint_ros.view.node import MouseViewNode
 from mouse_constraint_ros.view.push_throttle import MAX_PUSH_RATE
-from mouse_constraint_ros.view.scene import ViewScene
+from mouse_constraint_ros.view.scene import FLOOR_THICKNESS, ViewScene
 
 AT_REST = {'gravity': [0.0, 0.0, 0.0], 'hold_initial_anchor': False}
 CAMERA = SimpleNamespace(position=np.array([0.0, -3.0, 1.0]), look_at=np.array([0.0, 0.0, 1.0]))
@@ -178,3 +180,26 @@ def test_the_page_stays_live_on_a_clock_that_stands_still(ros, server):
                                  context=ros.context,
                                  parameter_overrides=[Parameter('use_sim_time', value=True)]))
     assert ros.spin_until(lambda: 'no node on /pose' in view.scene.status.content)
+
+
+def test_a_floor_parameter_draws_the_floor_and_unknown_ones_change_nothing(ros, server):
+    """``floor`` true at ``floor_height`` in /parameter_events shows the slab; others pass by."""
+    view = _view(ros, server)
+    publisher = ros.probe.create_publisher(ParameterEvent, '/parameter_events', 10)
+    assert ros.spin_until(lambda: publisher.get_subscription_count() > 0)
+    assert not view.scene.floor.visible
+
+    def event(node: str, *parameters) -> ParameterEvent:
+        return ParameterEvent(node=node, changed_parameters=list(parameters))
+    floor = RclParameter(name='floor', value=ParameterValue(
+        type=ParameterType.PARAMETER_BOOL, bool_value=True))
+    height = RclParameter(name='floor_height', value=ParameterValue(
+        type=ParameterType.PARAMETER_DOUBLE, double_value=-0.25))
+    unknown = RclParameter(name='no_such_parameter', value=ParameterValue(
+        type=ParameterType.PARAMETER_STRING, string_value='x'))
+    publisher.publish(event('/elsewhere/mouse_constraint', floor))
+    ros.spin_for(0.3)
+    assert not view.scene.floor.visible
+    publisher.publish(event('/mouse_constraint', floor, height, unknown))
+    assert ros.spin_until(lambda: view.scene.floor.visible)
+    assert view.scene.floor.position[2] == pytest.approx(-0.25 - 0.5 * FLOOR_THICKNESS)
