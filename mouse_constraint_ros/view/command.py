@@ -20,7 +20,6 @@ import viser
 
 from .node import MouseViewNode
 from .scene import ViewScene
-from ..cli.help_text import plain_text
 from ..timing.spin import spin_until, StopRequest
 
 LOOPBACK = '127.0.0.1'
@@ -32,7 +31,9 @@ INITIAL_CAMERA, INITIAL_LOOK_AT = (1.2, -1.6, 1.4), (0.0, 0.0, 0.9)
 def build_parser() -> argparse.ArgumentParser:
     """Return the command's argument parser; every option's help names its default."""
     parser = argparse.ArgumentParser(
-        prog='mouse_view', description=plain_text(__doc__.split('\n\n')[0].strip()),
+        prog='mouse_view',
+        description='Serve the web view of mouse_constraint: the body in a browser, dragged '
+                    'with the mouse.',
         epilog='open the printed address in a browser: press on the body and drag it; '
                'add --ros-args -r __ns:=/robot to view /robot/mouse_constraint')
     parser.add_argument('--host', default=LOOPBACK,
