@@ -46,6 +46,7 @@ SUITE = [
     ('latency', 'target published -> first pose reflecting it, at 1 kHz'),
     ('soak', '10 min simulated at 1 kHz, the core directly'),
     ('flood', 'target floods at the 1 kHz node: 5 000/s plain, unbounded, hostile'),
+    ('view_cost', 'mouse_view with one headless browser; the node with and without it'),
     # Last: the longest, and nothing else runs while it does.
     ('memory', 'node RSS over minutes at 1 kHz, every path exercised'),
 ]

@@ -61,3 +61,5 @@ STEP_SERVICE = '~/step'
 CLOCK_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
                        reliability=ReliabilityPolicy.RELIABLE)
 WRENCH_QOS = TARGET_QOS
+# The browser view of the node (``mouse_view``), in the node's namespace.
+VIEW_NODE_NAME = 'mouse_view'
