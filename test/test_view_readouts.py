@@ -1,3 +1,17 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """The web view's push throttle, and what it reads from the node's parameters and diagnostics."""
 
 import math
@@ -6,6 +20,8 @@ from hypothesis import given, settings, strategies as st
 import pytest
 from rcl_interfaces.msg import ParameterType, ParameterValue
 
+# mouse_view serves its page with viser (requirements/view.txt; no rosdep key: package.xml).
+pytest.importorskip('viser', reason='mouse_view needs viser: pip install -r requirements/view.txt')
 from mouse_constraint_ros.monitoring.diagnostics import (constraint_status, diagnostic_array,
                                                          Pacing, rate_status, simulator_status,
                                                          TickCounters, USER_TARGET, Window)
