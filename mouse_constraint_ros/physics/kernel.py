@@ -13,7 +13,7 @@ from typing import Optional, Tuple
 
 from .algebra import cholesky, multiply_symmetric, multiply_transposed, solve_cholesky, Vector3
 from .body import RigidBody
-from .gyroscopic import gyroscopic_step, gyroscopic_step_diagonal
+from .gyroscopic import free_rotation, gyroscopic_step, gyroscopic_step_diagonal
 from .mouse_joint import effective_mass
 from .settings import force_bound, friction_torque_bound, Settings
 
@@ -33,7 +33,8 @@ ZERO: Vector3 = (0.0, 0.0, 0.0)
 
 def velocities(px: float, py: float, pz: float, q, v: Vector3, w: Vector3, h: float,
                coefficients: Tuple, joint: Optional[Tuple[Vector3, Optional[Vector3]]],
-               wrench: Tuple[Vector3, Vector3], friction_torque: float):
+               wrench: Tuple[Vector3, Vector3], friction_torque: float,
+               touching: bool = False):
     """
     Return the velocities after a substep's velocity stage, the joint's impulse, the friction.
 
@@ -43,6 +44,11 @@ def velocities(px: float, py: float, pz: float, q, v: Vector3, w: Vector3, h: fl
     :param wrench: the external (force through the COM (N), torque (N m)), world frame.
     :param friction_torque: the angular friction's torque so far (N m), returned as it is
         where the substep has none to say (the backward half step of a free body).
+    :param touching: whether other constraints (the floor's contacts) act on the body after
+        this stage: it then turns by the final w, as a body held by the joint does.
+    :returns: v, w (world frame), the joint's impulse, the friction torque and, for a free
+        body, the world-frame unit quaternion of its turn over the substep (else None: the
+        body turns by w h).
 
     The hot path of the core: the algebra helpers (``rotation_matrix``, ``multiply``, ...)
     are written out inline here, in the same operation order, because a Python call and its
@@ -72,6 +78,28 @@ def velocities(px: float, py: float, pz: float, q, v: Vector3, w: Vector3, h: fl
             multiply_transposed(torque, (r00, r01, r02, r10, r11, r12, r20, r21, r22)),
             inverse_inertia)
         w_body = (w_body[0] + h * ax, w_body[1] + h * ay, w_body[2] + h * az)
+    if joint is None and not touching:
+        # A free body turns as its gyroscopic step says, which keeps the world L = R I w_b:
+        # the angular momentum changes by the torque's h tau alone (``free_rotation``).
+        if h > 0.0:
+            (wbx, wby, wbz), (tx, ty, tz, tw) = free_rotation(gyroscopic, inertia, w_body, h)
+            friction_torque = 0.0
+        else:
+            # The backward half step of the start: the world L at t - h / 2 is L(t) - tau h / 2
+            # whatever the body's turn, held in the body frame of t (which it stays in).
+            (wbx, wby, wbz), (tx, ty, tz, tw) = w_body, (0.0, 0.0, 0.0, 1.0)
+        # The turn in the world frame, R t_b, and w = R (t_b w_b t_b^-1) at the new orientation.
+        tx, ty, tz = (r00 * tx + r01 * ty + r02 * tz, r10 * tx + r11 * ty + r12 * tz,
+                      r20 * tx + r21 * ty + r22 * tz)
+        wx = (r00 * wbx + r01 * wby + r02 * wbz) * angular_decay
+        wy = (r10 * wbx + r11 * wby + r12 * wbz) * angular_decay
+        wz = (r20 * wbx + r21 * wby + r22 * wbz) * angular_decay
+        cx, cy, cz = ty * wz - tz * wy, tz * wx - tx * wz, tx * wy - ty * wx
+        return ((vx, vy, vz),
+                (wx + 2.0 * (tw * cx + ty * cz - tz * cy),
+                 wy + 2.0 * (tw * cy + tz * cx - tx * cz),
+                 wz + 2.0 * (tw * cz + tx * cy - ty * cx)),
+                ZERO, friction_torque, (tx, ty, tz, tw))
     wbx, wby, wbz = gyroscopic(inertia, w_body, h)
     if joint is not None and max_turn_impulse > 0.0:
         # Angular friction: the angular impulse that stops the spin, I w, within its bound;
@@ -95,7 +123,7 @@ def velocities(px: float, py: float, pz: float, q, v: Vector3, w: Vector3, h: fl
                 ((r00 * wbx + r01 * wby + r02 * wbz) * angular_decay,
                  (r10 * wbx + r11 * wby + r12 * wbz) * angular_decay,
                  (r20 * wbx + r21 * wby + r22 * wbz) * angular_decay),
-                ZERO, friction_torque)
+                ZERO, friction_torque, None)
     # The constraint is solved in the body frame, where K and the lever are constant:
     # with r = R r_b and I_w^-1 = R I_b^-1 R^T, K = R K_b R^T for
     # K_b = m^-1 I3 + [r_b]x I_b^-1 [r_b]x^T (eq. 1.10 in the body frame), so
@@ -164,7 +192,7 @@ def velocities(px: float, py: float, pz: float, q, v: Vector3, w: Vector3, h: fl
     return ((vx + ix * inverse_mass, vy + iy * inverse_mass, vz + iz * inverse_mass),
             (r00 * wbx + r01 * wby + r02 * wbz, r10 * wbx + r11 * wby + r12 * wbz,
              r20 * wbx + r21 * wby + r22 * wbz),
-            (ix, iy, iz), friction_torque)
+            (ix, iy, iz), friction_torque, None)
 
 
 def coefficients(settings: Settings, h: float, start: bool = False) -> Tuple[float, ...]:

@@ -11,7 +11,8 @@ substep is symplectic Euler, as Box2D and Bounce order it:
    |P| <= h F_max (``constraint`` module, seed eqs. 1.1-1.10), applied as v += P / m and
    w += I_w^-1 (r x P); its position part -K^-1 b C may turn the body by at most
    ``MAX_CORRECTION_TURN`` per substep;
-3. positions: x += h v and the orientation rotated by w h, renormalized.
+3. positions: x += h v and the orientation rotated by w h, renormalized; a free body's by its
+   gyroscopic step's own turn instead (``gyroscopic.free_rotation``), which keeps its world L.
 
 The velocity stage (1 and 2) is ``kernel.velocities``, the settings ``settings.Settings``; the
 position stage is written out in ``step``. Everything is plain float arithmetic, deterministic
@@ -242,23 +243,27 @@ class MouseSimulation:
         for index in range(substeps):
             if moving:
                 joint = self._joint_target(px, py, pz, q, v, w, time + index * h, h)
-            v, w, impulse, friction_torque = velocities(px, py, pz, q, v, w, h, cached, joint,
-                                                        wrench, friction_torque)
+            v, w, impulse, friction_torque, turn = velocities(
+                px, py, pz, q, v, w, h, cached, joint, wrench, friction_torque)
             vx, vy, vz = v
             px += h * vx
             py += h * vy
             pz += h * vz
             # q = algebra.integrate_orientation(q, w, h), written out: called every substep,
             # the call and its tuples cost a tenth of the substep.
-            wx, wy, wz = w
-            speed = math.sqrt(wx * wx + wy * wy + wz * wz)
-            half_angle = 0.5 * speed * h
-            if half_angle < 1e-4:
-                scale = 0.5 * h * (1.0 - half_angle * half_angle / 6.0)
+            if turn is None:
+                wx, wy, wz = w
+                speed = math.sqrt(wx * wx + wy * wy + wz * wz)
+                half_angle = 0.5 * speed * h
+                if half_angle < 1e-4:
+                    scale = 0.5 * h * (1.0 - half_angle * half_angle / 6.0)
+                else:
+                    scale = math.sin(half_angle) / speed
+                c = math.cos(half_angle)
+                dx, dy, dz = wx * scale, wy * scale, wz * scale
             else:
-                scale = math.sin(half_angle) / speed
-            c = math.cos(half_angle)
-            dx, dy, dz = wx * scale, wy * scale, wz * scale
+                # A free body's own turn (``kernel.velocities``).
+                dx, dy, dz, c = turn
             x, y, z, qw = q
             nx = c * x + dx * qw + dy * z - dz * y
             ny = c * y - dx * z + dy * qw + dz * x
@@ -317,7 +322,8 @@ class MouseSimulation:
         corner pendulum released 20 deg from hanging, 5 s at 1 kHz); starting from v(t - h / 2)
         makes it O(h^2) (0.021 mm; both printed by ``python -m bench.physics_figures``). The
         velocity stage is run backwards over h / 2 for that: gravity, damping, the gyroscopic
-        term (the midpoint rule is time-symmetric, so the energy is kept) and the constraint's
+        term (the midpoint rule is time-symmetric, so the energy is kept; a free body's world L
+        is L(t) - tau h / 2 whatever it turns, so its term is left out) and the constraint's
         reaction, with soft mode's spring; rigid mode's Baumgarte correction is numerical and
         is left out. The published velocities are then the half-step ones, which are exactly
         the finite differences of the published poses.
@@ -325,7 +331,7 @@ class MouseSimulation:
         (px, py, pz), q, v, w = self._state
         target = self._target if self._guide is None else self._guide.position
         joint = None if target is None else (target, None)
-        v, w, _, self._friction_torque = velocities(
+        v, w, _, self._friction_torque, _ = velocities(
             px, py, pz, q, v, w, -0.5 * h, coefficients(self._settings, -0.5 * h, start=True),
             joint, self._wrench, self._friction_torque)
         self._state = BodyState((px, py, pz), q, v, w)
