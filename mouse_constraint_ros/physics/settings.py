@@ -11,6 +11,7 @@ import math
 
 from .algebra import Vector3
 from .body import RigidBody
+from .floor import Floor
 from .limits import MAX_ACCELERATION, MAX_CONDITION
 from .mouse_joint import MouseConstraint
 from .target_motion import TargetMotion
@@ -36,6 +37,8 @@ class Settings:
     :param substeps: equal substeps per ``step`` call (>= 1).
     :param target_motion: how the target handed to the joint moves (``target_motion``): the
         default hands the target over as given, with zero velocity (the seed's joint).
+    :param floor: the floor the box rests on and its contact settings (``floor``); the default
+        has none.
     """
 
     body: RigidBody
@@ -45,6 +48,7 @@ class Settings:
     angular_damping: float = 0.0
     substeps: int = 1
     target_motion: TargetMotion = TargetMotion()
+    floor: Floor = Floor()
 
     def __post_init__(self) -> None:
         """Validate every field; raise ValueError naming the first invalid one."""
@@ -70,6 +74,8 @@ class Settings:
         if not isinstance(self.target_motion, TargetMotion):
             raise ValueError(
                 f'target_motion must be a TargetMotion, got {shown(self.target_motion)}')
+        if not isinstance(self.floor, Floor):
+            raise ValueError(f'floor must be a Floor, got {shown(self.floor)}')
 
 
 def check_lever(body: RigidBody, anchor: Vector3, *, body_name: str = 'body of mass') -> None:

@@ -23,13 +23,15 @@ import math
 from typing import Optional, Tuple
 
 from .algebra import multiply, multiply_symmetric, multiply_transposed, rotation_matrix, Vector3
+from .floor import coefficients as floor_coefficients
+from .floor_contact import contact_points, solve as solve_floor, touching
 from .kernel import coefficients, velocities, ZERO
 from .limits import MAX_STEP, MIN_STEP
 # The settings and bounds, importable from here as before the kernel had its own module.
 from .settings import (check_lever, force_bound, friction_torque_bound,  # noqa: F401
                        Settings, STANDARD_GRAVITY, weight_scale)
 from .state import BodyState
-from .target_motion import Guide, TargetStream
+from .target_motion import Guide, pull_point, TargetStream
 from .validation import finite_vector, scalar
 
 __all__ = ['check_lever', 'force_bound', 'friction_torque_bound', 'MAX_STEP', 'MIN_STEP',
@@ -46,8 +48,11 @@ class MouseSimulation:
 
     def __init__(self, settings: Settings, initial_state: BodyState = BodyState()) -> None:
         """Start at ``initial_state`` with no target."""
+        initial_state = initial_state.validated()
+        if isinstance(settings, Settings):
+            settings.floor.check_state(initial_state.position, initial_state.orientation)
+        self._initial_state = initial_state
         self.settings = settings
-        self._initial_state = initial_state.validated()
         self._state = self._initial_state
         self._target: Optional[Vector3] = None
         # The last substep's impulse P and its h: the constraint force P / h, divided when read.
@@ -65,6 +70,10 @@ class MouseSimulation:
         self._cache: Tuple[float, ...] = ()
         # Whether the cached settings move the joint's target (a guide or feed-forward).
         self._moving_target = False
+        # The floor's coefficients, the last substep's contacts (the warm start) and their COM.
+        self._floor: Optional[Tuple] = None
+        self._contacts: list = []
+        self._contact_origin: Vector3 = ZERO
 
     @property
     def settings(self) -> Settings:
@@ -75,6 +84,8 @@ class MouseSimulation:
     def settings(self, settings: Settings) -> None:
         if not isinstance(settings, Settings):
             raise ValueError(f'settings must be a Settings, got {settings!r}')
+        state = self._initial_state
+        settings.floor.check_state(state.position, state.orientation)
         previous = getattr(self, '_settings', None)
         self._settings = settings
         if previous is not None and previous.constraint.anchor != settings.constraint.anchor:
@@ -94,7 +105,25 @@ class MouseSimulation:
 
     @initial_state.setter
     def initial_state(self, state: BodyState) -> None:
-        self._initial_state = state.validated()
+        state = state.validated()
+        self._settings.floor.check_state(state.position, state.orientation)
+        self._initial_state = state
+
+    @property
+    def contacts(self) -> Tuple[Tuple[Vector3, float], ...]:
+        """
+        Return the floor's contacts of the last substep: (world point (m), normal impulse (N s)).
+
+        The points are the box's corners within the floor's margin, at the substep's start;
+        the normal impulse over the substep divided by h is the contact's normal force.
+        """
+        return tuple((point, impulse) for _, point, impulse
+                     in contact_points(self._contact_origin, self._contacts))
+
+    @property
+    def contact_count(self) -> int:
+        """Return how many of the box's corners touched the floor in the last substep."""
+        return len(self._contacts)
 
     @property
     def target(self) -> Optional[Vector3]:
@@ -179,6 +208,7 @@ class MouseSimulation:
         self._state = state.validated()
         self._staggered = False
         self._guide = None
+        self._contacts = []
 
     def reset(self) -> None:
         """Return to the initial state and drop the target."""
@@ -189,6 +219,7 @@ class MouseSimulation:
         self._guide = None
         self._impulse = (ZERO, 1.0)
         self._friction_torque = 0.0
+        self._contacts = []
 
     def kinetic_energy(self) -> float:
         """Return the body's kinetic energy (J)."""
@@ -223,15 +254,17 @@ class MouseSimulation:
             self._cache_for = (settings, h)
             motion = settings.target_motion
             self._moving_target = motion.feed_forward or motion.guided
+            self._floor = floor_coefficients(settings.floor)
         if not self._staggered:
             self._stagger(h)
         cached = self._cache
         wrench = self._wrench
         friction_torque = self._friction_torque
+        floor = self._floor
         (px, py, pz), q, v, w = self._state
         time = self._time
         # Decided once per step: a joint without a guide or feed-forward pulls at the target
-        # itself, taken as still, in every substep (what ``_joint_target`` returns for it).
+        # itself, taken as still, in every substep (what ``pull_point`` returns for it).
         target = self._target
         moving = target is not None and self._moving_target
         if target is None:
@@ -242,17 +275,31 @@ class MouseSimulation:
                 self._guide = None
         for index in range(substeps):
             if moving:
-                joint = self._joint_target(px, py, pz, q, v, w, time + index * h, h)
+                joint, self._guide = pull_point(
+                    self._target, settings.target_motion, self._stream, self._guide,
+                    settings.constraint.anchor, ((px, py, pz), q, v, w), time + index * h, h)
+            touch = floor is not None and touching(floor, pz, q)
             v, w, impulse, friction_torque, turn = velocities(
-                px, py, pz, q, v, w, h, cached, joint, wrench, friction_torque)
-            vx, vy, vz = v
+                px, py, pz, q, v, w, h, cached, joint, wrench, friction_torque, touch)
+            if touch:
+                body = settings.body
+                origin = self._contact_origin = (px, py, pz)
+                v, w, (v_move, w_move), self._contacts = solve_floor(
+                    floor, origin, q, v, w, h, inverse_mass=body.inverse_mass,
+                    inertia=body.inertia, inverse_inertia=body.inverse_inertia,
+                    gravity=settings.gravity, warm=self._contacts)
+            else:
+                v_move, w_move = v, w
+                if self._contacts:
+                    self._contacts = []
+            vx, vy, vz = v_move
             px += h * vx
             py += h * vy
             pz += h * vz
             # q = algebra.integrate_orientation(q, w, h), written out: called every substep,
             # the call and its tuples cost a tenth of the substep.
             if turn is None:
-                wx, wy, wz = w
+                wx, wy, wz = w_move
                 speed = math.sqrt(wx * wx + wy * wy + wz * wz)
                 half_angle = 0.5 * speed * h
                 if half_angle < 1e-4:
@@ -276,41 +323,6 @@ class MouseSimulation:
         self._friction_torque = friction_torque
         self._time = time + dt
         return self._state
-
-    def _joint_target(self, px: float, py: float, pz: float, q, v: Vector3, w: Vector3,
-                      time: float, h: float) -> Optional[Tuple[Vector3, Optional[Vector3]]]:
-        """
-        Return the point the joint pulls to over the substep from ``time``, and its velocity.
-
-        The velocity is None unless the settings feed it forward. With a guide the point is the
-        guide's position at ``time`` and the velocity the one that carries it over the substep,
-        so that a rigid joint's error still decays as (1 - delta) per substep.
-        """
-        target = self._target
-        if target is None:
-            return None
-        motion = self._settings.target_motion
-        stream = self._stream
-        if motion.feed_forward and stream.has_points():
-            goal, goal_velocity = stream.predict(time)
-        else:
-            goal, goal_velocity = target, ZERO
-        if not motion.guided:
-            self._guide = None
-            return goal, (goal_velocity if motion.feed_forward else None)
-        guide = self._guide
-        if guide is None:
-            # Picked up where the anchor is, moving as it moves (within the speed bound).
-            rx, ry, rz = multiply(self._settings.constraint.anchor, rotation_matrix(q))
-            ux, uy, uz = (v[0] + w[1] * rz - w[2] * ry, v[1] + w[2] * rx - w[0] * rz,
-                          v[2] + w[0] * ry - w[1] * rx)
-            speed = math.sqrt(ux * ux + uy * uy + uz * uz)
-            if speed > motion.max_speed:
-                ux, uy, uz = (c * motion.max_speed / speed for c in (ux, uy, uz))
-            guide = self._guide = Guide((px + rx, py + ry, pz + rz), (ux, uy, uz))
-        position = guide.position
-        guide.advance(goal, goal_velocity, h, motion.max_speed, motion.max_acceleration)
-        return position, (guide.velocity if motion.feed_forward else None)
 
     def _stagger(self, h: float) -> None:
         """
