@@ -26,11 +26,11 @@ from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
 from .help_text import plain_text
-from ..interface import WRENCH_QOS, WRENCH_TOPIC
-from ..messages import wrench_message
-from ..parameters import DEFAULTS
-from ..spin import spin_until, SpinEnd, StopRequest
-from ..wrench_gate import WrenchGate
+from ..inputs.wrench_gate import WrenchGate
+from ..node.parameters import DEFAULTS
+from ..timing.spin import spin_until, SpinEnd, StopRequest
+from ..wire.interface import WRENCH_QOS, WRENCH_TOPIC
+from ..wire.messages import wrench_message
 
 # How long to wait for the node's subscription before giving up (s, wall time).
 SUBSCRIBER_TIMEOUT = 10.0

@@ -24,9 +24,9 @@ from rclpy.serialization import deserialize_message
 
 from .mcap_file import offered_qos_yaml
 from .received import anchor_change, PARAMETER_EVENTS_TOPIC, Received, TOPICS
-from ..interface import NODE_NAME, POSE_TOPIC
 from ..physics.algebra import Vector3
-from ..spin import spin_until, SpinEnd, StopRequest, wait_until
+from ..timing.spin import spin_until, SpinEnd, StopRequest, wait_until
+from ..wire.interface import NODE_NAME, POSE_TOPIC
 
 # Deep RELIABLE queues: a burst of caught-up ticks must not overwrite unread messages.
 RECORD_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,

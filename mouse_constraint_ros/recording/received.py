@@ -5,8 +5,8 @@ from typing import NamedTuple, Optional
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
 from rcl_interfaces.msg import ParameterEvent, ParameterType
 
-from ..interface import GRAB_TOPIC, POSE_TOPIC, TARGET_TOPIC, TWIST_TOPIC
 from ..physics.algebra import Vector3
+from ..wire.interface import GRAB_TOPIC, POSE_TOPIC, TARGET_TOPIC, TWIST_TOPIC
 
 # The recorded topics (relative: namespaces and remaps apply) and their types, in CSV order.
 TOPICS = {TARGET_TOPIC: PointStamped, POSE_TOPIC: PoseStamped, TWIST_TOPIC: TwistStamped,
