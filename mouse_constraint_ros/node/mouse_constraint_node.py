@@ -406,8 +406,7 @@ class MouseConstraintNode(Node):
         previous, self._config = self._config, config
         if not self._setting_anchor and any(p.name == 'anchor' for p in changes):
             self._configured_anchor = config.settings.constraint.anchor
-        self._simulation.settings = config.settings
-        self._simulation.initial_state = config.initial_state
+        self._simulation.configure(config.settings, config.initial_state)
         if (config.frame_id, config.workspace_radius) != (
                 previous.frame_id, previous.workspace_radius):
             self._gate = TargetGate(config.frame_id, config.workspace_radius)
@@ -619,7 +618,9 @@ class MouseConstraintNode(Node):
             anchor=simulation.anchor_position(), target=simulation.target,
             force=simulation.constraint_force, reference=reference_force(simulation.settings),
             wrench_force=simulation.wrench[0],
-            wrench_reference=wrench_reference(simulation.settings)))
+            wrench_reference=wrench_reference(simulation.settings),
+            floor=simulation.settings.floor,
+            contacts=[point for point, _ in simulation.contacts]))
 
     def _publish_diagnostics(self) -> None:
         """
@@ -665,7 +666,9 @@ class MouseConstraintNode(Node):
                               force=simulation.constraint_force,
                               force_bound=force_bound(config.settings),
                               target_age=age, target_timeout=config.target_timeout,
-                              thresholds=thresholds),
+                              thresholds=thresholds,
+                              floor_contacts=(simulation.contact_count
+                                              if config.settings.floor.enabled else None)),
             self._simulator_status(f'{name}: simulator', hardware_id, now),
         ]))
 

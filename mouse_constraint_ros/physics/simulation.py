@@ -25,7 +25,7 @@ from typing import Optional, Tuple
 from .algebra import multiply, multiply_symmetric, multiply_transposed, rotation_matrix, Vector3
 from .floor import coefficients as floor_coefficients
 from .floor_contact import contact_points, solve as solve_floor, touching
-from .kernel import coefficients, velocities, ZERO
+from .kernel import coefficients, stagger, velocities, ZERO
 from .limits import MAX_STEP, MIN_STEP
 # The settings and bounds, importable from here as before the kernel had its own module.
 from .settings import (check_lever, force_bound, friction_torque_bound,  # noqa: F401
@@ -203,6 +203,20 @@ class MouseSimulation:
         a, t = self.anchor_position(), self._target
         return (a[0] - t[0], a[1] - t[1], a[2] - t[2])
 
+    def configure(self, settings: Settings, initial_state: BodyState) -> None:
+        """
+        Replace the settings and the initial state together, checked as a pair.
+
+        The initial state must suit the new settings' floor, whatever the old ones were; raise
+        ValueError and change nothing otherwise.
+        """
+        if not isinstance(settings, Settings):
+            raise ValueError(f'settings must be a Settings, got {settings!r}')
+        initial_state = initial_state.validated()
+        settings.floor.check_state(initial_state.position, initial_state.orientation)
+        self._initial_state = initial_state
+        self.settings = settings
+
     def set_state(self, state: BodyState) -> None:
         """Replace the current state (validated; the orientation is normalized)."""
         self._state = state.validated()
@@ -325,26 +339,8 @@ class MouseSimulation:
         return self._state
 
     def _stagger(self, h: float) -> None:
-        """
-        Move the velocities of a state given at time t back to t - h / 2, once, before stepping.
-
-        Symplectic Euler is the leapfrog scheme with velocities at half steps: x(t + h) =
-        x(t) + h v(t + h / 2). A state given with v(t), such as a body released at rest, starts
-        it half a step out of phase, an O(h) error for the whole motion (0.164 mm RMS for the
-        corner pendulum released 20 deg from hanging, 5 s at 1 kHz); starting from v(t - h / 2)
-        makes it O(h^2) (0.021 mm; both printed by ``python -m bench.physics_figures``). The
-        velocity stage is run backwards over h / 2 for that: gravity, damping, the gyroscopic
-        term (the midpoint rule is time-symmetric, so the energy is kept; a free body's world L
-        is L(t) - tau h / 2 whatever it turns, so its term is left out) and the constraint's
-        reaction, with soft mode's spring; rigid mode's Baumgarte correction is numerical and
-        is left out. The published velocities are then the half-step ones, which are exactly
-        the finite differences of the published poses.
-        """
-        (px, py, pz), q, v, w = self._state
+        """Move the velocities of the state back half a substep, once (``kernel.stagger``)."""
         target = self._target if self._guide is None else self._guide.position
-        joint = None if target is None else (target, None)
-        v, w, _, self._friction_torque, _ = velocities(
-            px, py, pz, q, v, w, -0.5 * h, coefficients(self._settings, -0.5 * h, start=True),
-            joint, self._wrench, self._friction_torque)
-        self._state = BodyState((px, py, pz), q, v, w)
+        self._state, self._friction_torque = stagger(
+            self._settings, self._state, target, self._wrench, self._friction_torque, h)
         self._staggered = True
