@@ -29,6 +29,7 @@ SUITE = [
     ('mouse_feel', 'a click and a streamed drag: the shipped joint and the anchors recipes'),
     ('contact', 'the floor: rest, slide and drop, ours against PyBullet and MuJoCo'),
     ('node_rate', 'the node process against the rclpy floor at 1 kHz and up, pose and twist read'),
+    ('node_floor', 'the node at 1 kHz resting on the floor against no floor: CPU ratio'),
     ('publish_rate', 'publishing at 100 Hz from 1 kHz physics, if the node offers it'),
     ('latency', 'target published -> first pose reflecting it, at 1 kHz'),
     ('soak', '10 min simulated at 1 kHz, the core directly'),
