@@ -41,7 +41,12 @@ Rows = List[list]
 
 
 def touching(coefficients: Tuple, pz: float, q) -> bool:
-    """Return whether the box's lowest corner is within the margin of the plane."""
+    """
+    Return whether the box's lowest corner is within the margin of the plane.
+
+    The reach below the COM is ``Floor.depth``'s, written out on the coefficients: it runs every
+    substep (``test_resting_contacts_carry_the_weight`` and the rest tests see both agree).
+    """
     height, hx, hy, hz, _, _, _, margin = coefficients[:8]
     x, y, z, w = q
     reach = (abs(2.0 * (x * z - w * y)) * hx + abs(2.0 * (y * z + w * x)) * hy
