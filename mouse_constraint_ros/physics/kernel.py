@@ -280,8 +280,11 @@ def stagger(settings: Settings, state: BodyState, target: Optional[Vector3],
     term (the midpoint rule is time-symmetric, so the energy is kept; a free body's world L
     is L(t) - tau h / 2 whatever it turns, so its term is left out) and the constraint's
     reaction, with soft mode's spring; rigid mode's Baumgarte correction is numerical and
-    is left out. The published velocities are then the half-step ones, which are exactly
-    the finite differences of the published poses.
+    is left out. The published velocities are then the half-step ones. With one substep per
+    step, the linear velocity is exactly the finite difference of the published positions, and
+    a held body's angular velocity that of the orientations; a free body turns by the Cayley
+    rotation of the mean of its angular velocities before and after (``free_rotation``), and
+    its published angular velocity is the one of its angular momentum, L = I_w w.
 
     :param target: where the joint pulls (the guide or the target), None for a free body.
     :param friction_torque: the angular friction's torque so far (N m).
