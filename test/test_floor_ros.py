@@ -3,7 +3,7 @@
 import math
 
 from diagnostic_msgs.msg import DiagnosticArray
-from geometry_msgs.msg import PoseStamped, WrenchStamped
+from geometry_msgs.msg import PointStamped, PoseStamped, WrenchStamped
 import numpy as np
 import pytest
 from rclpy.parameter import Parameter
@@ -118,6 +118,25 @@ def test_a_flat_drop_rebounds_to_e_squared_h(ros, restitution, peak):
         assert np.max(bottom[after]) <= 1e-3
     else:
         assert np.max(bottom[after]) == pytest.approx(peak, rel=0.05)
+
+
+def test_the_target_pulling_the_box_into_the_floor_is_held_by_it(ros):
+    """A target 0.5 m below the floor, on the target topic: the box goes at most 2 mm in."""
+    node = start(ros, initial_position=[0.0, 0.0, WORLD.half_height],
+                 hold_initial_anchor=True)
+    run_until(ros, node, 0.2)
+    publisher = ros.probe.create_publisher(PointStamped, 'target', 10)
+    assert ros.spin_until(lambda: publisher.get_subscription_count() > 0)
+    anchor = node.simulation.anchor_position()
+    goal = (anchor[0], anchor[1], WORLD.floor.height - 0.5)
+    publisher.publish(messages.point_message(goal, 'world', 0))
+    assert ros.spin_until(lambda: node.simulation.target == goal)
+    deepest, end = 0.0, node.simulation.time + 2.0
+    while node.simulation.time < end:
+        ros.executor.spin_once(timeout_sec=0.01)
+        deepest = max(deepest, floor_scenarios.depth(WORLD, node.simulation))
+    assert math.hypot(*node.simulation.constraint_force) > 0.5 * WORLD.mass * G
+    assert deepest <= 2e-3
 
 
 def test_markers_draw_the_floor_and_the_contacts_and_diagnostics_count_them(ros):

@@ -77,6 +77,7 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
     (height, hx, hy, hz, friction, restitution, iterations, margin, slop,
      threshold) = coefficients
     pz = position[2]
+    # R(q), as algebra.rotation_matrix and kernel.velocities write it out.
     x, y, z, qw = q
     xx, yy, zz = x * x, y * y, z * z
     xy, xz, yz = x * y, x * z, y * z
