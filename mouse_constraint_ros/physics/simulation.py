@@ -18,25 +18,23 @@ One rigid body dragged by the mouse constraint: its state, target and the fixed-
 A call to ``MouseSimulation.step(dt)`` advances ``dt`` in ``substeps`` equal substeps h. Each
 substep is symplectic Euler, as Box2D and Bounce order it:
 
-1. velocities: gravity and the external wrench's force F / m, then its torque's
-   I_w^-1 tau, then exponential damping, then the gyroscopic term w x (I w) by one implicit
-   Newton step in the body frame (``body.gyroscopic_step``);
+1. velocities: gravity and the wrench (F / m, I_w^-1 tau), exponential damping, then the
+   gyroscopic term w x (I w) by one implicit Newton step in the body frame;
 2. the mouse constraint, when there is a target: the net impulse P = -K^-1 (a J V + b C) with
-   |P| <= h F_max (``constraint`` module, seed eqs. 1.1-1.10), applied as v += P / m and
-   w += I_w^-1 (r x P); its position part -K^-1 b C may turn the body by at most
-   ``MAX_CORRECTION_TURN`` per substep;
-3. positions: x += h v and the orientation rotated by w h, renormalized; a free body's by its
+   |P| <= h F_max (``mouse_joint``, seed eqs. 1.1-1.10), applied as v += P / m and
+   w += I_w^-1 (r x P); its position part may turn the body by at most ``MAX_CORRECTION_TURN``;
+3. the floor, when a corner is within its margin: sequential impulses on the corners
+   (``floor_contact.solve``), whose split impulses give the velocity that moves the positions;
+4. positions: x += h v and the orientation rotated by w h, renormalized; a free body's by its
    gyroscopic step's own turn instead (``gyroscopic.free_rotation``), which keeps its world L.
 
-The velocity stage (1 and 2) is ``kernel.velocities``, the settings ``settings.Settings``; the
-position stage is written out in ``step``. Everything is plain float arithmetic, deterministic
-to the bit for the same inputs.
+Stages 1-2 are ``kernel.velocities``, 3-4 ``step``: plain floats, deterministic to the bit.
 """
 
 import math
 from typing import Optional, Tuple
 
-from .algebra import multiply, multiply_symmetric, multiply_transposed, rotation_matrix, Vector3
+from .algebra import Vector3
 from .floor import coefficients as floor_coefficients
 from .floor_contact import contact_points, solve as solve_floor, touching
 from .kernel import coefficients, stagger, velocities, ZERO
@@ -125,12 +123,7 @@ class MouseSimulation:
 
     @property
     def contacts(self) -> Tuple[Tuple[Vector3, float], ...]:
-        """
-        Return the floor's contacts of the last substep: (world point (m), normal impulse (N s)).
-
-        The points are the box's corners within the floor's margin, at the substep's start;
-        the normal impulse over the substep divided by h is the contact's normal force.
-        """
+        """Return the last substep's contacts: (corner (m, at its start), normal impulse (N s))."""
         return tuple((point, impulse) for _, point, impulse
                      in contact_points(self._contact_origin, self._contacts))
 
@@ -251,17 +244,14 @@ class MouseSimulation:
 
     def kinetic_energy(self) -> float:
         """Return the body's kinetic energy (J)."""
-        s = self._state
-        rotation = rotation_matrix(s.orientation)
-        w_body = multiply_transposed(s.angular_velocity, rotation)
-        return self._settings.body.kinetic_energy(s.linear_velocity, w_body)
+        s, body = self._state, self._settings.body
+        return body.kinetic_energy(s.linear_velocity, body.body_rate(s.orientation,
+                                                                     s.angular_velocity))
 
     def angular_momentum(self) -> Vector3:
         """Return the angular momentum about the COM in the world frame (kg m^2/s)."""
-        s = self._state
-        rotation = rotation_matrix(s.orientation)
-        w_body = multiply_transposed(s.angular_velocity, rotation)
-        return multiply(multiply_symmetric(w_body, self._settings.body.inertia), rotation)
+        return self._settings.body.angular_momentum(self._state.orientation,
+                                                    self._state.angular_velocity)
 
     def step(self, dt: float) -> BodyState:
         """Advance ``dt`` seconds in ``settings.substeps`` equal substeps; return the new state."""
