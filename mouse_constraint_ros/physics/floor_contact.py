@@ -25,9 +25,13 @@ direction d changes it by K P, K = 1 / m + (r x d) . I_w^-1 (r x d).
   plane) asks only u_n >= -s / h, so the corner reaches the plane within the substep but does
   not pass it; a touching one (s <= 0) asks u_n >= 0; a contact approaching faster than the
   restitution threshold that reaches the plane in the substep asks u_n >= -e u_n0 (u_n0 its
-  velocity before the solve).
+  velocity before the solve), in a pass after the sweeps (``floor_energy.bounce``).
 - Friction: both tangential impulses together stay within the cone |P_t| <= mu P_n.
-- Warm start: each contact starts from the impulses its corner had in the previous substep.
+- Sweeps: a contact's friction, then its normal row (``_sweeps``), so that each sweep ends
+  with non-penetration met.
+- Warm start: each contact starts from the impulses its corner had in the previous substep;
+  if the sweeps end unconverged with more energy than the substep started with
+  (``floor_energy.twice_energy``), the contacts are solved again from zero impulses.
 - Position: penetration deeper than ``slop`` is removed by split impulses, pseudo-velocities
   solved like the normal rows (rate ``POSITION_RATE`` per substep) that move the body in this
   substep's position update and are then dropped, so the correction adds no kinetic energy.
@@ -39,13 +43,13 @@ operations per sweep, and Python calls and tuples would cost more than that.
 import math
 from typing import List, Tuple
 
+from . import floor_energy
 from .algebra import congruence, Vector3
 from .floor import CORNER_SIGNS
+from .floor_energy import CONVERGED_SPEED, twice_energy
 
 # Fraction of the penetration beyond the slop that the split impulses remove per substep.
 POSITION_RATE = 0.2
-# Sweeps stop once no impulse changed a contact's velocity by more than this (m/s).
-CONVERGED_SPEED = 1e-9
 
 # A contact, as ``solve`` keeps it: corner index, r (x, y, z), separation s, I_w^-1 (r x d) for
 # d = z, x, y (three each), K along z, 1 / K along z, x, y, the normal goal, the accumulated
@@ -110,7 +114,7 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
     for row in warm:
         previous[row[0]] = row
     rows = []
-    bounces = False
+    bounces = warmed = False
     # The corners' world offsets are sums of the box's half axes R (hx, 0, 0), ...
     ux, uy, uz = r00 * hx, r10 * hx, r20 * hx
     vx_, vy_, vz_ = r01 * hy, r11 * hy, r21 * hy
@@ -142,6 +146,7 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
             pn = pt = pb = 0.0
         else:
             pn, pt, pb = last[19], last[20], last[21]
+            warmed = True
             vx += im * pt
             vy += im * pb
             vz += im * pn
@@ -150,53 +155,22 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
             wz += pn * nz + pt * tz + pb * bz
         rows.append([index, rx, ry, rz, s, nx, ny, nz, tx, ty, tz, bx, by, bz,
                      kn, 1.0 / kn, 1.0 / kt, 1.0 / kb, goal, pn, pt, pb, bounce])
-    for _ in range(iterations):
-        largest = 0.0
-        for row in rows:
-            (_, rx, ry, rz, _, nx, ny, nz, tx, ty, tz, bx, by, bz, kn, mn, mt, mb, goal,
-             pn, pt, pb, _) = row
-            # Normal: u_n >= goal with an accumulated impulse >= 0.
-            un = vz + wx * ry - wy * rx
-            total = pn + (goal - un) * mn
-            if total < 0.0:
-                total = 0.0
-            d = total - pn
-            if d != 0.0:
-                vz += im * d
-                wx += d * nx
-                wy += d * ny
-                wz += d * nz
-                change = abs(d) * kn
-                if change > largest:
-                    largest = change
-                pn = total
-            # Friction: both tangential impulses within the cone |P_t| <= mu P_n.
-            ut = vx + wy * rz - wz * ry
-            ub = vy + wz * rx - wx * rz
-            at = pt - ut * mt
-            ab = pb - ub * mb
-            bound = friction * pn
-            size = math.sqrt(at * at + ab * ab)
-            if size > bound:
-                scale = bound / size
-                at *= scale
-                ab *= scale
-            dt, db = at - pt, ab - pb
-            if dt != 0.0 or db != 0.0:
-                vx += im * dt
-                vy += im * db
-                wx += dt * tx + db * bx
-                wy += dt * ty + db * by
-                wz += dt * tz + db * bz
-                change = abs(dt) / mt + abs(db) / mb
-                if change > largest:
-                    largest = change
-                pt, pb = at, ab
-            row[19], row[20], row[21] = pn, pt, pb
-        if largest <= CONVERGED_SPEED:
-            break
+    velocities, converged = _sweeps(rows, (vx, vy, vz, wx, wy, wz), im, friction, iterations)
+    if warmed and not converged:
+        # A warm start that the sweeps could not undo may leave an old impulse pushing a
+        # contact that now separates, which adds energy. Then the contacts are solved cold.
+        world_inertia = congruence(rotation, inertia)
+        kick = tuple(2.0 * h * c for c in gravity)
+        mass = 1.0 / im
+        allowed = twice_energy(v + w, mass, world_inertia, kick) + mass * h * h * (
+            gravity[0] * gravity[0] + gravity[1] * gravity[1] + gravity[2] * gravity[2])
+        if twice_energy(velocities, mass, world_inertia, kick) > allowed:
+            for row in rows:
+                row[19] = row[20] = row[21] = 0.0
+            velocities, _ = _sweeps(rows, v + w, im, friction, iterations)
+    vx, vy, vz, wx, wy, wz = velocities
     if bounces:
-        vx, vy, vz, wx, wy, wz = _bounce(
+        vx, vy, vz, wx, wy, wz = floor_energy.bounce(
             rows, (v, w), (vx, vy, vz, wx, wy, wz), rotation=rotation,
             inverse_mass=inverse_mass, inertia=inertia, gravity=gravity, h=h,
             iterations=iterations)
@@ -232,39 +206,46 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
             ((vx + mvx, vy + mvy, vz + mvz), (wx + mwx, wy + mwy, wz + mwz)), rows)
 
 
-def contact_points(position: Vector3, rows: Rows) -> Tuple[Tuple[int, Vector3, float], ...]:
-    """Return (corner index, world point (m), normal impulse (N s)) of ``solve``'s contacts."""
-    px, py, pz = position
-    return tuple((row[0], (px + row[1], py + row[2], pz + row[3]), row[19]) for row in rows)
-
-
-def _bounce(rows: Rows, before: Tuple[Vector3, Vector3], after: Tuple[float, ...], *,
-            rotation, inverse_mass: float, inertia, gravity: Vector3, h: float,
-            iterations: int) -> Tuple[float, ...]:
+def _sweeps(rows: Rows, velocities: Tuple[float, ...], im: float, friction: float,
+            iterations: int) -> Tuple[Tuple[float, ...], bool]:
     """
-    Return the velocities (vx, vy, vz, wx, wy, wz) after the bouncing contacts' restitution.
+    Return the velocities after the sequential-impulse sweeps over ``rows``, and if converged.
 
-    The contacts that bounce and pushed in the solve (a positive normal impulse) are driven to
-    u_n >= -e u_n0 by normal impulses alone, after friction, as Box2D v3 applies restitution.
-    Newton's restitution with friction and several contacts can gain energy (Kane's paradox),
-    and so can the discrete step: a corner reversed after gravity's kick h g of the substep
-    leaves h |g| faster than it came and climbs h v in the position update, 2 m |g| h v of energy
-    per bounce. The result is therefore pulled back along the restitution's impulse, as far as
-    needed, to the energy (kinetic, and potential after the position update) the body would have
-    had without the floor, or after the solve without restitution if that is more: the contacts
-    never add energy.
+    Converged: the last sweep changed no contact's velocity by more than ``CONVERGED_SPEED``.
+    Each sweep solves a contact's friction, then its normal row, so that the sweep ends with
+    the contact's non-penetration met, whatever friction did to it; normal first, friction's
+    change of the normal velocity (a corner's lever arm couples them) can undo the normal
+    impulse, and the sweeps then alternate between two states instead of converging.
     """
-    vx, vy, vz, wx, wy, wz = after
-    im = inverse_mass
-    bouncing = [row for row in rows if row[22] is not None and row[19] > 0.0]
-    if not bouncing:
-        return after
-    start = [row[19] for row in bouncing]
+    vx, vy, vz, wx, wy, wz = velocities
     for _ in range(iterations):
         largest = 0.0
-        for row in bouncing:
-            rx, ry, nx, ny, nz, kn, mn, pn, goal = row[1], row[2], row[5], row[6], row[7], \
-                row[14], row[15], row[19], row[22]
+        for row in rows:
+            (_, rx, ry, rz, _, nx, ny, nz, tx, ty, tz, bx, by, bz, kn, mn, mt, mb, goal,
+             pn, pt, pb, _) = row
+            # Friction: both tangential impulses within the cone |P_t| <= mu P_n.
+            ut = vx + wy * rz - wz * ry
+            ub = vy + wz * rx - wx * rz
+            at = pt - ut * mt
+            ab = pb - ub * mb
+            bound = friction * pn
+            size = math.sqrt(at * at + ab * ab)
+            if size > bound:
+                scale = bound / size
+                at *= scale
+                ab *= scale
+            dt, db = at - pt, ab - pb
+            if dt != 0.0 or db != 0.0:
+                vx += im * dt
+                vy += im * db
+                wx += dt * tx + db * bx
+                wy += dt * ty + db * by
+                wz += dt * tz + db * bz
+                change = abs(dt) / mt + abs(db) / mb
+                if change > largest:
+                    largest = change
+                pt, pb = at, ab
+            # Normal: u_n >= goal with an accumulated impulse >= 0.
             un = vz + wx * ry - wy * rx
             total = pn + (goal - un) * mn
             if total < 0.0:
@@ -275,46 +256,17 @@ def _bounce(rows: Rows, before: Tuple[Vector3, Vector3], after: Tuple[float, ...
                 wx += d * nx
                 wy += d * ny
                 wz += d * nz
-                row[19] = total
                 change = abs(d) * kn
                 if change > largest:
                     largest = change
+                pn = total
+            row[19], row[20], row[21] = pn, pt, pb
         if largest <= CONVERGED_SPEED:
-            break
-    # The change, and the largest share alpha of it that keeps the energy at most the cap.
-    ax, ay, az, bx, by, bz = after
-    dvx, dvy, dvz, dwx, dwy, dwz = vx - ax, vy - ay, vz - az, wx - bx, wy - by, wz - bz
-    mass = 1.0 / im
-    i00, i01, i02, i11, i12, i22 = congruence(rotation, inertia)
-    # Twice the energy after this substep's position update, but for a constant: the kinetic
-    # energy and the potential energy -m g . (x + h v) it moves to.
-    gx, gy, gz = (2.0 * h * c for c in gravity)
+            return (vx, vy, vz, wx, wy, wz), True
+    return (vx, vy, vz, wx, wy, wz), False
 
-    def twice_energy(ux, uy, uz, ox, oy, oz):
-        return (mass * (ux * (ux - gx) + uy * (uy - gy) + uz * (uz - gz))
-                + ox * (i00 * ox + i01 * oy + i02 * oz) + oy * (i01 * ox + i11 * oy + i12 * oz)
-                + oz * (i02 * ox + i12 * oy + i22 * oz))
 
-    (ux, uy, uz), (ox, oy, oz) = before
-    cap = max(twice_energy(ux, uy, uz, ox, oy, oz), twice_energy(*after))
-    if twice_energy(vx, vy, vz, wx, wy, wz) <= cap:
-        return vx, vy, vz, wx, wy, wz
-    quadratic = (mass * (dvx * dvx + dvy * dvy + dvz * dvz)
-                 + dwx * (i00 * dwx + i01 * dwy + i02 * dwz)
-                 + dwy * (i01 * dwx + i11 * dwy + i12 * dwz)
-                 + dwz * (i02 * dwx + i12 * dwy + i22 * dwz))
-    linear = (mass * (dvx * (2.0 * ax - gx) + dvy * (2.0 * ay - gy) + dvz * (2.0 * az - gz))
-              + 2.0 * (dwx * (i00 * bx + i01 * by + i02 * bz)
-                       + dwy * (i01 * bx + i11 * by + i12 * bz)
-                       + dwz * (i02 * bx + i12 * by + i22 * bz)))
-    constant = twice_energy(*after) - cap
-    if quadratic > 0.0:
-        alpha = (-linear + math.sqrt(max(0.0, linear * linear - 4.0 * quadratic * constant))) \
-            / (2.0 * quadratic)
-        alpha = min(max(alpha, 0.0), 1.0)
-    else:
-        alpha = 0.0
-    for row, impulse in zip(bouncing, start):
-        row[19] = impulse + alpha * (row[19] - impulse)
-    return (ax + alpha * dvx, ay + alpha * dvy, az + alpha * dvz,
-            bx + alpha * dwx, by + alpha * dwy, bz + alpha * dwz)
+def contact_points(position: Vector3, rows: Rows) -> Tuple[Tuple[int, Vector3, float], ...]:
+    """Return (corner index, world point (m), normal impulse (N s)) of ``solve``'s contacts."""
+    px, py, pz = position
+    return tuple((row[0], (px + row[1], py + row[2], pz + row[3]), row[19]) for row in rows)
