@@ -86,7 +86,8 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
     :param inverse_mass: 1 / m.
     :param inertia: the body-frame I_b as a symmetric 6-tuple (kg m^2).
     :param inverse_inertia: its inverse I_b^-1.
-    :param gravity: the gravitational acceleration (m/s^2), for the energy a bounce may have.
+    :param gravity: the gravitational acceleration (m/s^2), for the energy the contacts may
+        leave (a bounce's, a warm start's).
     :param warm: the previous substep's contacts (``Rows``), whose impulses the contacts of
         the same corners start from.
     :returns: (v, w) after the contacts; (v, w) plus the split impulses' pseudo-velocities,
@@ -162,12 +163,12 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
         world_inertia = congruence(rotation, inertia)
         kick = tuple(2.0 * h * c for c in gravity)
         mass = 1.0 / im
-        allowed = twice_energy(v + w, mass, world_inertia, kick) + mass * h * h * (
+        allowed = twice_energy((*v, *w), mass, world_inertia, kick) + mass * h * h * (
             gravity[0] * gravity[0] + gravity[1] * gravity[1] + gravity[2] * gravity[2])
         if twice_energy(velocities, mass, world_inertia, kick) > allowed:
             for row in rows:
                 row[19] = row[20] = row[21] = 0.0
-            velocities, _ = _sweeps(rows, v + w, im, friction, iterations)
+            velocities, _ = _sweeps(rows, (*v, *w), im, friction, iterations)
     vx, vy, vz, wx, wy, wz = velocities
     if bounces:
         vx, vy, vz, wx, wy, wz = floor_energy.bounce(
