@@ -251,34 +251,118 @@ def test_markers_show_the_applied_force(ros):
     assert ros.spin_until(lambda: arrow().action == Marker.DELETE)
 
 
+def run_wrench_cli(ros, arguments, *, signal_after=None, timeout=20.0):
+    """
+    Run ``mouse_wrench`` with ``arguments`` while ``ros`` spins; return (status, stdout, stderr).
+
+    :param signal_after: send SIGINT this many seconds after the push began (its first line).
+    """
+    process = subprocess.Popen([sys.executable, '-m', 'mouse_constraint_ros.cli.wrench',
+                                *arguments], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                               text=True)
+    started = None
+
+    def done() -> bool:
+        nonlocal started
+        if signal_after is not None and started is None and any(
+                node.simulation.wrench != NO_WRENCH for node in ros.nodes[1:]):
+            started = time.monotonic()
+        if started is not None and time.monotonic() - started > signal_after:
+            process.send_signal(signal.SIGINT)
+            started = math.inf
+        return process.poll() is not None
+
+    try:
+        assert ros.spin_until(done, timeout=timeout), 'mouse_wrench did not end'
+    finally:
+        if process.poll() is None:
+            process.kill()
+    stdout, stderr = process.communicate(timeout=5.0)
+    return process.returncode, stdout, stderr
+
+
 @pytest.mark.system
-def test_the_wrench_cli_pushes_for_its_duration_then_stops(ros):
-    """mouse_wrench: the wrench is applied for --duration, then a zero wrench ends it."""
+@pytest.mark.parametrize('duration', [0.05, 0.3])
+def test_the_wrench_cli_pushes_for_its_duration_then_stops(ros, duration):
+    """
+    mouse_wrench: the impulse is force x duration within a few ticks, not a polling period.
+
+    A free 2 kg body, no timeout: the zero wrench alone ends the push, and the velocity gained
+    is F t / m. The command's own rate (20 Hz, 50 ms) would show as a whole period too long.
+    The impulse is over simulated ticks, so a push during which this loaded machine made the
+    node drop ticks is tried again (at most three times).
+    """
+    node = start_node(ros, rate_hz=500.0, wrench_timeout=0.0, **FREE)
+    force = 2.0
+    for _ in range(3):
+        speed, dropped = node.simulation.state.linear_velocity[0], node.dropped_ticks
+        status, stdout, stderr = run_wrench_cli(
+            ros, ['--force', str(force), '0', '0', '--duration', str(duration)])
+        ros.spin_for(0.2)
+        assert status == 0, stderr
+        assert node.simulation.wrench == NO_WRENCH
+        if node.dropped_ticks == dropped:
+            break
+    assert node.dropped_ticks == dropped, 'the node dropped ticks in each of three pushes'
+    pushed = (node.simulation.state.linear_velocity[0] - speed) * MASS / force
+    assert abs(pushed - duration) <= 0.01, pushed
+    assert f'for {duration:g} s' in stdout
+
+
+@pytest.mark.system
+def test_an_endless_push_ends_with_the_zero_wrench_on_ctrl_c(ros):
+    """--duration inf pushes until SIGINT; then the zero wrench ends it (no timeout here)."""
     node = start_node(ros, rate_hz=200.0, wrench_timeout=0.0, **FREE)
+    status, stdout, stderr = run_wrench_cli(
+        ros, ['--force', '1', '0', '0', '--duration', 'inf'], signal_after=0.5)
+    ros.spin_for(0.2)
+    assert status == 0, stderr
+    assert 'Traceback' not in stderr and 'until Ctrl-C' in stderr
+    assert node.simulation.wrench == NO_WRENCH
+    speed = node.simulation.state.linear_velocity[0]
+    ros.spin_for(0.2)
+    assert node.simulation.state.linear_velocity[0] == speed > 0.4 * 1.0 / MASS
+    assert 'pushed with force' in stdout
+
+
+@pytest.mark.parametrize('arguments', [
+    ['--rate', 'inf'], ['--rate', '1e-300'], ['--rate', '0'], ['--rate', 'nan'],
+    ['--rate', '1e6'], ['--duration', 'nan'], ['--duration', '-1'], ['--duration', '1e300'],
+    ['--timeout', '0'],
+])
+def test_the_wrench_cli_refuses_rates_and_durations_that_do_not_run(arguments, capsys):
+    """A rate, duration or timeout whose timer cannot run is a usage error (exit 2)."""
+    from mouse_constraint_ros.cli.wrench import build_parser
+    with pytest.raises(SystemExit) as exit_info:
+        build_parser().parse_args(arguments)
+    assert exit_info.value.code == 2
+    assert 'must be in' in capsys.readouterr().err
+
+
+@pytest.mark.system
+@pytest.mark.parametrize('arguments, reason', [
+    (['--force', '60', '0', '0'], 'max_wrench_force 50 N'),
+    (['--torque', '0', '0', '6'], 'max_wrench_torque 5 N m'),
+    (['--force', '1', '0', '0', '--frame', 'map'], "in frame 'map'"),
+    (['--force', '1', '0', '0', '--rate', '1', '--duration', '2'], 'wrench_timeout 0.5 s'),
+])
+def test_the_wrench_cli_refuses_what_the_running_node_would_ignore(ros, arguments, reason):
+    """Checked against the node's own bounds, frame and timeout: exit 1, nothing sent."""
+    node = start_node(ros, rate_hz=200.0, max_wrench_force=50.0, max_wrench_torque=5.0, **FREE)
     seen = []
     ros.probe.create_timer(0.01, lambda: seen.append(node.simulation.wrench))
-    process = subprocess.Popen(
-        [sys.executable, '-m', 'mouse_constraint_ros.cli.wrench', '--force', '2', '0', '0',
-         '--torque', '0', '0', '0.5', '--duration', '0.5'],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    assert ros.spin_until(lambda: process.poll() is not None, timeout=20.0)
-    ros.spin_for(0.2)
-    assert process.returncode == 0, process.stderr.read()
-    pushed = [w for w in seen if w != NO_WRENCH]
-    assert pushed and set(pushed) == {((2.0, 0.0, 0.0), (0.0, 0.0, 0.5))}
-    # About the duration at 10 ms per sample, and nothing after the zero wrench.
-    assert 0.3 <= 0.01 * len(pushed) <= 1.0
-    assert node.simulation.wrench == NO_WRENCH
-    assert 'pushed with force' in process.stdout.read()
+    status, stdout, stderr = run_wrench_cli(ros, arguments)
+    assert status == 1 and reason in stderr and 'nothing published' in stderr, stderr
+    assert set(seen) == {NO_WRENCH} and 'pushed' not in stdout
 
 
 @pytest.mark.system
-def test_the_wrench_cli_refuses_what_the_node_would_ignore():
-    """A force over the default max_wrench_force: exit 1 with the reason, nothing sent."""
+def test_the_wrench_cli_refuses_a_non_finite_wrench_at_once():
+    """A non-finite force is refused before anything starts: exit 1, no node needed."""
     result = subprocess.run(
-        [sys.executable, '-m', 'mouse_constraint_ros.cli.wrench', '--force', '2000', '0', '0'],
+        [sys.executable, '-m', 'mouse_constraint_ros.cli.wrench', '--force', 'nan', '0', '0'],
         capture_output=True, text=True, timeout=20.0)
-    assert result.returncode == 1 and 'max_wrench_force' in result.stderr
+    assert result.returncode == 1 and 'not finite' in result.stderr
 
 
 @pytest.mark.system
