@@ -32,6 +32,8 @@ from rclpy.parameter import Parameter
 from rclpy.serialization import deserialize_message
 from rclpy.serialization import serialize_message
 from scipy.spatial.transform import Rotation
+from service_msgs.msg import ServiceEventInfo
+from std_srvs.srv import Trigger
 from visualization_msgs.msg import Marker
 import yaml
 
@@ -47,7 +49,7 @@ from mouse_constraint_ros.recording.mcap_file import message_definition
 from mouse_constraint_ros.recording.mcap_file import schema_name
 from mouse_constraint_ros.recording.outputs import check_writable
 from mouse_constraint_ros.recording.outputs import output_paths
-from mouse_constraint_ros.recording.received import anchor_change
+from mouse_constraint_ros.recording.received import parameter_changes
 from mouse_constraint_ros.recording.received import PARAMETER_EVENTS_TOPIC
 from mouse_constraint_ros.recording.received import Received
 from mouse_constraint_ros.recording.rows import COLUMNS
@@ -209,7 +211,9 @@ def test_mcap_reads_back_with_the_mcap_library(recording):
         assert reader.get_header().profile == 'ros2'
         summary = reader.get_summary()
         channels = {c.topic: c for c in summary.channels.values()}
-        assert set(channels) == {'/target', '/pose', '/twist', '/grab', '/parameter_events'}
+        assert set(channels) == {'/target', '/pose', '/twist', '/grab', '/parameter_events',
+                                 '/mouse_constraint/reset/_service_event',
+                                 '/mouse_constraint/release/_service_event'}
         for topic, message_type in (('/target', PointStamped), ('/pose', PoseStamped),
                                     ('/twist', TwistStamped)):
             channel = channels[topic]
@@ -280,56 +284,142 @@ def test_tick_rows_join_pose_and_twist_and_hold_the_latest_target():
 
     received = [pose(10), twist(10), target((1.0, 0.0, 1.0)), pose(20), twist(20), pose(30),
                 target((0.0, 0.0, 1.0)), twist(30), twist(40)]
-    rows = tick_rows(received, (1.0, 0.0, 0.0))
+    rows = tick_rows(received, {'anchor': (1.0, 0.0, 0.0)})
     assert [row.stamp_ns for row in rows] == [10, 20, 30]
     assert [row.time for row in rows] == [0.0, 1e-8, 2e-8]
     assert [row.target for row in rows] == [None, (1.0, 0.0, 1.0), (1.0, 0.0, 1.0)]
     assert rows[0].anchor == (1.0, 0.0, 1.0)
     assert rows[0].anchor_error is None and rows[1].anchor_error == 0.0
     assert rows[0].speed == 5.0
-    assert rows[0].fields()[-12:] == ['', '', '', '', 5.0, 0.0, 1.0, 0.0, 0.0, '', '', '']
+    assert rows[0].fields()[-13:] == ['', '', '', '', 5.0, 0.0, 1.0, 0.0, 0.0, '', '', '', '']
     assert all(row.body_anchor == (1.0, 0.0, 0.0) and row.grab is None for row in rows)
 
 
-def anchor_event(node_name: str, anchor) -> Received:
+def anchor_event(node_name: str, anchor, stamp_ns: int = 0, name: str = 'anchor') -> Received:
     """Return a /parameter_events message of ``node_name`` that changes its anchor."""
     value = ParameterValue(type=ParameterType.PARAMETER_DOUBLE_ARRAY,
                            double_array_value=list(anchor))
     event = ParameterEvent(node=node_name, changed_parameters=[
-        ParameterMessage(name='anchor', value=value)])
+        ParameterMessage(name=name, value=value)])
+    event.stamp.sec, event.stamp.nanosec = divmod(stamp_ns, 1_000_000_000)
     return Received(PARAMETER_EVENTS_TOPIC, 0, serialize_message(event))
 
 
-def test_tick_rows_follow_anchor_changes_and_mark_grabs():
-    """From the pose after an anchor change the row uses it; a grab lands on the next row."""
-    def state(kind, ns):
-        message = PoseStamped() if kind == 'pose' else TwistStamped()
-        message.header.stamp.nanosec = ns
-        if kind == 'pose':
-            message.pose.orientation.w = 1.0
-        return Received(kind, ns, serialize_message(message))
+def state(kind: str, ns: int, position=(0.0, 0.0, 0.0)) -> Received:
+    """Return a received pose (at ``position``, unturned) or twist (at rest) stamped ``ns``."""
+    message = PoseStamped() if kind == 'pose' else TwistStamped()
+    message.header.stamp.sec, message.header.stamp.nanosec = divmod(ns, 1_000_000_000)
+    if kind == 'pose':
+        message.pose.orientation.w = 1.0
+        p = message.pose.position
+        p.x, p.y, p.z = position
+    return Received(kind, ns, serialize_message(message))
 
+
+def point_received(topic: str, point) -> Received:
+    """Return a received target or grab at ``point``."""
+    return Received(topic, 0, serialize_message(point_message(point, 'world', 0)))
+
+
+def service_event(key: str, success: bool = True, stamp_ns: int = 0) -> Received:
+    """Return a received response event of the node's ``~/reset`` or ``~/release``."""
+    event = Trigger.Event()
+    event.info.event_type = ServiceEventInfo.RESPONSE_SENT
+    event.info.stamp.sec, event.info.stamp.nanosec = divmod(stamp_ns, 1_000_000_000)
+    event.response = [Trigger.Response(success=success, message='')]
+    return Received(key, 0, serialize_message(event))
+
+
+def test_tick_rows_take_a_grab_on_the_row_the_node_took_it():
+    """
+    A grab switches anchor, target and mark together, where the node took it.
+
+    The grab comes before the node takes it: all switch on the first pose after the node's
+    anchor change; the anchor error is the node's (zero there).
+    """
     grabbed = (0.1, 0.0, 0.05)
     received = [state('pose', 10), state('twist', 10),
-                Received('grab', 0, serialize_message(point_message(grabbed, 'world', 0))),
+                point_received('target', (1.0, 0.0, 0.0)), point_received('grab', grabbed),
+                state('pose', 20), state('twist', 20),
+                anchor_event('/mouse_constraint', grabbed), state('pose', 30),
+                state('twist', 30), state('pose', 40), state('twist', 40)]
+    rows = tick_rows(received, {'anchor': (1.0, 0.0, 0.0)})
+    assert [row.body_anchor for row in rows] == [(1.0, 0.0, 0.0)] * 2 + [grabbed] * 2
+    assert [row.target for row in rows] == [None, (1.0, 0.0, 0.0), grabbed, grabbed]
+    assert [row.anchor_error for row in rows] == [None, 0.0, 0.0, 0.0]
+    assert [(row.grab, row.grab_taken) for row in rows] == [
+        (None, None), (None, None), (grabbed, True), (None, None)]
+    assert rows[2].fields()[-7:] == [*grabbed, *grabbed, 1]
+
+
+def test_tick_rows_mark_an_ignored_grab_and_keep_the_target():
+    """A grab with no anchor change of the node is marked ignored; target and anchor stay."""
+    received = [state('pose', 10), state('twist', 10),
+                point_received('target', (1.0, 0.0, 0.0)), point_received('grab', (5.0, 5.0, 5.0)),
+                state('pose', 20), state('twist', 20),
+                anchor_event('/mouse_constraint', (0.0, 1.0, 0.0)), state('pose', 30),
+                state('twist', 30)]
+    rows = tick_rows(received, {'anchor': (1.0, 0.0, 0.0)})
+    assert [(row.grab, row.grab_taken) for row in rows] == [
+        (None, None), ((5.0, 5.0, 5.0), False), (None, None)]
+    # The later anchor change is a parameter change, not the grab: the target stays.
+    assert [row.target for row in rows] == [None, (1.0, 0.0, 0.0), (1.0, 0.0, 0.0)]
+    assert rows[2].body_anchor == (0.0, 1.0, 0.0)
+
+
+def test_tick_rows_follow_reset_and_release():
+    """
+    ~/reset and ~/release set the target as the node does.
+
+    ~/reset: the configured anchor back and the initial anchor's world position the target
+    (when held); ~/release: no target. A failed reset changes nothing.
+    """
+    start = {'anchor': (0.2, 0.0, 0.0), 'hold_initial_anchor': True,
+             'initial_position': (0.0, 0.0, 1.0), 'initial_orientation': (0.0, 0.0, 1.0, 0.0)}
+    grabbed = (0.0, 0.1, 0.0)
+    received = [state('pose', 10), state('twist', 10), point_received('grab', grabbed),
                 anchor_event('/mouse_constraint', grabbed), state('pose', 20), state('twist', 20),
-                state('pose', 30), state('twist', 30)]
-    rows = tick_rows(received, (1.0, 0.0, 0.0))
-    assert [row.body_anchor for row in rows] == [(1.0, 0.0, 0.0), grabbed, grabbed]
-    assert [row.anchor for row in rows] == [(1.0, 0.0, 0.0), grabbed, grabbed]
-    assert [row.grab for row in rows] == [None, grabbed, None]
-    assert rows[1].fields()[-6:] == [*grabbed, *grabbed]
+                service_event('reset', success=False), state('pose', 30), state('twist', 30),
+                anchor_event('/mouse_constraint', start['anchor']), service_event('reset'),
+                state('pose', 40, (0.0, 0.0, 1.0)), state('twist', 40), service_event('release'),
+                state('pose', 50), state('twist', 50)]
+    rows = tick_rows(received, start)
+    assert [row.body_anchor for row in rows] == [start['anchor'], grabbed, grabbed,
+                                                 start['anchor'], start['anchor']]
+    # Turned half about z, the initial anchor (0.2, 0, 0) is at (-0.2, 0, 1).
+    initial = rows[3].target
+    np.testing.assert_allclose(initial, (-0.2, 0.0, 1.0), atol=1e-15)
+    assert [row.target for row in rows] == [None, grabbed, grabbed, initial, None]
+    without = tick_rows(received, {'anchor': start['anchor']})
+    assert without[3].target is None
 
 
-def test_anchor_change_reads_only_a_three_vector_anchor():
-    """Other parameters, and an anchor that is no 3-vector, set no anchor."""
+def test_tick_rows_apply_a_change_to_the_ticks_stamped_after_it():
+    """A change received after a pose stamped later than the node's stamp of it applies there."""
+    received = [state('pose', 10), state('twist', 10), state('pose', 20), state('twist', 20),
+                state('pose', 30), state('twist', 30),
+                anchor_event('/mouse_constraint', (0.0, 1.0, 0.0), stamp_ns=25),
+                state('pose', 40), state('twist', 40)]
+    rows = tick_rows(received, {'anchor': (1.0, 0.0, 0.0)})
+    assert [row.body_anchor for row in rows] == [(1.0, 0.0, 0.0)] * 2 + [(0.0, 1.0, 0.0)] * 2
+    # On another clock (far from the poses' stamps) the order of arrival decides.
+    received[6] = anchor_event('/mouse_constraint', (0.0, 1.0, 0.0), stamp_ns=10 ** 18)
+    rows = tick_rows(received, {'anchor': (1.0, 0.0, 0.0)})
+    assert [row.body_anchor for row in rows] == [(1.0, 0.0, 0.0)] * 3 + [(0.0, 1.0, 0.0)]
+
+
+def test_parameter_changes_read_only_the_followed_parameters():
+    """Other parameters, and arrays of another length, set nothing."""
     event = deserialize_message(anchor_event('/n', (1.0, 2.0, 3.0)).data, ParameterEvent)
-    assert anchor_change(event) == (1.0, 2.0, 3.0)
+    assert parameter_changes(event) == {'anchor': (1.0, 2.0, 3.0)}
     event.changed_parameters[0].name = 'mass'
-    assert anchor_change(event) is None
+    assert parameter_changes(event) == {}
     event.changed_parameters[0].name = 'anchor'
     event.changed_parameters[0].value.double_array_value = [1.0, 2.0]
-    assert anchor_change(event) is None
+    assert parameter_changes(event) == {}
+    event = deserialize_message(
+        anchor_event('/n', (0.0, 0.0, 0.0, 1.0), name='initial_orientation').data, ParameterEvent)
+    assert parameter_changes(event) == {'initial_orientation': (0.0, 0.0, 0.0, 1.0)}
 
 
 def test_progress_bar_and_lines_off_a_terminal():
@@ -489,10 +579,16 @@ def test_recording_follows_a_grab(tmp_path):
     assert 0 < changed < len(rows) - 10
     assert set(body[:changed]) == {ANCHOR} and set(body[changed:]) == {new_anchor}
     marked = [i for i, row in enumerate(rows) if row['grab_x'] is not None]
-    # The grab and the anchor change come on two topics: within a tick or two of each other.
-    assert len(marked) == 1 and abs(marked[0] - changed) <= 2
-    assert (rows[marked[0]]['grab_x'], rows[marked[0]]['grab_y'],
-            rows[marked[0]]['grab_z']) == tuple(point)
+    # Marked on the row from which the node holds it, taken; from there it is the target.
+    assert marked == [changed] and rows[changed]['grab_taken'] == 1
+    assert (rows[changed]['grab_x'], rows[changed]['grab_y'],
+            rows[changed]['grab_z']) == tuple(point)
+    assert all(row['target_x'] is None for row in rows[:changed])
+    assert {(row['target_x'], row['target_y'], row['target_z'])
+            for row in rows[changed:]} == {tuple(point)}
+    # The node placed the grabbed point where it was: no jump, and a rigid joint holds it.
+    assert rows[changed]['anchor_error'] < 1e-3
+    assert max(row['anchor_error'] for row in rows[changed:]) < 0.01
     for row, anchor in zip(rows, body):
         q = [row['qx'], row['qy'], row['qz'], row['qw']]
         world = np.array([row['x'], row['y'], row['z']]) + Rotation.from_quat(q).apply(anchor)
@@ -506,3 +602,61 @@ def test_recording_follows_a_grab(tmp_path):
     events = [m for topic, m in decoded if topic == '/parameter_events']
     assert [e.node for e in events] == ['/grabbed/mouse_constraint']
     assert tuple(events[0].changed_parameters[0].value.double_array_value) == new_anchor
+
+
+def resting_rows(count: int = 50, target=None) -> list:
+    """Return the rows of a body at rest at (0, 0, 1) + 1e-12 noise, with ``target`` or none."""
+    received = []
+    for k in range(count):
+        ns = 1_000_000 * (k + 1)
+        received += [state('pose', ns, (0.2, 0.1, 1.0 + 1e-12 * (k % 3))), state('twist', ns)]
+        if target is not None and k == 0:
+            received.append(point_received('target', target))
+    return tick_rows(received, {'anchor': (0.0, 0.0, 0.0)})
+
+
+def test_the_figure_of_a_body_at_rest_reads_plainly():
+    """
+    The figure of a body at rest: plain labels, a note, both speed lines in view.
+
+    Plain tick labels (no offset), a note for the empty anchor error panel, and the zero speed
+    drawn inside the axes, under a dashed zero angular speed.
+    """
+    from mouse_constraint_ros.recording.figure import draw_figure
+
+    figure = draw_figure(resting_rows(), anchor=(0.0, 0.0, 0.0), frame_id='world')
+    figure.canvas.draw()
+    top, side, error, speed, spin = figure.axes
+    for axes in (top, side, speed, spin):
+        for axis in (axes.xaxis, axes.yaxis):
+            # Each label is its tick's value (to the label's digits), not an offset from one.
+            locations = axis.get_ticklocs()
+            labels = [float(t.get_text().replace('\u2212', '-')) for t in axis.get_ticklabels()]
+            step = np.min(np.diff(locations))
+            np.testing.assert_allclose(labels, locations, atol=step / 2, err_msg=str(axis))
+    assert [t.get_text() for t in error.texts] == [
+        'no target: the node held none while recorded']
+    for axes in (speed, spin):
+        [line] = [line for line in axes.get_lines() if not line.get_label().startswith('_')]
+        low, high = axes.get_ylim()
+        assert low < 0.0 == line.get_ydata().max() < high
+    assert spin.get_lines()[0].get_linestyle() == '--'
+    assert speed.get_lines()[0].get_linestyle() == '-'
+    figure = draw_figure(resting_rows(target=(0.2, 0.1, 1.5)), anchor=(0.0, 0.0, 0.0),
+                         frame_id='world')
+    assert not figure.axes[2].texts and figure.axes[2].get_lines()
+
+
+def test_the_figure_escapes_what_its_font_cannot_draw(tmp_path):
+    """An emoji frame id is drawn as its escape, without a missing-glyph warning."""
+    import warnings
+
+    from mouse_constraint_ros.recording.figure import drawable, write_figure
+
+    assert drawable('world') == 'world' and drawable('m\u00e8tre') == 'm\u00e8tre'
+    assert drawable('\U0001f916 arm') == '\\U0001f916 arm'
+    with warnings.catch_warnings():
+        warnings.simplefilter('error')
+        write_figure(tmp_path / 'emoji.png', resting_rows(), anchor=(0.0, 0.0, 0.0),
+                     frame_id='\U0001f916', title='robot \U0001f916')
+    assert (tmp_path / 'emoji.png').stat().st_size > 0

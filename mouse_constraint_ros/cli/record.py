@@ -6,21 +6,22 @@ The ``mouse_record`` command: record target, pose, twist and grabs, then draw th
 then writes
 
 - ``run.csv``: one row per tick (pose and twist of the same stamp), with the anchor's world
-  position, the latest target received before that pose, the anchor error, speed and angular
-  speed, the body-frame anchor in effect and the grab received since the tick before;
+  position, the node's target at that tick (the latest target received, a grab the node took,
+  what ``~/reset`` and ``~/release`` leave), the anchor error, speed and angular speed, the
+  body-frame anchor in effect and the grabs, taken or ignored;
 - ``run.png``: anchor and target paths from above and from the side, the anchor error, speed and
   angular speed over time, grabs marked;
 - ``run.mcap`` with ``--mcap``: the topics as received (CDR, ``ros2`` profile), with the
-  recorded node's anchor changes from ``/parameter_events``, which Foxglove and
-  ``ros2 bag info/play`` open.
+  recorded node's changes from ``/parameter_events`` and its reset and release service events,
+  which Foxglove and ``ros2 bag info/play`` open.
 
-The anchor (body frame) is read at the start from the ``anchor`` parameter of the node being
-recorded (``--node``, default ``mouse_constraint`` in the recorder's namespace) through its
-parameter service, then followed on ``/parameter_events`` (a ``grab`` makes the grabbed point
-the node's anchor), so the figure always matches the node; ``--anchor X Y Z`` gives the
-starting anchor instead and needs no node. Ctrl-C ends the recording early and still writes
-the files. The files are checked for writing before the recording starts: an unwritable
-``--output`` fails at once.
+The anchor (body frame), ``hold_initial_anchor`` and the initial pose are read at the start from
+the node being recorded (``--node``, default ``mouse_constraint`` in the recorder's namespace)
+through its parameter service, then followed on ``/parameter_events`` (a ``grab`` makes the
+grabbed point the node's anchor), so the figure always matches the node; ``--anchor X Y Z``
+gives the starting anchor instead and needs no node (the target after a reset is then not
+known). Ctrl-C ends the recording early and still writes the files. The files are checked for
+writing before the recording starts: an unwritable ``--output`` fails at once.
 
 This module is the command (its options and ``main``); the recording, the rows, the figure and
 the MCAP file are in the ``recording`` package.
@@ -31,7 +32,7 @@ import datetime
 import math
 from pathlib import Path
 import sys
-from typing import List, Optional
+from typing import Dict, List, Optional
 
 import rclpy
 from rclpy.executors import ExternalShutdownException
@@ -41,8 +42,7 @@ from rclpy.utilities import remove_ros_args
 
 from .help_text import plain_text
 from ..interface import NODE_NAME
-from ..physics.algebra import Vector3
-from ..recording.capture import capture, fetch_anchor, Progress, Recorder, wait_for_first_pose
+from ..recording.capture import capture, fetch_start, Progress, Recorder, wait_for_first_pose
 from ..recording.figure import write_figure
 from ..recording.mcap_file import write_mcap
 from ..recording.outputs import check_writable, describe_os_error, output_paths
@@ -122,17 +122,17 @@ def main(args: Optional[List[str]] = None) -> int:
     executor.add_node(node)
     try:
         with StopRequest() as stop:
-            anchor = options.anchor
-            if anchor is None:
+            if options.anchor is not None:
+                start = {'anchor': tuple(options.anchor)}
+            else:
                 try:
-                    anchor = fetch_anchor(node, executor, stop, target_node=options.node,
-                                          timeout=options.timeout)
+                    start = fetch_start(node, executor, stop, target_node=options.node,
+                                        timeout=options.timeout)
                 except RuntimeError as error:
                     logger.error(f'{error}: is the node running (same ROS_DOMAIN_ID and '
                                  'namespace, --node)? Or give --anchor X Y Z')
                     return 1
-                logger.info(f'anchor {anchor} m (body frame) from {options.node}')
-            anchor = tuple(anchor)
+                logger.info(f'anchor {start["anchor"]} m (body frame) from {options.node}')
             try:
                 wait_for_first_pose(node, executor, stop, timeout=options.timeout)
             except RuntimeError as error:
@@ -142,7 +142,7 @@ def main(args: Optional[List[str]] = None) -> int:
                           progress=Progress(options.duration))
             if end is SpinEnd.SHUTDOWN:
                 return 1
-        return write_outputs(node, options, anchor)
+        return write_outputs(node, options, start)
     except Interrupted:
         logger.warning('interrupted before the first pose: nothing recorded')
         return INTERRUPTED_STATUS
@@ -153,10 +153,15 @@ def main(args: Optional[List[str]] = None) -> int:
         rclpy.try_shutdown()
 
 
-def write_outputs(node: Recorder, options: argparse.Namespace, anchor: Vector3) -> int:
-    """Write the CSV, the figure and, with ``--mcap``, the MCAP file; log where they went."""
+def write_outputs(node: Recorder, options: argparse.Namespace, start: Dict[str, object]) -> int:
+    """
+    Write the CSV, the figure and, with ``--mcap``, the MCAP file; log where they went.
+
+    :param start: the recorded node's parameters at the start (``rows.NodeView``).
+    """
     logger = node.get_logger()
-    rows = tick_rows(node.received, anchor)
+    anchor = start['anchor']
+    rows = tick_rows(node.received, start)
     if not rows:
         logger.error('no tick with both pose and twist was recorded')
         return 1

@@ -3,10 +3,12 @@ The recording itself: a node that keeps every message of the recorded topics, an
 
 ``Recorder`` subscribes to ``TOPICS`` with deep RELIABLE queues and keeps each message serialized,
 as it arrived (``Received``), from the first message on; the recorded time starts at the first
-pose. It also keeps the recorded node's ``/parameter_events`` that change its ``anchor`` (a
-``grab`` makes the grabbed point the node's anchor), in the same stream, so that the rows follow
-the anchor from the moment it changed. ``fetch_anchor`` reads the body-frame anchor at the start
-from the recorded node's parameter service, ``wait_for_first_pose`` and ``capture`` spin it
+pose. It also keeps the recorded node's ``/parameter_events`` that change a parameter the rows
+follow (``received.NODE_PARAMETERS``: a ``grab`` makes the grabbed point the node's anchor) and
+the service events of its ``~/reset`` and ``~/release``, in the same stream, so that the rows
+follow the node's anchor and target from the moment they changed. ``fetch_start`` reads those
+parameters at the start from the recorded node's parameter service, ``wait_for_first_pose``
+and ``capture`` spin it
 (``spin.spin_until``) while ``Progress`` draws the progress line.
 """
 
@@ -15,17 +17,19 @@ import sys
 import time
 from typing import Dict, List, Optional, TextIO
 
-from rcl_interfaces.msg import ParameterEvent, ParameterType
-from rcl_interfaces.srv import GetParameters
+from rcl_interfaces.msg import ParameterEvent
 from rclpy.executors import Executor
 from rclpy.node import Node
 from rclpy.qos import HistoryPolicy, qos_profile_parameter_events, QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
+from service_msgs.msg import ServiceEventInfo
 
 from .mcap_file import offered_qos_yaml
-from .received import anchor_change, PARAMETER_EVENTS_TOPIC, Received, TOPICS
+from .received import (MESSAGE_TYPES, NODE_PARAMETERS, parameter_changes,
+                       PARAMETER_EVENTS_TOPIC, Received, service_event_topic, SERVICE_EVENTS,
+                       TOPICS)
+from ..cli.remote_parameters import fetch_parameters
 from ..interface import NODE_NAME, POSE_TOPIC
-from ..physics.algebra import Vector3
 from ..spin import spin_until, SpinEnd, StopRequest, wait_until
 
 # Deep RELIABLE queues: a burst of caught-up ticks must not overwrite unread messages.
@@ -38,14 +42,15 @@ class Recorder(Node):
     Subscribes to the recorded topics and keeps every message, serialized, as it arrives.
 
     :param target_node: the recorded node (resolved in this node's namespace), whose anchor
-        changes on ``/parameter_events`` are kept.
+        changes on ``/parameter_events`` and service events of ``~/reset`` and ``~/release`` are
+        kept.
     """
 
     def __init__(self, *, target_node: str = NODE_NAME, **kwargs) -> None:
         """Create the node ``mouse_record`` and its subscriptions."""
         super().__init__('mouse_record', **kwargs)
         self.target_name = self.resolve_topic_name(target_node)
-        self.anchor_changes = 0
+        self.parameter_changes = 0
         self.received: List[Received] = []
         self.counts = dict.fromkeys(TOPICS, 0)
         self.offered_qos: Dict[str, str] = {}
@@ -58,6 +63,10 @@ class Recorder(Node):
         self.subscriptions_by_topic[PARAMETER_EVENTS_TOPIC] = self.create_subscription(
             ParameterEvent, PARAMETER_EVENTS_TOPIC, self._on_parameter_event,
             qos_profile_parameter_events, raw=True)
+        for key in SERVICE_EVENTS:
+            self.subscriptions_by_topic[key] = self.create_subscription(
+                MESSAGE_TYPES[key], service_event_topic(self.target_name, key),
+                self._service_receiver(key), RECORD_QOS, raw=True)
 
     def topic_name(self, key: str) -> str:
         """Return the resolved (namespaced, remapped) name of a recorded topic."""
@@ -68,15 +77,15 @@ class Recorder(Node):
         return {key: self.topic_name(key) for key in self.subscriptions_by_topic}
 
     def _on_parameter_event(self, data: bytes) -> None:
-        """Keep the events of the recorded node that change its anchor."""
+        """Keep the events of the recorded node that change a parameter the rows follow."""
         if not self.recording:
             return
         event = deserialize_message(data, ParameterEvent)
-        if event.node != self.target_name or anchor_change(event) is None:
+        if event.node != self.target_name or not parameter_changes(event):
             return
         self.received.append(Received(PARAMETER_EVENTS_TOPIC, self.get_clock().now().nanoseconds,
                                       data))
-        self.anchor_changes += 1
+        self.parameter_changes += 1
         self._note_qos(PARAMETER_EVENTS_TOPIC)
 
     def _note_qos(self, key: str) -> None:
@@ -93,12 +102,23 @@ class Recorder(Node):
                 return
             now = self.get_clock().now().nanoseconds
             self.received.append(Received(key, now, data))
-            self.counts[key] += 1
+            if key in self.counts:
+                self.counts[key] += 1
             # With use_sim_time the clock reads 0 until /clock arrives: start once it runs.
             if key == POSE_TOPIC and self.first_pose_ns is None and now > 0:
                 self.first_pose_ns = now
             self._note_qos(key)
         return receive
+
+    def _service_receiver(self, key: str):
+        receive = self._receiver(key)
+
+        def receive_response(data: bytes) -> None:
+            # The responses say what the call did; the requests carry nothing more.
+            event = deserialize_message(data, MESSAGE_TYPES[key])
+            if event.info.event_type == ServiceEventInfo.RESPONSE_SENT:
+                receive(data)
+        return receive_response
 
     def elapsed(self) -> float:
         """Return the seconds recorded since the first pose (0 before it)."""
@@ -107,30 +127,17 @@ class Recorder(Node):
         return max(0.0, (self.get_clock().now().nanoseconds - self.first_pose_ns) * 1e-9)
 
 
-def fetch_anchor(node: Node, executor: Executor, stop: StopRequest, *, target_node: str,
-                 timeout: float) -> Vector3:
+def fetch_start(node: Node, executor: Executor, stop: StopRequest, *, target_node: str,
+                timeout: float) -> Dict[str, object]:
     """
-    Return ``target_node``'s ``anchor`` parameter (body frame, m).
+    Return ``target_node``'s parameters of ``NODE_PARAMETERS`` (the anchor in the body frame, m).
 
     :param timeout: seconds to wait for the parameter service, then as long for its answer.
-    :raises RuntimeError: saying why it could not be read.
+    :raises RuntimeError: saying why they could not be read.
     :raises Interrupted: when ``stop`` is requested meanwhile.
     """
-    client = node.create_client(GetParameters, f'{target_node}/get_parameters')
-    try:
-        if not wait_until(executor, stop, client.service_is_ready,
-                          deadline=time.monotonic() + timeout):
-            raise RuntimeError(f'no parameter service {client.srv_name} after {timeout:g} s')
-        future = client.call_async(GetParameters.Request(names=['anchor']))
-        if not wait_until(executor, stop, future.done, deadline=time.monotonic() + timeout):
-            raise RuntimeError(f'{client.srv_name} did not answer in {timeout:g} s')
-        values = future.result().values
-        if len(values) != 1 or values[0].type != ParameterType.PARAMETER_DOUBLE_ARRAY \
-                or len(values[0].double_array_value) != 3:
-            raise RuntimeError(f'{target_node} has no anchor parameter of 3 numbers')
-        return tuple(float(v) for v in values[0].double_array_value)
-    finally:
-        node.destroy_client(client)
+    return fetch_parameters(node, executor, stop, target_node=target_node,
+                            types=NODE_PARAMETERS, timeout=timeout)
 
 
 def wait_for_first_pose(node: Recorder, executor: Executor, stop: StopRequest, *,
