@@ -29,6 +29,8 @@ from rcl_interfaces.msg import ParameterEvent
 from rcl_interfaces.msg import ParameterType
 from rcl_interfaces.msg import ParameterValue
 from rclpy.parameter import Parameter
+from rclpy.qos import QoSProfile
+from rclpy.qos import ReliabilityPolicy
 from rclpy.serialization import deserialize_message
 from rclpy.serialization import serialize_message
 from scipy.spatial.transform import Rotation
@@ -41,12 +43,15 @@ from mouse_constraint_ros.cli.record import parse_arguments
 from mouse_constraint_ros.messages import point_message
 from mouse_constraint_ros.messages import stamp_nanoseconds
 from mouse_constraint_ros.node import MouseConstraintNode
+from mouse_constraint_ros.publish_ticks import PublishTicks
 from mouse_constraint_ros.recording.capture import Progress
 from mouse_constraint_ros.recording.capture import progress_bar
 from mouse_constraint_ros.recording.figure import FIGURE_DPI
 from mouse_constraint_ros.recording.figure import FIGURE_INCHES
 from mouse_constraint_ros.recording.mcap_file import message_definition
 from mouse_constraint_ros.recording.mcap_file import schema_name
+from mouse_constraint_ros.recording.missing_ticks import Grid
+from mouse_constraint_ros.recording.missing_ticks import missing_ticks
 from mouse_constraint_ros.recording.outputs import check_writable
 from mouse_constraint_ros.recording.outputs import output_paths
 from mouse_constraint_ros.recording.received import parameter_changes
@@ -140,7 +145,7 @@ def recording(harness, tmp_path_factory):
 def read_csv(path: Path) -> list:
     """Return the CSV's rows as dicts, numbers parsed, '' as None."""
     with open(path, newline='') as stream:
-        reader = csv.DictReader(stream)
+        reader = csv.DictReader(line for line in stream if not line.startswith('#'))
         assert tuple(reader.fieldnames) == COLUMNS
         return [{k: (None if v == '' else int(v) if k == 'stamp_ns' else float(v))
                  for k, v in row.items()} for row in reader]
@@ -660,3 +665,63 @@ def test_the_figure_escapes_what_its_font_cannot_draw(tmp_path):
         write_figure(tmp_path / 'emoji.png', resting_rows(), anchor=(0.0, 0.0, 0.0),
                      frame_id='\U0001f916', title='robot \U0001f916')
     assert (tmp_path / 'emoji.png').stat().st_size > 0
+
+
+def test_missing_ticks_count_the_gaps_on_the_grid():
+    """Gaps on the grid count as missing ticks; a step back or off the grid is a restart."""
+    ms = 1_000_000
+    stamps = [0, ms, 2 * ms, 5 * ms, 6 * ms, 16 * ms]
+    lacking = missing_ticks(stamps, Grid(1000.0))
+    assert (lacking.expected, lacking.recorded, lacking.missing) == (17, 6, 11)
+    assert (lacking.longest_gap, lacking.gap_at, lacking.restarts) == (0.01, 0.006, 0)
+    assert missing_ticks(stamps, None).missing == 11
+    # A restart (back in time, or off the grid) counts nothing across it.
+    restarted = missing_ticks([0, ms, 2 * ms, ms // 2, ms // 2 + ms, 2 * ms + 777], Grid(1000.0))
+    assert (restarted.missing, restarted.restarts) == (0, 2)
+    # 300 Hz published at 1 kHz: gaps of 3 and 4 ticks are no loss; 13 ticks lack 3 publishes.
+    ticks = PublishTicks(1000.0, 300.0)
+    published = [n * ms for n in range(100) if ticks.due(n)]
+    assert missing_ticks(published, Grid(1000.0, 300.0)).missing == 0
+    assert missing_ticks(published[:5] + published[8:], Grid(1000.0, 300.0)).missing == 3
+    assert 'ticks_missing: 3' in missing_ticks(published[:5] + published[8:],
+                                               Grid(1000.0, 300.0)).lines()
+
+
+def test_a_recording_says_which_ticks_it_lacks(tmp_path):
+    """
+    Ticks absent from the grid: the exit warning and the CSV's header count them.
+
+    The test publishes the stamped poses and twists itself (1 ms apart from 5 s, without
+    ticks 100 to 109 and 300 to 304), so the gaps are known; without the node's parameters
+    (``--anchor``) the grid is the smallest step. The recording ends at 0.5 s of stamps.
+    """
+    ros = RosHarness()
+    try:
+        qos = QoSProfile(depth=10000, reliability=ReliabilityPolicy.RELIABLE)
+        poses = ros.probe.create_publisher(PoseStamped, 'lacking/pose', qos)
+        twists = ros.probe.create_publisher(TwistStamped, 'lacking/twist', qos)
+        process = subprocess.Popen(
+            [str(BIN / 'mouse_record'), '-d', '0.5', '-o', str(tmp_path / 'lacking'), '--anchor',
+             '0', '0', '0', '--timeout', '20', '--ros-args', '-r', '__ns:=/lacking'],
+            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        assert ros.spin_until(lambda: poses.get_subscription_count() > 0
+                              and twists.get_subscription_count() > 0, timeout=20.0)
+        kept = [n for n in range(700) if not (100 <= n < 110 or 300 <= n < 305)]
+        for n in kept:
+            for publisher, kind in ((poses, 'pose'), (twists, 'twist')):
+                publisher.publish(deserialize_message(
+                    state(kind, 5_000_000_000 + n * 1_000_000).data,
+                    PoseStamped if kind == 'pose' else TwistStamped))
+            ros.spin_for(0.0005)
+        assert ros.spin_until(lambda: process.poll() is not None, timeout=30.0)
+        stderr = process.stderr.read()
+    finally:
+        if process.poll() is None:
+            process.kill()
+        ros.shutdown()
+    assert process.returncode == 0, stderr
+    assert '15 of 501 ticks missing from the recording (longest gap 0.011 s' in stderr
+    with open(tmp_path / 'lacking.csv') as stream:
+        header = [line for line in stream if line.startswith('#')]
+    assert '# ticks_missing: 15\n' in header and '# ticks_recorded: 486\n' in header
+    assert len(read_csv(tmp_path / 'lacking.csv')) == 486

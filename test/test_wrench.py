@@ -307,6 +307,7 @@ def test_the_wrench_cli_pushes_for_its_duration_then_stops(ros, duration):
     pushed = (node.simulation.state.linear_velocity[0] - speed) * MASS / force
     assert abs(pushed - duration) <= 0.01, pushed
     assert f'for {duration:g} s' in stdout
+    assert 'Traceback' not in stderr and 'Exception ignored' not in stderr
 
 
 @pytest.mark.system

@@ -45,6 +45,7 @@ from ..interface import NODE_NAME
 from ..recording.capture import capture, fetch_start, Progress, Recorder, wait_for_first_pose
 from ..recording.figure import write_figure
 from ..recording.mcap_file import write_mcap
+from ..recording.missing_ticks import Grid, missing_ticks
 from ..recording.outputs import check_writable, describe_os_error, output_paths
 from ..recording.rows import frame_of, tick_rows, write_csv
 from ..spin import Interrupted, SpinEnd, StopRequest
@@ -83,8 +84,8 @@ def build_parser() -> argparse.ArgumentParser:
                         help='the node whose anchor parameter to read and follow '
                              '(default: %(default)s, in this namespace)')
     parser.add_argument('--timeout', type=_finite('--timeout', 0.0), default=10.0,
-                        help='seconds to wait for the parameter service and the first pose '
-                             '(default: %(default)g)')
+                        help='seconds to wait for the parameter service and the first pose, '
+                             'and for each pose while recording (default: %(default)g)')
     return parser
 
 
@@ -139,9 +140,12 @@ def main(args: Optional[List[str]] = None) -> int:
                 logger.error(str(error))
                 return 1
             end = capture(node, executor, stop, duration=options.duration,
-                          progress=Progress(options.duration))
+                          idle_timeout=options.timeout, progress=Progress(options.duration))
             if end is SpinEnd.SHUTDOWN:
                 return 1
+            if end is SpinEnd.DEADLINE:
+                logger.warning(f'no pose for {options.timeout:g} s (the node paused or gone): '
+                               f'the recording ends at {node.elapsed():.3f} s')
         return write_outputs(node, options, start)
     except Interrupted:
         logger.warning('interrupted before the first pose: nothing recorded')
@@ -165,10 +169,12 @@ def write_outputs(node: Recorder, options: argparse.Namespace, start: Dict[str, 
     if not rows:
         logger.error('no tick with both pose and twist was recorded')
         return 1
+    grid = (Grid(start['rate_hz'], start['publish_rate_hz']) if 'rate_hz' in start else None)
+    lacking = missing_ticks([row.stamp_ns for row in rows], grid)
     written = output_paths(options.output, options.mcap)
     try:
         options.output.parent.mkdir(parents=True, exist_ok=True)
-        write_csv(written[0], rows)
+        write_csv(written[0], rows, [f'mouse_record of {node.target_name}', *lacking.lines()])
         write_figure(written[1], rows, anchor=anchor, frame_id=frame_of(node.received) or '?')
         if options.mcap:
             write_mcap(written[2], node.received, topic_names=node.topic_names(),
@@ -179,6 +185,14 @@ def write_outputs(node: Recorder, options: argparse.Namespace, start: Dict[str, 
         return 1
     logger.info(f'{len(rows)} ticks, {rows[-1].time:.2f} s: wrote '
                 + ', '.join(str(path) for path in written))
+    if lacking.missing:
+        logger.warning(
+            f'{lacking.missing} of {lacking.expected} ticks missing from the recording '
+            f'(longest gap {lacking.longest_gap:.6g} s at {lacking.gap_at:.6g} s, grid '
+            f'{lacking.grid}): the node dropped them or was paused, or this recorder did not '
+            f'keep up; the CSV header says so too')
+    else:
+        logger.info(f'no tick missing on the grid ({lacking.grid})')
     return 0
 
 

@@ -125,13 +125,14 @@ def main(args: Optional[List[str]] = None) -> int:
         print(f'mouse_wrench: {refusal}', file=sys.stderr)
         return 1
     rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
-    node = None
+    node = Node('mouse_wrench')
+    executor = SingleThreadedExecutor(context=node.context)
+    executor.add_node(node)
     push = Push(options)
     try:
         with StopRequest() as stop:
-            node = Node('mouse_wrench')
             try:
-                return push.run(node, stop)
+                return push.run(node, executor, stop)
             except Interrupted as interrupted:
                 return 128 + interrupted.signal
             finally:
@@ -139,8 +140,8 @@ def main(args: Optional[List[str]] = None) -> int:
     except ExternalShutdownException:
         return 1
     finally:
-        if node is not None:
-            node.destroy_node()
+        executor.shutdown()
+        node.destroy_node()
         rclpy.try_shutdown()
 
 
@@ -154,7 +155,7 @@ class Push:
         self.started_ns: Optional[int] = None
         self.ended_ns: Optional[int] = None
 
-    def run(self, node: Node, stop: StopRequest) -> int:
+    def run(self, node: Node, executor: SingleThreadedExecutor, stop: StopRequest) -> int:
         """
         Wait for the node, check the push against it, push; return the exit status.
 
@@ -164,8 +165,6 @@ class Push:
         logger = node.get_logger()
         self.publisher = publisher = node.create_publisher(WrenchStamped, WRENCH_TOPIC,
                                                            WRENCH_QOS)
-        executor = SingleThreadedExecutor(context=node.context)
-        executor.add_node(node)
         if not wait_until(executor, stop, lambda: publisher.get_subscription_count() > 0,
                           deadline=time.monotonic() + options.timeout):
             logger.error(f'no subscriber on {publisher.topic_name} within '

@@ -25,11 +25,11 @@ from rclpy.serialization import deserialize_message
 from service_msgs.msg import ServiceEventInfo
 
 from .mcap_file import offered_qos_yaml
-from .received import (MESSAGE_TYPES, NODE_PARAMETERS, parameter_changes,
+from .received import (header_stamp, MESSAGE_TYPES, NODE_PARAMETERS, parameter_changes,
                        PARAMETER_EVENTS_TOPIC, Received, service_event_topic, SERVICE_EVENTS,
                        TOPICS)
 from ..cli.remote_parameters import fetch_parameters
-from ..interface import NODE_NAME, POSE_TOPIC
+from ..interface import NODE_NAME, POSE_TOPIC, TWIST_TOPIC
 from ..spin import spin_until, SpinEnd, StopRequest, wait_until
 
 # Deep RELIABLE queues: a burst of caught-up ticks must not overwrite unread messages.
@@ -54,8 +54,17 @@ class Recorder(Node):
         self.received: List[Received] = []
         self.counts = dict.fromkeys(TOPICS, 0)
         self.offered_qos: Dict[str, str] = {}
+        # The node's clock is the stamps: the first pose's, and the latest of pose and twist.
         self.first_pose_ns: Optional[int] = None
+        self.latest_ns = {POSE_TOPIC: None, TWIST_TOPIC: None}
+        # The recording keeps the ticks stamped up to this (ns), once the first pose came.
+        self.duration_ns: Optional[int] = None
+        # Whether a pose and a twist stamped after the recorded time came (not kept).
+        self.beyond = {POSE_TOPIC: False, TWIST_TOPIC: False}
+        # time.monotonic() of the latest pose.
+        self.pose_seen_at = time.monotonic()
         self.recording = True
+        self._clock = self.get_clock()
         self.subscriptions_by_topic = {
             key: self.create_subscription(message_type, key, self._receiver(key), RECORD_QOS,
                                           raw=True)
@@ -97,17 +106,31 @@ class Recorder(Node):
     def _receiver(self, key: str):
         # Serialized messages (raw=True) and no message info: the EventsExecutor of this rclpy
         # (7.1.6) fails on callbacks that take one.
+        received, counts, clock, latest = self.received, self.counts, self._clock, self.latest_ns
+        counted, state = key in counts, key in latest
+
         def receive(data: bytes) -> None:
             if not self.recording:
                 return
-            now = self.get_clock().now().nanoseconds
-            self.received.append(Received(key, now, data))
-            if key in self.counts:
-                self.counts[key] += 1
-            # With use_sim_time the clock reads 0 until /clock arrives: start once it runs.
-            if key == POSE_TOPIC and self.first_pose_ns is None and now > 0:
-                self.first_pose_ns = now
-            self._note_qos(key)
+            if state:
+                stamp = header_stamp(data)
+                if stamp is None:
+                    return
+                if key == POSE_TOPIC:
+                    self.pose_seen_at = time.monotonic()
+                    if self.first_pose_ns is None:
+                        self.first_pose_ns = stamp
+                if self.duration_ns is not None and stamp > self.first_pose_ns + \
+                        self.duration_ns:
+                    self.beyond[key] = True
+                    return
+                if latest[key] is None or stamp > latest[key]:
+                    latest[key] = stamp
+            received.append(Received(key, clock.now().nanoseconds, data))
+            if counted:
+                counts[key] += 1
+            if key not in self.offered_qos:
+                self._note_qos(key)
         return receive
 
     def _service_receiver(self, key: str):
@@ -120,11 +143,16 @@ class Recorder(Node):
                 receive(data)
         return receive_response
 
+    def complete(self) -> bool:
+        """Return whether the recorded time is over: pose and twist came stamped after it."""
+        return all(self.beyond.values())
+
     def elapsed(self) -> float:
-        """Return the seconds recorded since the first pose (0 before it)."""
-        if self.first_pose_ns is None:
+        """Return the seconds of stamps recorded since the first pose's, pose and twist both."""
+        first, pose, twist = self.first_pose_ns, *self.latest_ns.values()
+        if first is None or pose is None or twist is None:
             return 0.0
-        return max(0.0, (self.get_clock().now().nanoseconds - self.first_pose_ns) * 1e-9)
+        return max(0.0, (min(pose, twist) - first) * 1e-9)
 
 
 def fetch_start(node: Node, executor: Executor, stop: StopRequest, *, target_node: str,
@@ -174,35 +202,44 @@ class Progress:
 
     def update(self, elapsed: float, counts: Dict[str, int], final: bool = False) -> None:
         """Redraw for ``elapsed`` seconds (at most 10 times a second on a terminal)."""
-        line = progress_bar(elapsed, self._duration, counts)
+        # Called on every turn of the recording's spin loop: decide before building the line.
         if self._terminal:
             now = time.monotonic()
             if final or now - self._drawn_at >= 0.1:
+                line = progress_bar(elapsed, self._duration, counts)
                 self._stream.write('\r' + line + ('\n' if final else ''))
                 self._stream.flush()
                 self._drawn_at = now
         else:
             tenth = int(10.0 * min(1.0, elapsed / self._duration))
             if final or tenth > self._tenth:
-                self._stream.write(line + '\n')
+                self._stream.write(progress_bar(elapsed, self._duration, counts) + '\n')
                 self._stream.flush()
                 self._tenth = tenth
 
 
 def capture(node: Recorder, executor: Executor, stop: StopRequest, *, duration: float,
-            progress: Progress) -> SpinEnd:
+            idle_timeout: float, progress: Progress) -> SpinEnd:
     """
-    Record until ``duration`` seconds of the node's clock since the first pose, or a stop.
+    Record ``duration`` seconds of the node's clock (the stamps) from the first pose, or less.
 
-    Then the node stops keeping messages and the progress line is drawn a last time.
+    It ends when pose and twist stamped ``duration`` after the first pose have come (later ones
+    are not kept), on a stop, or when no pose came for ``idle_timeout`` seconds (wall time: the
+    node paused or gone). Then the node stops keeping messages and the progress line is drawn
+    a last time. Timed by the stamps, the recording needs no ``use_sim_time``.
 
-    :returns: why it ended: ``CONDITION`` (the duration), ``STOPPED`` or ``SHUTDOWN``.
+    :returns: why it ended: ``CONDITION`` (the duration), ``STOPPED``, ``DEADLINE`` (no pose
+        for ``idle_timeout``) or ``SHUTDOWN``.
     """
+    node.duration_ns = round(duration * 1e9)
+
     def done() -> bool:
         progress.update(node.elapsed(), node.counts)
-        return node.elapsed() >= duration
+        return node.complete() or time.monotonic() - node.pose_seen_at > idle_timeout
 
     end = spin_until(executor, stop, condition=done)
     node.recording = False
-    progress.update(min(node.elapsed(), duration), node.counts, final=True)
+    progress.update(duration if node.complete() else node.elapsed(), node.counts, final=True)
+    if end is SpinEnd.CONDITION and not node.complete():
+        return SpinEnd.DEADLINE
     return end

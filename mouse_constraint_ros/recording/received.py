@@ -7,7 +7,8 @@ passing through them: the node's ``/parameter_events`` that change a parameter o
 ``~/release`` (``<node>/reset/_service_event``, published by the node's service introspection).
 """
 
-from typing import Dict, NamedTuple
+import struct
+from typing import Dict, NamedTuple, Optional
 
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
 from rcl_interfaces.msg import ParameterEvent, ParameterType
@@ -29,12 +30,15 @@ SERVICE_EVENTS = (RESET_EVENTS, RELEASE_EVENTS)
 # Every type a recording keeps, by key.
 MESSAGE_TYPES = {**TOPICS, PARAMETER_EVENTS_TOPIC: ParameterEvent,
                  RESET_EVENTS: Trigger.Event, RELEASE_EVENTS: Trigger.Event}
-# The recorded node's parameters that the rows follow, and their types: the anchor, and what
-# ~/reset makes the target (the initial anchor's world position, when held).
+# The recorded node's parameters that the rows follow, and their types: the anchor, what
+# ~/reset makes the target (the initial anchor's world position, when held), and the rates of
+# the grid the stamps lie on.
 NODE_PARAMETERS = {'anchor': ParameterType.PARAMETER_DOUBLE_ARRAY,
                    'hold_initial_anchor': ParameterType.PARAMETER_BOOL,
                    'initial_position': ParameterType.PARAMETER_DOUBLE_ARRAY,
-                   'initial_orientation': ParameterType.PARAMETER_DOUBLE_ARRAY}
+                   'initial_orientation': ParameterType.PARAMETER_DOUBLE_ARRAY,
+                   'rate_hz': ParameterType.PARAMETER_DOUBLE,
+                   'publish_rate_hz': ParameterType.PARAMETER_DOUBLE}
 # The length of each array parameter of NODE_PARAMETERS.
 _LENGTHS = {'anchor': 3, 'initial_position': 3, 'initial_orientation': 4}
 
@@ -65,6 +69,24 @@ def parameter_changes(event: ParameterEvent) -> Dict[str, object]:
             continue
         if wanted == ParameterType.PARAMETER_BOOL:
             changes[parameter.name] = value.bool_value
+        elif wanted == ParameterType.PARAMETER_DOUBLE:
+            changes[parameter.name] = value.double_value
         elif len(value.double_array_value) == _LENGTHS[parameter.name]:
             changes[parameter.name] = tuple(float(c) for c in value.double_array_value)
     return changes
+
+
+_STAMP = {0: struct.Struct('>iI'), 1: struct.Struct('<iI')}
+
+
+def header_stamp(data: bytes) -> Optional[int]:
+    """
+    Return the header stamp (ns) of a serialized stamped message, or None if it has none.
+
+    The stamp is the first field: after the 4-byte CDR encapsulation header (whose second byte
+    is 1 for little endian, 0 for big endian), an int32 sec and a uint32 nanosec.
+    """
+    if len(data) < 12 or data[0] != 0 or data[1] not in _STAMP:
+        return None
+    sec, nanosec = _STAMP[data[1]].unpack_from(data, 4)
+    return sec * 1_000_000_000 + nanosec

@@ -257,9 +257,15 @@ def _row(pose: PoseStamped, twist, target: Optional[Vector3], body_anchor: Vecto
         angular_speed=math.hypot(*state.angular_velocity), body_anchor=body_anchor)
 
 
-def write_csv(path: Path, rows: Sequence[Row]) -> None:
-    """Write ``rows`` under a ``COLUMNS`` header; floats keep every digit (repr)."""
+def write_csv(path: Path, rows: Sequence[Row], metadata: Sequence[str] = ()) -> None:
+    """
+    Write ``rows`` under a ``COLUMNS`` header; floats keep every digit (repr).
+
+    :param metadata: lines written first, each after ``# `` (what the recording lacks).
+    """
     with open(path, 'w', newline='') as stream:
+        for line in metadata:
+            stream.write(f'# {line}\n')
         writer = csv.writer(stream)
         writer.writerow(COLUMNS)
         writer.writerows(row.fields() for row in rows)
