@@ -31,11 +31,11 @@ from geometry_msgs.msg import TwistStamped
 import numpy as np
 from rclpy.serialization import deserialize_message
 
-from mouse_constraint_ros.messages import stamp_nanoseconds
-from mouse_constraint_ros.messages import state_from_messages
-from mouse_constraint_ros.parameters import DEFAULTS
-from mouse_constraint_ros.parameters import node_config
+from mouse_constraint_ros.node.parameters import DEFAULTS
+from mouse_constraint_ros.node.parameters import node_config
 from mouse_constraint_ros.physics import MouseSimulation
+from mouse_constraint_ros.wire.messages import stamp_nanoseconds
+from mouse_constraint_ros.wire.messages import state_from_messages
 from test_support.mouse_feel import seed_joint
 
 RATE_HZ = 1000.0

@@ -18,7 +18,7 @@ import time
 from bench import node_rate
 from bench import ros_process
 
-from mouse_constraint_ros.parameters import PARAMETERS
+from mouse_constraint_ros.node.parameters import PARAMETERS
 
 PHYSICS_HZ = 1000.0
 PUBLISH_HZ = 100.0

@@ -31,7 +31,7 @@ import time
 
 import numpy as np
 
-from mouse_constraint_ros.parameters import DEFAULTS, node_config
+from mouse_constraint_ros.node.parameters import DEFAULTS, node_config
 from mouse_constraint_ros.physics import BodyState, MouseSimulation, Settings
 
 RATE_HZ = 1000.0

@@ -12,11 +12,11 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from mouse_constraint_ros.messages import (fill_odometry, fill_transform, fill_twist,
-                                           odometry_message, stamp_nanoseconds,
-                                           transform_message)
-from mouse_constraint_ros.physics import (BodyState, MouseConstraint, MouseSimulation,
-                                          RigidBody, Settings)
+from mouse_constraint_ros.physics import (BodyState, MouseConstraint, MouseSimulation, RigidBody,
+                                          Settings)
+from mouse_constraint_ros.wire.messages import (fill_odometry, fill_transform, fill_twist,
+                                                odometry_message, stamp_nanoseconds,
+                                                transform_message)
 
 STEP = 1e-3
 

@@ -19,8 +19,8 @@ import pytest
 from rclpy.parameter import Parameter
 
 from mouse_constraint_ros.cli import record as recorder, target as target_cli
-from mouse_constraint_ros.node import MouseConstraintNode
-from mouse_constraint_ros.target_gate import TargetGate
+from mouse_constraint_ros.inputs.target_gate import TargetGate
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 
 BIN = Path(sys.executable).parent
 FRAME = 'odom'

@@ -7,8 +7,8 @@ import numpy as np
 from rclpy.parameter import Parameter
 from scipy.spatial.transform import Rotation
 
-from mouse_constraint_ros.messages import point_message
-from mouse_constraint_ros.node import MouseConstraintNode
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
+from mouse_constraint_ros.wire.messages import point_message
 from test_support.mouse_feel import SETTLE, shipped_parameters
 
 

@@ -16,7 +16,7 @@ from hypothesis import event, given, HealthCheck, settings, strategies as st
 import numpy as np
 import pytest
 
-from mouse_constraint_ros.parameters import DEFAULTS, node_config, PARAMETERS
+from mouse_constraint_ros.node.parameters import DEFAULTS, node_config, PARAMETERS
 from mouse_constraint_ros.physics import BodyState, MouseSimulation, RigidBody, Settings
 from mouse_constraint_ros.physics.gyroscopic import gyroscopic_step
 from mouse_constraint_ros.physics.limits import (MAX_ACCELERATION, MAX_CONDITION, MAX_DISTANCE,
@@ -406,7 +406,7 @@ def test_the_node_refuses_them_at_run_time_and_keeps_stepping(ros, name, value):
     from geometry_msgs.msg import PoseStamped
     from rclpy.parameter import Parameter
 
-    from mouse_constraint_ros.node import MouseConstraintNode
+    from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
     node = ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
         Parameter('rate_hz', value=200.0)]))
     poses = ros.collect(PoseStamped, 'pose')

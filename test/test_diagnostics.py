@@ -7,19 +7,19 @@ from diagnostic_msgs.msg import DiagnosticStatus
 import pytest
 from rclpy.parameter import Parameter
 
-from mouse_constraint_ros.diagnostics import constraint_status
-from mouse_constraint_ros.diagnostics import diagnostic_array
-from mouse_constraint_ros.diagnostics import INITIAL_ANCHOR
-from mouse_constraint_ros.diagnostics import NO_TARGET
-from mouse_constraint_ros.diagnostics import rate_status
-from mouse_constraint_ros.diagnostics import Thresholds
-from mouse_constraint_ros.diagnostics import TickCounters
-from mouse_constraint_ros.diagnostics import TickWindow
-from mouse_constraint_ros.diagnostics import USER_TARGET
-from mouse_constraint_ros.diagnostics import Window
-from mouse_constraint_ros.messages import stamp_nanoseconds
-from mouse_constraint_ros.node import MouseConstraintNode
+from mouse_constraint_ros.monitoring.diagnostics import constraint_status
+from mouse_constraint_ros.monitoring.diagnostics import diagnostic_array
+from mouse_constraint_ros.monitoring.diagnostics import INITIAL_ANCHOR
+from mouse_constraint_ros.monitoring.diagnostics import NO_TARGET
+from mouse_constraint_ros.monitoring.diagnostics import rate_status
+from mouse_constraint_ros.monitoring.diagnostics import Thresholds
+from mouse_constraint_ros.monitoring.diagnostics import TickCounters
+from mouse_constraint_ros.monitoring.diagnostics import TickWindow
+from mouse_constraint_ros.monitoring.diagnostics import USER_TARGET
+from mouse_constraint_ros.monitoring.diagnostics import Window
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.physics.simulation import force_bound
+from mouse_constraint_ros.wire.messages import stamp_nanoseconds
 
 OK, WARN, ERROR = DiagnosticStatus.OK, DiagnosticStatus.WARN, DiagnosticStatus.ERROR
 TOTALS = TickCounters(1000, 3, 0, 0)

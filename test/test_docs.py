@@ -4,7 +4,7 @@ import math
 from pathlib import Path
 import re
 
-from mouse_constraint_ros.parameters import PARAMETERS
+from mouse_constraint_ros.node.parameters import PARAMETERS
 
 README = Path(__file__).resolve().parent.parent / 'README.md'
 

@@ -18,11 +18,11 @@ from scipy.spatial.transform import Rotation
 from std_srvs.srv import Trigger
 from visualization_msgs.msg import MarkerArray
 
-from mouse_constraint_ros.grab import box_distance, grab, to_body_frame
-from mouse_constraint_ros.messages import point_message
-from mouse_constraint_ros.node import MouseConstraintNode
-from mouse_constraint_ros.parameters import DEFAULTS
+from mouse_constraint_ros.inputs.grab import box_distance, grab, to_body_frame
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
+from mouse_constraint_ros.node.parameters import DEFAULTS
 from mouse_constraint_ros.physics import BodyState
+from mouse_constraint_ros.wire.messages import point_message
 
 BOX = (0.4, 0.2, 0.1)
 HALF = np.array(BOX) / 2.0

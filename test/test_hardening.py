@@ -41,12 +41,12 @@ from rcl_interfaces.srv import SetParametersAtomically
 from rclpy.parameter import Parameter
 from rosgraph_msgs.msg import Clock
 
-from mouse_constraint_ros.messages import point_message
-from mouse_constraint_ros.node import MouseConstraintNode
-from mouse_constraint_ros.parameters import DEFAULTS
-from mouse_constraint_ros.parameters import node_config
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
+from mouse_constraint_ros.node.parameters import DEFAULTS
+from mouse_constraint_ros.node.parameters import node_config
 from mouse_constraint_ros.physics import MouseSimulation
 from mouse_constraint_ros.physics import RigidBody
+from mouse_constraint_ros.wire.messages import point_message
 from test_support import hardening_tools as tools
 from test_support.processes import ChildProcess
 from test_support.processes import finish

@@ -2,8 +2,8 @@
 
 import pytest
 
-from mouse_constraint_ros.input_timeouts import (input_age, target_release_text, timed_out,
-                                                 wrench_removal_text)
+from mouse_constraint_ros.inputs.input_timeouts import (input_age, target_release_text, timed_out,
+                                                        wrench_removal_text)
 
 SECOND = 1_000_000_000
 

@@ -10,18 +10,18 @@ from rclpy.parameter import Parameter
 from visualization_msgs.msg import Marker
 from visualization_msgs.msg import MarkerArray
 
-from mouse_constraint_ros.markers import force_color
-from mouse_constraint_ros.markers import marker_array
-from mouse_constraint_ros.markers import reference_force
-from mouse_constraint_ros.markers import SPHERE_FRACTION
-from mouse_constraint_ros.messages import point_message
-from mouse_constraint_ros.messages import stamp_nanoseconds
-from mouse_constraint_ros.node import MouseConstraintNode
+from mouse_constraint_ros.monitoring.markers import force_color
+from mouse_constraint_ros.monitoring.markers import marker_array
+from mouse_constraint_ros.monitoring.markers import reference_force
+from mouse_constraint_ros.monitoring.markers import SPHERE_FRACTION
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.physics import BodyState
 from mouse_constraint_ros.physics import MouseConstraint
 from mouse_constraint_ros.physics import RigidBody
 from mouse_constraint_ros.physics import Settings
 from mouse_constraint_ros.physics import STANDARD_GRAVITY
+from mouse_constraint_ros.wire.messages import point_message
+from mouse_constraint_ros.wire.messages import stamp_nanoseconds
 
 BOX = (0.3, 0.2, 0.1)
 STATE = BodyState((0.1, 0.2, 0.9), (0.0, 0.0, math.sin(0.3), math.cos(0.3)), (1.0, 0.0, 0.0),

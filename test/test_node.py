@@ -14,8 +14,8 @@ from rosgraph_msgs.msg import Clock
 from scipy.spatial.transform import Rotation
 from std_srvs.srv import Trigger
 
-from mouse_constraint_ros.messages import point_message, state_from_messages
-from mouse_constraint_ros.node import MouseConstraintNode
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
+from mouse_constraint_ros.wire.messages import point_message, state_from_messages
 
 ANCHOR = np.array([0.2, 0.1, 0.05])
 

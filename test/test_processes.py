@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 from rosgraph_msgs.msg import Clock
 
-from mouse_constraint_ros.node import MouseConstraintNode
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 
 ROOT = Path(__file__).resolve().parent.parent
 BIN = Path(sys.executable).parent

@@ -19,13 +19,13 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.serialization import deserialize_message, serialize_message
 
-from mouse_constraint_ros.messages import fill_odometry, fill_pose, fill_twist, set_stamp
-from mouse_constraint_ros.node import MouseConstraintNode
-from mouse_constraint_ros.parameters import DEFAULTS, node_config
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
+from mouse_constraint_ros.node.parameters import DEFAULTS, node_config
 from mouse_constraint_ros.physics import BodyState
-from mouse_constraint_ros.publish_ticks import (MAX_BATCH_SECONDS, PublishTicks,
-                                                ticks_per_callback)
-from mouse_constraint_ros.state_publishers import StatePublishers
+from mouse_constraint_ros.timing.publish_ticks import (MAX_BATCH_SECONDS, PublishTicks,
+                                                       ticks_per_callback)
+from mouse_constraint_ros.wire.messages import fill_odometry, fill_pose, fill_twist, set_stamp
+from mouse_constraint_ros.wire.state_publishers import StatePublishers
 from test_support.ros_harness import SimClock, stamp_of
 
 NS = 1_000_000_000

@@ -40,10 +40,7 @@ from visualization_msgs.msg import Marker
 import yaml
 
 from mouse_constraint_ros.cli.record import parse_arguments
-from mouse_constraint_ros.messages import point_message
-from mouse_constraint_ros.messages import stamp_nanoseconds
-from mouse_constraint_ros.node import MouseConstraintNode
-from mouse_constraint_ros.publish_ticks import PublishTicks
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.recording.capture import Progress
 from mouse_constraint_ros.recording.capture import progress_bar
 from mouse_constraint_ros.recording.figure import FIGURE_DPI
@@ -59,6 +56,9 @@ from mouse_constraint_ros.recording.received import PARAMETER_EVENTS_TOPIC
 from mouse_constraint_ros.recording.received import Received
 from mouse_constraint_ros.recording.rows import COLUMNS
 from mouse_constraint_ros.recording.rows import tick_rows
+from mouse_constraint_ros.timing.publish_ticks import PublishTicks
+from mouse_constraint_ros.wire.messages import point_message
+from mouse_constraint_ros.wire.messages import stamp_nanoseconds
 from test_support.ros_harness import RosHarness
 
 BIN = Path(sys.executable).parent

@@ -2,8 +2,8 @@
 
 import pytest
 
-from mouse_constraint_ros.service_replies import (pause_reply, release_reply, reset_refusal,
-                                                  reset_reply, step_refusal, step_reply)
+from mouse_constraint_ros.node.service_replies import (pause_reply, release_reply, reset_refusal,
+                                                       reset_reply, step_refusal, step_reply)
 
 NOW = 12_345_678_901
 

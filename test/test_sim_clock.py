@@ -2,7 +2,7 @@
 
 import pytest
 
-from mouse_constraint_ros.sim_clock import PacingMeter, SimulatedClock
+from mouse_constraint_ros.timing.sim_clock import PacingMeter, SimulatedClock
 
 SECOND = 1_000_000_000
 

@@ -17,8 +17,9 @@ from rclpy.parameter import Parameter
 from rosgraph_msgs.msg import Clock
 from std_srvs.srv import SetBool, Trigger
 
-from mouse_constraint_ros.node import CLOCK_LOOP, MouseConstraintNode, StartupRefusal
-from mouse_constraint_ros.sim_clock import SimulatedClock
+from mouse_constraint_ros.node.mouse_constraint_node import (CLOCK_LOOP, MouseConstraintNode,
+                                                             StartupRefusal)
+from mouse_constraint_ros.timing.sim_clock import SimulatedClock
 
 MS = 1_000_000
 S = 1_000_000_000
@@ -119,7 +120,8 @@ def node_process(*arguments: str):
 
     For the pacing tests: in-process, the test's executor would share the node's core.
     """
-    process = subprocess.Popen([sys.executable, '-m', 'mouse_constraint_ros.node', '--ros-args',
+    process = subprocess.Popen([sys.executable, '-m',
+                                'mouse_constraint_ros.node.mouse_constraint_node', '--ros-args',
                                 *arguments], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                                text=True)
     try:

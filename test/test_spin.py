@@ -15,12 +15,12 @@ from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.experimental import EventsExecutor
 from rclpy.node import Node
 
-from mouse_constraint_ros.spin import Interrupted
-from mouse_constraint_ros.spin import spin_until
-from mouse_constraint_ros.spin import SpinEnd
-from mouse_constraint_ros.spin import STOP_SIGNALS
-from mouse_constraint_ros.spin import StopRequest
-from mouse_constraint_ros.spin import wait_until
+from mouse_constraint_ros.timing.spin import Interrupted
+from mouse_constraint_ros.timing.spin import spin_until
+from mouse_constraint_ros.timing.spin import SpinEnd
+from mouse_constraint_ros.timing.spin import STOP_SIGNALS
+from mouse_constraint_ros.timing.spin import StopRequest
+from mouse_constraint_ros.timing.spin import wait_until
 
 
 @pytest.fixture(params=[EventsExecutor, SingleThreadedExecutor], ids=['events', 'single'])

@@ -6,11 +6,11 @@ import math
 import pytest
 from rclpy.parameter import Parameter
 
-from mouse_constraint_ros.parameters import DEFAULTS, node_config, PARAMETERS
-from mouse_constraint_ros.startup import (CLOCK_LOOP, clock_loop, describe, rcl_reason,
-                                          refusal_reason, requested_logger_name, type_hint,
-                                          TYPE_NAMES, unknown_parameter_warnings, value_type,
-                                          yaml_text)
+from mouse_constraint_ros.node.parameters import DEFAULTS, node_config, PARAMETERS
+from mouse_constraint_ros.node.startup import (CLOCK_LOOP, clock_loop, describe, rcl_reason,
+                                               refusal_reason, requested_logger_name, type_hint,
+                                               TYPE_NAMES, unknown_parameter_warnings, value_type,
+                                               yaml_text)
 
 SPECS = {spec.name: spec for spec in PARAMETERS}
 

@@ -11,7 +11,7 @@ import sys
 
 import pytest
 
-from mouse_constraint_ros.parameters import DEFAULTS
+from mouse_constraint_ros.node.parameters import DEFAULTS
 
 BIN = Path(sys.executable).parent
 NODE = str(BIN / 'mouse_constraint_node')

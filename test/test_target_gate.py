@@ -15,9 +15,9 @@ import pytest
 from rclpy.parameter import Parameter
 
 from mouse_constraint_ros.cli.target import circle_point
-from mouse_constraint_ros.node import MouseConstraintNode
-from mouse_constraint_ros.target_gate import REASONS
-from mouse_constraint_ros.target_gate import TargetGate
+from mouse_constraint_ros.inputs.target_gate import REASONS
+from mouse_constraint_ros.inputs.target_gate import TargetGate
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 
 FRAME = 'odom'
 RADIUS = 5.0

@@ -15,9 +15,9 @@ import pytest
 from rclpy.parameter import Parameter
 from scipy.spatial.transform import Rotation
 
-from mouse_constraint_ros.messages import odometry_message, state_from_messages
-from mouse_constraint_ros.node import MouseConstraintNode
-from mouse_constraint_ros.state_publishers import TF_UNAVAILABLE
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
+from mouse_constraint_ros.wire.messages import odometry_message, state_from_messages
+from mouse_constraint_ros.wire.state_publishers import TF_UNAVAILABLE
 from test_support.ros_harness import SimClock, stamp_of
 
 NS = 1_000_000_000

@@ -1,6 +1,6 @@
 """``Throttle``: one line per period and reason, the held-back count, lazy messages."""
 
-from mouse_constraint_ros.throttle import Throttle
+from mouse_constraint_ros.inputs.throttle import Throttle
 
 PERIOD = 2.0
 

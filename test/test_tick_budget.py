@@ -4,9 +4,9 @@ import math
 
 import pytest
 
-from mouse_constraint_ros.sim_clock import (CLOCK_BUDGET_SHARE, ClockPacer, MIN_CLOCK_PERIOD,
-                                            SimulatedClock)
-from mouse_constraint_ros.tick_budget import TickBudget
+from mouse_constraint_ros.timing.sim_clock import (CLOCK_BUDGET_SHARE, ClockPacer,
+                                                   MIN_CLOCK_PERIOD, SimulatedClock)
+from mouse_constraint_ros.timing.tick_budget import TickBudget
 
 
 class FakeWall:

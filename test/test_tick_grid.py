@@ -5,9 +5,10 @@ import math
 
 import pytest
 
-from mouse_constraint_ros.tick_grid import (CATCH_UP_CAUSE, clock_change_text, clock_jump_text,
-                                            drop_text, MAX_CATCH_UP_SECONDS, scheduled_origin,
-                                            TickGrid)
+from mouse_constraint_ros.timing.tick_grid import (CATCH_UP_CAUSE, clock_change_text,
+                                                   clock_jump_text, drop_text,
+                                                   MAX_CATCH_UP_SECONDS, scheduled_origin,
+                                                   TickGrid)
 
 
 def test_stamps_lie_on_the_exact_grid_for_any_rate():

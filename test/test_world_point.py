@@ -13,11 +13,11 @@ import pytest
 from rclpy.serialization import serialize_message
 from scipy.spatial.transform import Rotation
 
-from mouse_constraint_ros.messages import fill_pose, fill_twist, set_stamp
-from mouse_constraint_ros.parameters import DEFAULTS, node_config
+from mouse_constraint_ros.node.parameters import DEFAULTS, node_config
 from mouse_constraint_ros.physics import BodyState, MouseSimulation
 from mouse_constraint_ros.recording.received import Received
 from mouse_constraint_ros.recording.rows import tick_rows
+from mouse_constraint_ros.wire.messages import fill_pose, fill_twist, set_stamp
 
 RNG_SEED = 7
 ANCHOR = (0.2, -0.1, 0.05)

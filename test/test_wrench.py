@@ -15,11 +15,11 @@ from scipy.spatial.transform import Rotation
 from std_srvs.srv import SetBool, Trigger
 from visualization_msgs.msg import Marker, MarkerArray
 
-from mouse_constraint_ros import messages
-from mouse_constraint_ros.markers import marker_array, wrench_reference
-from mouse_constraint_ros.node import MouseConstraintNode
+from mouse_constraint_ros.inputs.wrench_gate import HeldWrench, NO_WRENCH, WrenchGate
+from mouse_constraint_ros.monitoring.markers import marker_array, wrench_reference
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.physics import BodyState, MouseSimulation, RigidBody, Settings
-from mouse_constraint_ros.wrench_gate import HeldWrench, NO_WRENCH, WrenchGate
+from mouse_constraint_ros.wire import messages
 
 MASS = 2.0
 BOX = (0.4, 0.2, 0.1)

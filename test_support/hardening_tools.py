@@ -118,7 +118,7 @@ def flood_main(argv: Sequence[str]) -> int:
     from rclpy.executors import SingleThreadedExecutor
     from rclpy.node import Node
 
-    from mouse_constraint_ros.interface import TARGET_QOS
+    from mouse_constraint_ros.wire.interface import TARGET_QOS
 
     rclpy.init()
     node = Node('target_flood')

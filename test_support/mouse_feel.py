@@ -15,7 +15,7 @@ from typing import Any, Dict, NamedTuple
 import numpy as np
 import yaml
 
-from mouse_constraint_ros.parameters import DEFAULTS, node_config, NodeConfig
+from mouse_constraint_ros.node.parameters import DEFAULTS, node_config, NodeConfig
 from mouse_constraint_ros.physics import MouseSimulation
 
 PARAMS_FILE = Path(__file__).resolve().parent.parent / 'config' / 'params.yaml'

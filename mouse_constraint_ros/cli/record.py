@@ -41,14 +41,14 @@ from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
 from .help_text import plain_text
-from ..interface import NODE_NAME
 from ..recording.capture import capture, fetch_start, Progress, Recorder, wait_for_first_pose
 from ..recording.figure import write_figure
 from ..recording.mcap_file import write_mcap
 from ..recording.missing_ticks import Grid, missing_ticks
 from ..recording.outputs import check_writable, describe_os_error, output_paths
 from ..recording.rows import frame_of, tick_rows, write_csv
-from ..spin import Interrupted, SpinEnd, StopRequest
+from ..timing.spin import Interrupted, SpinEnd, StopRequest
+from ..wire.interface import NODE_NAME
 
 # The exit status when a stop comes before the first pose: nothing was recorded.
 INTERRUPTED_STATUS = 130

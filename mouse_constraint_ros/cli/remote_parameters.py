@@ -13,7 +13,7 @@ from rcl_interfaces.srv import GetParameters
 from rclpy.executors import Executor
 from rclpy.node import Node
 
-from ..spin import StopRequest, wait_until
+from ..timing.spin import StopRequest, wait_until
 
 # The ParameterValue field of each type a command asks for.
 _FIELDS = {ParameterType.PARAMETER_BOOL: 'bool_value',

@@ -31,10 +31,10 @@ from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
 from .help_text import plain_text
-from ..interface import GRAB_TOPIC, NODE_NAME, TARGET_QOS, TARGET_TOPIC
-from ..messages import point_message
-from ..spin import Interrupted, POLL_PERIOD, spin_until, SpinEnd, StopRequest, wait_until
-from ..target_gate import TargetGate
+from ..inputs.target_gate import TargetGate
+from ..timing.spin import Interrupted, POLL_PERIOD, spin_until, SpinEnd, StopRequest, wait_until
+from ..wire.interface import GRAB_TOPIC, NODE_NAME, TARGET_QOS, TARGET_TOPIC
+from ..wire.messages import point_message
 
 # The frame of the targets when the node's frame_id cannot be read.
 FALLBACK_FRAME = 'world'

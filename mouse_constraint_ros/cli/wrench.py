@@ -33,11 +33,11 @@ from rclpy.utilities import remove_ros_args
 
 from .help_text import plain_text
 from .remote_parameters import fetch_parameters
-from ..interface import NODE_NAME, WRENCH_QOS, WRENCH_TOPIC
-from ..messages import set_stamp, wrench_message
-from ..parameters import DEFAULTS
-from ..spin import Interrupted, spin_until, SpinEnd, StopRequest, wait_until
-from ..wrench_gate import WrenchGate
+from ..inputs.wrench_gate import WrenchGate
+from ..node.parameters import DEFAULTS
+from ..timing.spin import Interrupted, spin_until, SpinEnd, StopRequest, wait_until
+from ..wire.interface import NODE_NAME, WRENCH_QOS, WRENCH_TOPIC
+from ..wire.messages import set_stamp, wrench_message
 
 # The publishing rates that run (Hz): a period from 1 ms to 1000 s.
 MIN_RATE = 1e-3

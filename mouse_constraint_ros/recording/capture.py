@@ -29,8 +29,8 @@ from .received import (header_stamp, MESSAGE_TYPES, NODE_PARAMETERS, parameter_c
                        PARAMETER_EVENTS_TOPIC, Received, service_event_topic, SERVICE_EVENTS,
                        TOPICS)
 from ..cli.remote_parameters import fetch_parameters
-from ..interface import NODE_NAME, POSE_TOPIC, TWIST_TOPIC
-from ..spin import spin_until, SpinEnd, StopRequest, wait_until
+from ..timing.spin import spin_until, SpinEnd, StopRequest, wait_until
+from ..wire.interface import NODE_NAME, POSE_TOPIC, TWIST_TOPIC
 
 # Deep RELIABLE queues: a burst of caught-up ticks must not overwrite unread messages.
 RECORD_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,

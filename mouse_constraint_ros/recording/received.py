@@ -14,7 +14,7 @@ from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
 from rcl_interfaces.msg import ParameterEvent, ParameterType
 from std_srvs.srv import Trigger
 
-from ..interface import GRAB_TOPIC, POSE_TOPIC, TARGET_TOPIC, TWIST_TOPIC
+from ..wire.interface import GRAB_TOPIC, POSE_TOPIC, TARGET_TOPIC, TWIST_TOPIC
 
 # The recorded topics (relative: namespaces and remaps apply) and their types, in CSV order.
 TOPICS = {TARGET_TOPIC: PointStamped, POSE_TOPIC: PoseStamped, TWIST_TOPIC: TwistStamped,

@@ -24,10 +24,10 @@ from service_msgs.msg import ServiceEventInfo
 
 from .received import (MESSAGE_TYPES, parameter_changes, PARAMETER_EVENTS_TOPIC, Received,
                        RELEASE_EVENTS, RESET_EVENTS)
-from ..interface import GRAB_TOPIC, POSE_TOPIC, TARGET_TOPIC, TWIST_TOPIC
-from ..messages import point_from_message, stamp_nanoseconds, state_from_messages
 from ..physics import BodyState
 from ..physics.algebra import Vector3
+from ..wire.interface import GRAB_TOPIC, POSE_TOPIC, TARGET_TOPIC, TWIST_TOPIC
+from ..wire.messages import point_from_message, stamp_nanoseconds, state_from_messages
 
 COLUMNS = ('time', 'stamp_ns', 'x', 'y', 'z', 'qx', 'qy', 'qz', 'qw', 'vx', 'vy', 'vz', 'wx', 'wy',
            'wz', 'anchor_x', 'anchor_y', 'anchor_z', 'target_x', 'target_y', 'target_z',

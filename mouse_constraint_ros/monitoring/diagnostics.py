@@ -42,8 +42,8 @@ from typing import List, NamedTuple, Optional, Sequence
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 
-from .messages import set_stamp
-from .physics.algebra import Vector3
+from ..physics.algebra import Vector3
+from ..wire.messages import set_stamp
 
 OK, WARN, ERROR = DiagnosticStatus.OK, DiagnosticStatus.WARN, DiagnosticStatus.ERROR
 

@@ -34,37 +34,39 @@ from rosgraph_msgs.msg import Clock as ClockMessage
 from std_srvs.srv import SetBool, Trigger
 from visualization_msgs.msg import MarkerArray
 
-from .diagnostics import (constraint_status, diagnostic_array, INITIAL_ANCHOR, NO_TARGET,
-                          Pacing, publishing_values, rate_status, simulator_status, Thresholds,
-                          TickCounters, TickWindow, USER_TARGET)
-from .grab import grab
-from .input_timeouts import input_age, target_release_text, timed_out, wrench_removal_text
-from .interface import (CLOCK_QOS, CLOCK_TOPIC, DIAGNOSTICS_TOPIC, GRAB_TOPIC, MARKERS_TOPIC,
-                        MONITOR_DEPTH, NODE_NAME, PAUSE_SERVICE, RELEASE_SERVICE, RESET_SERVICE,
-                        STEP_SERVICE, TARGET_QOS, TARGET_TOPIC, WRENCH_QOS, WRENCH_TOPIC)
-from .markers import marker_array, reference_force, wrench_reference
-from .messages import point_from_message, set_stamp
 from .parameters import node_config, PARAMETERS, ParameterSpec
-from .physics import MouseSimulation
-from .physics.algebra import Vector3
-from .physics.simulation import force_bound
-from .publish_ticks import PublishTicks, ticks_per_callback
-from .service_replies import (pause_reply, release_reply, reset_refusal, reset_reply,
-                              step_refusal, step_reply)
-from .sim_clock import ClockPacer, PacingMeter, SimulatedClock
-from .spin import spin_until, StopRequest
+from .service_replies import (pause_reply, release_reply, reset_refusal, reset_reply, step_refusal,
+                              step_reply)
 # CLOCK_LOOP and StartupRefusal: importable from the node, where its refusals come from.
 from .startup import (CLOCK_LOOP, clock_loop, describe, rcl_reason,  # noqa: F401
                       refusal_reason, requested_logger_name, StartupRefusal,
                       unknown_parameter_warnings)
-from .state_publishers import (BroadcasterFactory, DEFAULT_BROADCASTER, StatePublishers,
-                               TF_UNAVAILABLE)
-from .target_gate import TargetGate
-from .throttle import Throttle
-from .tick_budget import TickBudget
-from .tick_grid import (CATCH_UP_CAUSE, clock_change_text, clock_jump_text, drop_text,
-                        MAX_CATCH_UP_SECONDS, scheduled_origin, TickGrid)
-from .wrench_gate import HeldWrench, NO_WRENCH, WrenchGate
+from ..inputs.grab import grab
+from ..inputs.input_timeouts import input_age, target_release_text, timed_out, wrench_removal_text
+from ..inputs.target_gate import TargetGate
+from ..inputs.throttle import Throttle
+from ..inputs.wrench_gate import HeldWrench, NO_WRENCH, WrenchGate
+from ..monitoring.diagnostics import (constraint_status, diagnostic_array, INITIAL_ANCHOR,
+                                      NO_TARGET, Pacing, publishing_values, rate_status,
+                                      simulator_status, Thresholds, TickCounters, TickWindow,
+                                      USER_TARGET)
+from ..monitoring.markers import marker_array, reference_force, wrench_reference
+from ..physics import MouseSimulation
+from ..physics.algebra import Vector3
+from ..physics.simulation import force_bound
+from ..timing.publish_ticks import PublishTicks, ticks_per_callback
+from ..timing.sim_clock import ClockPacer, PacingMeter, SimulatedClock
+from ..timing.spin import spin_until, StopRequest
+from ..timing.tick_budget import TickBudget
+from ..timing.tick_grid import (CATCH_UP_CAUSE, clock_change_text, clock_jump_text, drop_text,
+                                MAX_CATCH_UP_SECONDS, scheduled_origin, TickGrid)
+from ..wire.interface import (CLOCK_QOS, CLOCK_TOPIC, DIAGNOSTICS_TOPIC, GRAB_TOPIC, MARKERS_TOPIC,
+                              MONITOR_DEPTH, NODE_NAME, PAUSE_SERVICE, RELEASE_SERVICE,
+                              RESET_SERVICE, STEP_SERVICE, TARGET_QOS, TARGET_TOPIC, WRENCH_QOS,
+                              WRENCH_TOPIC)
+from ..wire.messages import point_from_message, set_stamp
+from ..wire.state_publishers import (BroadcasterFactory, DEFAULT_BROADCASTER, StatePublishers,
+                                     TF_UNAVAILABLE)
 
 # Throttle period of the warnings about bad input and missed rate (s).
 WARN_PERIOD = 2.0

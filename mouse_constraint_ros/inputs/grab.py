@@ -13,8 +13,8 @@ nothing jumps. Plain floats; no ROS here.
 import math
 from typing import NamedTuple, Sequence
 
-from .physics import BodyState
-from .physics.algebra import multiply_transposed, rotation_matrix, Vector3
+from ..physics import BodyState
+from ..physics.algebra import multiply_transposed, rotation_matrix, Vector3
 
 
 def to_body_frame(state: BodyState, point: Sequence[float]) -> Vector3:

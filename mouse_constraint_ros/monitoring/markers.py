@@ -25,10 +25,10 @@ from geometry_msgs.msg import Point
 from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import Marker, MarkerArray
 
-from .messages import fill_point, fill_pose, set_stamp
-from .physics import BodyState, Settings, STANDARD_GRAVITY
-from .physics.algebra import Vector3
-from .physics.simulation import force_bound
+from ..physics import BodyState, Settings, STANDARD_GRAVITY
+from ..physics.algebra import Vector3
+from ..physics.simulation import force_bound
+from ..wire.messages import fill_point, fill_pose, set_stamp
 
 # Sphere diameter as a fraction of the box's longest edge; the line is a third as wide.
 SPHERE_FRACTION = 0.1

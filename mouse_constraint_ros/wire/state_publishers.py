@@ -29,7 +29,7 @@ from .cdr_layouts import OdometryLayout, PoseStampedLayout, TwistStampedLayout
 from .interface import ODOM_TOPIC, POSE_TOPIC, STATE_QOS, TWIST_TOPIC
 from .messages import (body_frame_twist, fill_odometry, fill_pose, fill_transform, fill_twist,
                        set_stamp)
-from .physics import BodyState
+from ..physics import BodyState
 
 BroadcasterFactory = Callable[[Node], Any]
 

@@ -12,9 +12,9 @@ from geometry_msgs.msg import (Point, PointStamped, PoseStamped, TransformStampe
                                WrenchStamped)
 from nav_msgs.msg import Odometry
 
-from .physics import BodyState
-from .physics.algebra import multiply_transposed, rotation_matrix, Vector3
-from .tick_grid import NANOSECONDS_PER_SECOND
+from ..physics import BodyState
+from ..physics.algebra import multiply_transposed, rotation_matrix, Vector3
+from ..timing.tick_grid import NANOSECONDS_PER_SECOND
 
 
 def set_stamp(stamp: Time, nanoseconds: int) -> None:

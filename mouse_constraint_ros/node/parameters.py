@@ -14,13 +14,13 @@ h = 1 / (rate_hz substeps) from 1e-7 s to 1 s (within the core's MIN_STEP..MAX_S
 import math
 from typing import Any, Mapping, NamedTuple, Optional, Tuple
 
-from .physics import BodyState, MouseConstraint, RigidBody, Settings
-from .physics.algebra import Vector3
-from .physics.limits import (MAX_ACCELERATION, MAX_CONDITION, MAX_DISTANCE, MAX_MASS,
-                             MAX_MOMENT, MIN_MASS, MIN_MOMENT)
-from .physics.simulation import check_lever
-from .physics.target_motion import TargetMotion
-from .physics.validation import finite_vector, scalar, shown
+from ..physics import BodyState, MouseConstraint, RigidBody, Settings
+from ..physics.algebra import Vector3
+from ..physics.limits import (MAX_ACCELERATION, MAX_CONDITION, MAX_DISTANCE, MAX_MASS, MAX_MOMENT,
+                              MIN_MASS, MIN_MOMENT)
+from ..physics.simulation import check_lever
+from ..physics.target_motion import TargetMotion
+from ..physics.validation import finite_vector, scalar, shown
 
 # The largest real_time_factor: a million simulated seconds per wall second is beyond what the
 # step can run (some 1e5 ticks per second), so a larger factor only means "as fast as it can",

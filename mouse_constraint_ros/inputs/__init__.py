@@ -1,0 +1,1 @@
+"""The inputs: target and wrench gates, grab, input timeouts, log throttling."""

@@ -1,0 +1,1 @@
+"""Monitoring: RViz markers and diagnostics."""

@@ -1,0 +1,1 @@
+"""The node: its wiring, parameters, start-up and service replies."""

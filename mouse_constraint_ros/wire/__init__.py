@@ -1,0 +1,1 @@
+"""The wire: ROS names and QoS, message builders, CDR layouts, state publishers."""
