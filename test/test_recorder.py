@@ -231,7 +231,11 @@ def test_mcap_reads_back_with_the_mcap_library(recording):
         for _, channel, message, ros_message in reader.iter_decoded_messages():
             decoded[channel.topic].append((message, ros_message))
     poses = recording['poses']
-    assert len(decoded['/pose']) >= DURATION * RATE * 0.9
+    # Every tick of the CSV, as received (the node in this process may drop ticks under load).
+    rows = read_csv(recording['prefix'].with_suffix('.csv'))
+    stamps = {row['stamp_ns'] for row in rows}
+    assert len(rows) >= 0.75 * DURATION * RATE
+    assert stamps <= {stamp_nanoseconds(pose.header.stamp) for _, pose in decoded['/pose']}
     for message, pose in decoded['/pose']:
         stamp = pose.header.stamp.sec * 1_000_000_000 + pose.header.stamp.nanosec
         published = poses[stamp]
@@ -241,7 +245,7 @@ def test_mcap_reads_back_with_the_mcap_library(recording):
         assert deserialize_message(message.data, PoseStamped) == published
     targets = set(recording['targets'])
     assert decoded['/target'] and all(xyz(t.point) in targets for _, t in decoded['/target'])
-    assert len(decoded['/twist']) >= DURATION * RATE * 0.9
+    assert stamps <= {stamp_nanoseconds(twist.header.stamp) for _, twist in decoded['/twist']}
 
 
 @pytest.mark.parametrize('message', [
