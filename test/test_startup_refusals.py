@@ -115,3 +115,15 @@ def test_an_unknown_key_is_warned_about_with_the_nearest_name(tmp_path):
     assert any('[WARN]' in line and
                "ignoring unknown parameter 'baumgarde': did you mean 'baumgarte'?" in line
                for line in lines), lines
+
+
+@pytest.mark.parametrize('line, name', [
+    ('real_time_factor: 1.0e-13', 'real_time_factor'),
+    ('marker_rate_hz: 1.0e-11', 'marker_rate_hz'),
+    ('diagnostics_rate_hz: 1.0e-11', 'diagnostics_rate_hz'),
+])
+def test_a_rate_whose_timer_cannot_run_is_one_line(tmp_path, line, name):
+    """A factor or rate whose timer period overflows: one FATAL line, not a traceback."""
+    result = run_node('--params-file', str(params_file(tmp_path, 'publish_clock: true', line)))
+    assert result.returncode == 1
+    assert f'{name} must be 0 or at least 0.001' in the_one_line(result)

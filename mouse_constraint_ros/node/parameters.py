@@ -26,6 +26,11 @@ from ..physics.validation import finite_vector, scalar, shown
 # step can run (some 1e5 ticks per second), so a larger factor only means "as fast as it can",
 # which is written 0.
 MAX_REAL_TIME_FACTOR = 1e6
+# The slowest timer rate (Hz) and the smallest real_time_factor other than 0: the periods they
+# give (at most 1000 s, rate_hz >= 1) are timers that run; 1e-11 Hz would overflow a timer's
+# int64 nanoseconds.
+MIN_TIMER_RATE = 1e-3
+MIN_REAL_TIME_FACTOR = 1e-3
 
 
 class ParameterSpec(NamedTuple):
@@ -94,12 +99,13 @@ PARAMETERS = (
                   'Release the body when no target arrived for this long (s); 0 = hold forever.',
                   (0.0, math.inf)),
     ParameterSpec('marker_rate_hz', 30.0,
-                  'Rate of the RViz markers on ~/markers (Hz), on their own timer; 0 = none.',
+                  'Rate of the RViz markers on ~/markers (Hz), on their own timer; 0 = none, '
+                  f'else at least {MIN_TIMER_RATE:g}.',
                   (0.0, 100.0)),
     ParameterSpec('diagnostics_rate_hz', 1.0,
                   'Rate of /diagnostics (Hz), on its own timer; the achieved tick rate is '
                   'measured '
-                  'over one period. 0 = none.', (0.0, 100.0)),
+                  f'over one period. 0 = none, else at least {MIN_TIMER_RATE:g}.', (0.0, 100.0)),
     ParameterSpec('diagnostics_anchor_warn', 0.05,
                   'Anchor error (m) from which /diagnostics reports WARN.', (0.0, math.inf)),
     ParameterSpec('diagnostics_anchor_error', 0.5,
@@ -131,7 +137,8 @@ PARAMETERS = (
                   'use_sim_time (a node cannot follow its own clock).'),
     ParameterSpec('real_time_factor', 1.0,
                   'With publish_clock: simulated seconds per wall second; 0 = as fast as the '
-                  'machine allows. A change goes on from the simulated time it finds.',
+                  f'machine allows, else at least {MIN_REAL_TIME_FACTOR:g}. A change goes on '
+                  'from the simulated time it finds.',
                   (0.0, MAX_REAL_TIME_FACTOR)),
     ParameterSpec('wrench_timeout', 0.5,
                   'Stop applying the wrench when no new one came for this long (s, of the '
@@ -265,9 +272,9 @@ def _configuration_from(values: Mapping[str, Any]) -> NodeConfig:
         workspace_radius=scalar('workspace_radius', values['workspace_radius'], above=0.0,
                                 at_most=MAX_DISTANCE),
         target_timeout=scalar('target_timeout', values['target_timeout'], at_least=0.0),
-        marker_rate_hz=scalar('marker_rate_hz', values['marker_rate_hz'], at_least=0.0),
-        diagnostics_rate_hz=scalar('diagnostics_rate_hz', values['diagnostics_rate_hz'],
-                                   at_least=0.0),
+        marker_rate_hz=_off_or_bounded('marker_rate_hz', values, MIN_TIMER_RATE, ' Hz'),
+        diagnostics_rate_hz=_off_or_bounded('diagnostics_rate_hz', values, MIN_TIMER_RATE,
+                                            ' Hz'),
         diagnostics_anchor_warn=anchor_warn,
         diagnostics_anchor_error=anchor_error,
         grab_margin=scalar('grab_margin', values['grab_margin'], at_least=0.0,
@@ -307,7 +314,7 @@ def _simulator_controls(values: Mapping[str, Any]) -> dict:
         raise ValueError(f'publish_clock must be true or false, got {shown(publish_clock)}')
     return {
         'publish_clock': publish_clock,
-        'real_time_factor': _bounded('real_time_factor', values['real_time_factor']),
+        'real_time_factor': _off_or_bounded('real_time_factor', values, MIN_REAL_TIME_FACTOR),
         'wrench_timeout': scalar('wrench_timeout', values['wrench_timeout'], at_least=0.0),
         'max_wrench_force': scalar('max_wrench_force', values['max_wrench_force'],
                                    at_least=0.0),
@@ -328,6 +335,15 @@ def _bounded(name: str, value: Any) -> float:
     """Return ``value`` checked against the range of parameter ``name`` in PARAMETERS."""
     low, high = BOUNDS[name]
     return scalar(name, value, at_least=low, at_most=high)
+
+
+def _off_or_bounded(name: str, values: Mapping[str, Any], low: float, unit: str = '') -> float:
+    """Return parameter ``name`` within its range and either 0 or at least ``low``."""
+    value = _bounded(name, values[name])
+    if 0.0 < value < low:
+        raise ValueError(f'{name} must be 0 or at least {low:g}{unit}, got {value!r}: a '
+                         'smaller one makes a timer period beyond what a timer runs')
+    return value
 
 
 BOUNDS = {p.name: p.bounds for p in PARAMETERS if p.bounds is not None}
