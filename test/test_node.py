@@ -406,3 +406,39 @@ def test_switching_use_sim_time_off_restarts_the_grid_without_drops(ros, capfd):
     err = capfd.readouterr().err
     assert 'clock changed to system time: restarting the tick grid' in err
     assert 'cannot keep' not in err
+
+
+def test_a_negative_clock_is_ignored_with_one_warning(ros, capfd):
+    """
+    use_sim_time and a /clock of -1 s (``ros2 topic pub --once /clock ... {sec: -1}``).
+
+    rclpy's own time source raises on it inside the executor, which ended the node; the node
+    ignores it with one warning, the clock stays where it was, and the next valid /clock
+    drives the ticks as before. use_sim_time switched off and on again keeps the guard.
+    """
+    node = start_node(ros, rate_hz=100.0, use_sim_time=True)
+    poses = ros.collect(PoseStamped, 'pose')
+    clock = ros.probe.create_publisher(Clock, '/clock', 10)
+    assert ros.spin_until(lambda: clock.get_subscription_count() > 0)
+
+    def publish(sec: int, nanosec: int = 0) -> None:
+        message = Clock()
+        message.clock.sec, message.clock.nanosec = sec, nanosec
+        clock.publish(message)
+        ros.spin_for(0.05)
+
+    publish(5)
+    assert node.get_clock().now().nanoseconds == 5 * 10 ** 9
+    for _ in range(3):
+        publish(-1)
+    assert node.get_clock().now().nanoseconds == 5 * 10 ** 9
+    publish(5, 500_000_000)
+    assert ros.spin_until(lambda: poses and stamp_ns(poses[-1]) == 5_500_000_000, timeout=5.0)
+    assert node.set_parameters([Parameter('use_sim_time', value=False)])[0].successful
+    assert node.set_parameters([Parameter('use_sim_time', value=True)])[0].successful
+    publish(-2)
+    publish(6)
+    assert node.get_clock().now().nanoseconds == 6 * 10 ** 9
+    err = capfd.readouterr().err
+    assert err.count('ignoring /clock -1 s 0 ns') == 1, err
+    assert 'the clock stays where it was' in err and 'Traceback' not in err

@@ -35,6 +35,7 @@ from .help_text import plain_text
 from .remote_parameters import fetch_parameters
 from ..inputs.wrench_gate import WrenchGate
 from ..node.parameters import DEFAULTS
+from ..timing.guarded_time_source import guard_time_source
 from ..timing.spin import Interrupted, spin_until, SpinEnd, StopRequest, wait_until
 from ..wire.interface import NODE_NAME, WRENCH_QOS, WRENCH_TOPIC
 from ..wire.messages import set_stamp, wrench_message
@@ -126,6 +127,8 @@ def main(args: Optional[List[str]] = None) -> int:
         return 1
     rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
     node = Node('mouse_wrench')
+    guard_time_source(node, lambda text: node.get_logger().warning(
+        text, throttle_duration_sec=2.0))
     executor = SingleThreadedExecutor(context=node.context)
     executor.add_node(node)
     push = Push(options)

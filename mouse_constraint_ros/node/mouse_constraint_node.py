@@ -54,6 +54,7 @@ from ..monitoring.markers import marker_array, reference_force, wrench_reference
 from ..physics import MouseSimulation
 from ..physics.algebra import Vector3
 from ..physics.simulation import force_bound
+from ..timing.guarded_time_source import guard_time_source
 from ..timing.publish_ticks import PublishTicks, ticks_per_callback
 from ..timing.sim_clock import ClockPacer, PacingMeter, SimulatedClock
 from ..timing.spin import spin_until, StopRequest
@@ -117,6 +118,8 @@ class MouseConstraintNode(Node):
             node is destroyed then.
         """
         super().__init__(NODE_NAME, **kwargs)
+        self._throttle = Throttle(self.get_logger().warning, period=WARN_PERIOD)
+        guard_time_source(self, lambda text: self._warn('clock ignored', lambda: text))
         try:
             for parameter in PARAMETERS:
                 self._declare(parameter)
@@ -135,7 +138,6 @@ class MouseConstraintNode(Node):
         self._configured_anchor = self._config.settings.constraint.anchor
         # True while the node sets its own anchor parameter for a grab or a reset.
         self._setting_anchor = False
-        self._throttle = Throttle(self.get_logger().warning, period=WARN_PERIOD)
         self._hold_initial_anchor()
         self.ticks_run = 0
         self.late_ticks = 0

@@ -29,6 +29,7 @@ from .received import (header_stamp, MESSAGE_TYPES, NODE_PARAMETERS, parameter_c
                        PARAMETER_EVENTS_TOPIC, Received, service_event_topic, SERVICE_EVENTS,
                        TOPICS)
 from ..cli.remote_parameters import fetch_parameters
+from ..timing.guarded_time_source import guard_time_source
 from ..timing.spin import spin_until, SpinEnd, StopRequest, wait_until
 from ..wire.interface import NODE_NAME, POSE_TOPIC, TWIST_TOPIC
 
@@ -49,6 +50,8 @@ class Recorder(Node):
     def __init__(self, *, target_node: str = NODE_NAME, **kwargs) -> None:
         """Create the node ``mouse_record`` and its subscriptions."""
         super().__init__('mouse_record', **kwargs)
+        guard_time_source(self, lambda text: self.get_logger().warning(
+            text, throttle_duration_sec=2.0))
         self.target_name = self.resolve_topic_name(target_node)
         self.parameter_changes = 0
         self.received: List[Received] = []
