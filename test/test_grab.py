@@ -311,3 +311,25 @@ def test_grab_topic_parameter_service_and_markers_show_the_grabbed_point(ros):
     assert ros.spin_until(lambda: node.simulation.target == target)
     assert ros.spin_until(lambda: np.linalg.norm(node.simulation.anchor_error()) < 1e-4)
     np.testing.assert_allclose(anchor_parameter(node), local, atol=1e-9)
+
+
+def test_a_flood_of_grabs_logs_short_throttled_lines(ros, capfd):
+    """
+    500 grabs in a burst: each one is taken, and the log has at most a short line per period.
+
+    A grab sets the node's own anchor parameter; that change used to log the whole summary
+    (some 450 characters) every time.
+    """
+    node = start_node(ros)
+    capfd.readouterr()
+    local = ON_BODY[0]
+    for _ in range(500):
+        node._on_grab(grab_message(world(local)))
+    np.testing.assert_allclose(anchor_parameter(node), local, rtol=0.0, atol=1e-9)
+    lines = [line for line in capfd.readouterr().err.splitlines() if line.strip()]
+    assert 'parameters changed' not in ''.join(lines)
+    assert 1 <= len(lines) <= 2 and all(len(line) < 160 for line in lines), lines
+    assert 'set by the node' in lines[0]
+    # A change through the parameters still logs the summary.
+    assert node.set_parameters([Parameter('mass', value=3.0)])[0].successful
+    assert 'parameters changed' in capfd.readouterr().err

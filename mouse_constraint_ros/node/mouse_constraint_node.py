@@ -54,6 +54,7 @@ from ..monitoring.markers import marker_array, reference_force, wrench_reference
 from ..physics import MouseSimulation
 from ..physics.algebra import Vector3
 from ..physics.simulation import force_bound
+from ..physics.validation import shown
 from ..timing.guarded_time_source import guard_time_source
 from ..timing.publish_ticks import PublishTicks, ticks_per_callback
 from ..timing.sim_clock import ClockPacer, PacingMeter, SimulatedClock
@@ -119,6 +120,7 @@ class MouseConstraintNode(Node):
         """
         super().__init__(NODE_NAME, **kwargs)
         self._throttle = Throttle(self.get_logger().warning, period=WARN_PERIOD)
+        self._notes = Throttle(self.get_logger().info, period=WARN_PERIOD)
         guard_time_source(self, lambda text: self._warn('clock ignored', lambda: text))
         try:
             for parameter in PARAMETERS:
@@ -434,7 +436,13 @@ class MouseConstraintNode(Node):
         if (config.marker_rate_hz, config.diagnostics_rate_hz) != (
                 previous.marker_rate_hz, previous.diagnostics_rate_hz):
             self._start_monitor_timers()
-        self.get_logger().info('parameters changed: ' + self._describe())
+        if self._setting_anchor:
+            # A grab or a reset: one short line, at most every WARN_PERIOD (grabs can flood).
+            anchor = config.settings.constraint.anchor
+            self._notes('anchor', lambda: f'anchor {shown(anchor)} m (body frame), set by the '
+                                          'node')
+        else:
+            self.get_logger().info('parameters changed: ' + self._describe())
         return SetParametersResult(successful=True)
 
     # Simulator controls: the node as the clock, pause and step, the external wrench. The pacing
