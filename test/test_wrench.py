@@ -15,11 +15,13 @@ from scipy.spatial.transform import Rotation
 from std_srvs.srv import SetBool, Trigger
 from visualization_msgs.msg import Marker, MarkerArray
 
-from mouse_constraint_ros.inputs.wrench_gate import HeldWrench, NO_WRENCH, WrenchGate
+from mouse_constraint_ros.inputs.wrench_gate import (effective_time, HeldWrench, NO_WRENCH,
+                                                     STAMP_WINDOW_NS, WrenchGate)
 from mouse_constraint_ros.monitoring.markers import marker_array, wrench_reference
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.physics import BodyState, MouseSimulation, RigidBody, Settings
 from mouse_constraint_ros.wire import messages
+from test_support.ros_harness import SimClock
 
 MASS = 2.0
 BOX = (0.4, 0.2, 0.1)
@@ -139,6 +141,27 @@ def test_a_held_wrench_times_out_and_zero_holds_it():
     assert held.wrench == NO_WRENCH and held.applied is None
 
 
+def test_a_scheduled_wrench_takes_effect_at_its_stamp_and_zero_ends_it():
+    """Wrenches take effect in order from their times; a zero one clears; far off is arrival."""
+    held = HeldWrench()
+    held.schedule((1.0, 0.0, 0.0), (0.0, 0.0, 0.0), 100)
+    held.schedule((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), 300)
+    assert not held.advance(99) and held.wrench == NO_WRENCH
+    assert held.advance(100) and held.wrench == ((1.0, 0.0, 0.0), ZERO3)
+    assert held.applied.since_ns == 100
+    assert not held.advance(299) and held.advance(300) and held.applied is None
+    held.schedule((1.0, 0.0, 0.0), (0.0, 0.0, 0.0), 400)
+    held.clear()
+    assert not held.advance(500)
+    now = 5 * STAMP_WINDOW_NS
+    assert effective_time(now - STAMP_WINDOW_NS, now) == now - STAMP_WINDOW_NS
+    assert effective_time(now + 7, now) == now + 7
+    assert effective_time(0, now) == now and effective_time(now - STAMP_WINDOW_NS - 1, now) == now
+
+
+ZERO3 = (0.0, 0.0, 0.0)
+
+
 def test_the_marker_arrow_shows_the_force_from_the_com():
     """The arrow starts at the COM along F, one longest box edge per body weight; 0 deletes."""
     simulation = free_simulation()
@@ -197,6 +220,36 @@ def test_the_node_applies_a_wrench_and_drops_it_after_the_timeout(ros):
     assert speed == pytest.approx(force[0] / MASS * 0.3, rel=0.1)
     ros.spin_for(0.2)
     assert node.simulation.state.linear_velocity[0] == speed
+
+
+def test_a_stamped_push_lasts_its_duration_to_the_tick(ros):
+    """
+    A push stamped t0 and its zero wrench stamped t1: the ticks stamped in [t0, t1) push.
+
+    On a simulated clock driven here, both messages arrive before any of those ticks runs:
+    taken at their arrival, they would cancel; taken at their stamps, the body gains exactly
+    F (t1 - t0) / m, however late the ticks run (here in steps of two ticks).
+    """
+    node = start_node(ros, rate_hz=100.0, use_sim_time=True, wrench_timeout=0.0, **FREE)
+    clock = SimClock(ros, node)
+    start = 1_000 * 10 ** 9
+    clock.advance_to(start)
+    publisher = ros.probe.create_publisher(WrenchStamped, 'wrench', 10)
+    assert ros.spin_until(lambda: publisher.get_subscription_count() > 0)
+    force = 3.0
+    for stamp, value in ((start + 50_000_000, force), (start + 250_000_000, 0.0)):
+        message = wrench_message((value, 0.0, 0.0), ZERO3)
+        messages.set_stamp(message.header.stamp, stamp)
+        publisher.publish(message)
+        # The wrench subscription keeps the newest message only: let the node take each.
+        ros.spin_for(0.1)
+    assert node.simulation.wrench == NO_WRENCH
+    for k in range(1, 26):
+        clock.advance_to(start + k * 20_000_000)
+    assert node.dropped_ticks == 0
+    assert node.simulation.wrench == NO_WRENCH
+    assert node.simulation.state.linear_velocity[0] == pytest.approx(force / MASS * 0.2,
+                                                                     rel=1e-12)
 
 
 def test_hostile_wrenches_change_nothing_bit_for_bit(ros, capfd):

@@ -45,7 +45,7 @@ from ..inputs.grab import grab
 from ..inputs.input_timeouts import input_age, target_release_text, timed_out, wrench_removal_text
 from ..inputs.target_gate import TargetGate
 from ..inputs.throttle import Throttle
-from ..inputs.wrench_gate import HeldWrench, NO_WRENCH, WrenchGate
+from ..inputs.wrench_gate import effective_time, HeldWrench, NO_WRENCH, WrenchGate
 from ..monitoring.diagnostics import (constraint_status, diagnostic_array, INITIAL_ANCHOR,
                                       NO_TARGET, Pacing, publishing_values, rate_status,
                                       simulator_status, Thresholds, TickCounters, TickWindow,
@@ -66,7 +66,7 @@ from ..wire.interface import (CLOCK_QOS, CLOCK_TOPIC, DIAGNOSTICS_TOPIC, GRAB_TO
                               MONITOR_DEPTH, NODE_NAME, PAUSE_SERVICE, RELEASE_SERVICE,
                               RESET_SERVICE, STEP_SERVICE, TARGET_QOS, TARGET_TOPIC, WRENCH_QOS,
                               WRENCH_TOPIC)
-from ..wire.messages import point_from_message, set_stamp
+from ..wire.messages import point_from_message, set_stamp, stamp_nanoseconds
 from ..wire.state_publishers import (BroadcasterFactory, DEFAULT_BROADCASTER, StatePublishers,
                                      TF_UNAVAILABLE)
 
@@ -334,8 +334,10 @@ class MouseConstraintNode(Node):
         :param tick: the tick's number on its grid, for ``PublishTicks``; None publishes (a
             single step asked for by ``~/step``).
         """
-        if self._held_wrench.applied is not None and self._held_wrench.expired(
-                stamp, self._config.wrench_timeout):
+        held = self._held_wrench
+        if held.advance(stamp):
+            self._simulation.wrench = held.wrench
+        if held.applied is not None and held.expired(stamp, self._config.wrench_timeout):
             self._simulation.wrench = NO_WRENCH
             self.get_logger().info(wrench_removal_text(self._config.wrench_timeout))
         state = self._simulation.step(self._dt)
@@ -566,11 +568,9 @@ class MouseConstraintNode(Node):
         if refusal is not None:
             self._warn(refusal.key, lambda: f'ignoring wrench {refusal.reason}')
             return
-        if force == torque == (0.0, 0.0, 0.0):
-            self._held_wrench.clear()  # a zero wrench ends a push: nothing left to time out
-        else:
-            self._held_wrench.take(force, torque, self._now_ns())
-        self._simulation.wrench = self._held_wrench.wrench
+        # In effect from the tick stamped at its stamp (its end, for the zero wrench of a push).
+        self._held_wrench.schedule(force, torque, effective_time(
+            stamp_nanoseconds(message.header.stamp), self._now_ns()))
 
     def _simulator_status(self, name: str, hardware_id: str, now: int):
         config = self._config
