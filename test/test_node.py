@@ -442,3 +442,33 @@ def test_a_negative_clock_is_ignored_with_one_warning(ros, capfd):
     err = capfd.readouterr().err
     assert err.count('ignoring /clock -1 s 0 ns') == 1, err
     assert 'the clock stays where it was' in err and 'Traceback' not in err
+
+
+def test_each_declared_range_admits_inf_only_where_the_value_is_taken(ros):
+    """
+    A descriptor's range tops at .inf only for parameters that take .inf (max_force ...).
+
+    The others (angular_friction, mass, the timeouts ...) take every finite value: their range
+    tops at the largest float, so that ``ros2 param describe`` does not offer what is refused.
+    """
+    import math
+
+    from mouse_constraint_ros.node.parameters import DEFAULTS, node_config, PARAMETERS
+
+    node = start_node(ros)
+    checked = 0
+    for spec in PARAMETERS:
+        if spec.bounds is None or not isinstance(spec.default, float):
+            continue
+        [descriptor] = node.describe_parameters([spec.name])
+        [declared] = descriptor.floating_point_range
+        try:
+            node_config({**DEFAULTS, spec.name: math.inf})
+            takes_inf = True
+        except ValueError:
+            takes_inf = False
+        assert (declared.to_value == math.inf) == takes_inf, spec.name
+        checked += 1
+    assert checked > 20
+    refused = node.set_parameters([Parameter('angular_friction', value=math.inf)])[0]
+    assert not refused.successful

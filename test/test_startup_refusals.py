@@ -48,7 +48,7 @@ def the_one_line(result: subprocess.CompletedProcess) -> str:
     ('rate_hz: 0.0', 'rate_hz: 0.0 is outside its range [1.0, 10000.0]'),
     ('rate_hz: 20000.0', 'rate_hz: 20000.0 is outside its range [1.0, 10000.0]'),
     ('substeps: 0', 'substeps: 0 is outside its range [1, 1000]'),
-    ('mass: .nan', 'mass: .nan is not a number, so not within its range [0.0, .inf]'),
+    ('mass: .nan', 'mass: .nan is not a number, so not within its range [0.0, finite]'),
 ])
 def test_a_wrong_type_or_range_is_one_line_naming_the_parameter(tmp_path, line, expected):
     """Each bad value: exit 1 and one FATAL line with the parameter, the reason and the fix."""

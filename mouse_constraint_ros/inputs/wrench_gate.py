@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import math
 from typing import NamedTuple, Optional, Sequence, Tuple
 
-from .target_gate import Refusal
+from .target_gate import apart, Refusal
 
 Vector3 = Tuple[float, float, float]
 ZERO: Vector3 = (0.0, 0.0, 0.0)
@@ -73,12 +73,14 @@ class WrenchGate:
             return Refusal('wrench finite', f'force {values[:3]} torque {values[3:]}: not finite')
         magnitude = math.hypot(*values[:3])
         if magnitude > self.max_force:
-            return Refusal('wrench force', f'force {values[:3]}: |force| {magnitude:g} N exceeds '
-                                           f'max_wrench_force {self.max_force:g} N')
+            value, bound = apart(magnitude, self.max_force)
+            return Refusal('wrench force', f'force {values[:3]}: |force| {value} N exceeds '
+                                           f'max_wrench_force {bound} N')
         magnitude = math.hypot(*values[3:])
         if magnitude > self.max_torque:
-            return Refusal('wrench torque', f'torque {values[3:]}: |torque| {magnitude:g} N m '
-                                            f'exceeds max_wrench_torque {self.max_torque:g} N m')
+            value, bound = apart(magnitude, self.max_torque)
+            return Refusal('wrench torque', f'torque {values[3:]}: |torque| {value} N m '
+                                            f'exceeds max_wrench_torque {bound} N m')
         return None
 
 

@@ -43,7 +43,7 @@ from .startup import (CLOCK_LOOP, clock_loop, describe, rcl_reason,  # noqa: F40
                       unknown_parameter_warnings)
 from ..inputs.grab import grab
 from ..inputs.input_timeouts import input_age, target_release_text, timed_out, wrench_removal_text
-from ..inputs.target_gate import TargetGate
+from ..inputs.target_gate import apart, TargetGate
 from ..inputs.throttle import Throttle
 from ..inputs.wrench_gate import effective_time, HeldWrench, NO_WRENCH, WrenchGate
 from ..monitoring.diagnostics import (constraint_status, diagnostic_array, INITIAL_ANCHOR,
@@ -261,9 +261,10 @@ class MouseConstraintNode(Node):
         landed = grab(self._simulation.state, self._config.box_size, point)
         margin = self._config.grab_margin
         if not landed.taken(margin):
+            off, bound = apart(landed.distance, margin)
             self._warn('grab off body', lambda: (
-                f'ignoring grab {point}: {landed.distance:.6g} m off the body, farther than '
-                f'grab_margin {margin:g} m from its box'))
+                f'ignoring grab {point}: {off} m off the body, farther than '
+                f'grab_margin {bound} m from its box'))
             return
         reason = self._set_anchor(landed.anchor)
         if reason is not None:

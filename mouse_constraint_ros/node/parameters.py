@@ -31,6 +31,7 @@ MAX_REAL_TIME_FACTOR = 1e6
 # int64 nanoseconds.
 MIN_TIMER_RATE = 1e-3
 MIN_REAL_TIME_FACTOR = 1e-3
+FINITE_MAX = math.nextafter(math.inf, 0.0)  # the top of a range of every finite value
 
 
 class ParameterSpec(NamedTuple):
@@ -54,7 +55,7 @@ PARAMETERS = (
     ParameterSpec('mass', 2.0,
                   f'Body mass (kg), {MIN_MASS:g} .. {MAX_MASS:g}: beyond, the effective mass '
                   '(1 / m) or the impulses and energies (m) of the step overflow.',
-                  (0.0, math.inf)),
+                  (0.0, FINITE_MAX)),
     ParameterSpec('box_size', [0.4, 0.2, 0.1],
                   f'Edge lengths of the body box (m), each in (0, {MAX_DISTANCE:g}]; gives the '
                   'inertia when inertia is all zeros, which must then be valid as below.'),
@@ -89,15 +90,15 @@ PARAMETERS = (
     ParameterSpec('damping_ratio', 1.0, 'Soft mode: damping ratio (1 = critical).', (0.0, 1e6)),
     ParameterSpec('max_force', math.inf, 'Bound on the constraint force (N); .inf = unlimited.',
                   (0.0, math.inf)),
-    ParameterSpec('linear_damping', 0.0, 'Linear velocity decay rate (1/s).', (0.0, math.inf)),
-    ParameterSpec('angular_damping', 0.0, 'Angular velocity decay rate (1/s).', (0.0, math.inf)),
+    ParameterSpec('linear_damping', 0.0, 'Linear velocity decay rate (1/s).', (0.0, FINITE_MAX)),
+    ParameterSpec('angular_damping', 0.0, 'Angular velocity decay rate (1/s).', (0.0, FINITE_MAX)),
     ParameterSpec('workspace_radius', 10000.0,
                   'Targets farther than this from the origin of frame_id are ignored, like '
                   'non-finite ones (m): beyond it a drag would wreck the precision of the state.',
                   (0.0, MAX_DISTANCE)),
     ParameterSpec('target_timeout', 0.0,
                   'Release the body when no target arrived for this long (s); 0 = hold forever.',
-                  (0.0, math.inf)),
+                  (0.0, FINITE_MAX)),
     ParameterSpec('marker_rate_hz', 30.0,
                   'Rate of the RViz markers on ~/markers (Hz), on their own timer; 0 = none, '
                   f'else at least {MIN_TIMER_RATE:g}.',
@@ -107,10 +108,10 @@ PARAMETERS = (
                   'measured '
                   f'over one period. 0 = none, else at least {MIN_TIMER_RATE:g}.', (0.0, 100.0)),
     ParameterSpec('diagnostics_anchor_warn', 0.05,
-                  'Anchor error (m) from which /diagnostics reports WARN.', (0.0, math.inf)),
+                  'Anchor error (m) from which /diagnostics reports WARN.', (0.0, FINITE_MAX)),
     ParameterSpec('diagnostics_anchor_error', 0.5,
                   'Anchor error (m) from which /diagnostics reports ERROR, >= '
-                  'diagnostics_anchor_warn.', (0.0, math.inf)),
+                  'diagnostics_anchor_warn.', (0.0, FINITE_MAX)),
     ParameterSpec('grab_margin', 0.01,
                   'A grab within this distance (m) of the body box (box_size at the pose) is '
                   'taken, for clicks on markers that trail the body; farther ones are ignored.',
@@ -142,13 +143,13 @@ PARAMETERS = (
                   (0.0, MAX_REAL_TIME_FACTOR)),
     ParameterSpec('wrench_timeout', 0.5,
                   'Stop applying the wrench when no new one came for this long (s, of the '
-                  "node's time); 0 = hold it until one replaces it.", (0.0, math.inf)),
+                  "node's time); 0 = hold it until one replaces it.", (0.0, FINITE_MAX)),
     ParameterSpec('max_wrench_force', 1000.0,
                   'Wrenches whose force exceeds this (N) are ignored, like non-finite ones.',
-                  (0.0, math.inf)),
+                  (0.0, FINITE_MAX)),
     ParameterSpec('max_wrench_torque', 100.0,
                   'Wrenches whose torque exceeds this (N m) are ignored, like non-finite ones.',
-                  (0.0, math.inf)),
+                  (0.0, FINITE_MAX)),
     ParameterSpec('max_force_per_weight', 20.0,
                   'Bound on the constraint force in body weights, mass |gravity| (standard '
                   'gravity when gravity is zero); .inf = none. Applies with max_force.',
@@ -156,7 +157,7 @@ PARAMETERS = (
     ParameterSpec('angular_friction', 0.25,
                   'Angular friction while a target is held: the spin is stopped by a torque of '
                   'at most this times mass |gravity| sqrt(I_mean / mass) (N m); 0 = none.',
-                  (0.0, math.inf)),
+                  (0.0, FINITE_MAX)),
     ParameterSpec('gravity_feed_forward', True,
                   'Soft mode: the joint carries the weight outright, so the spring does not sag '
                   'by |gravity| / (2 pi frequency_hz)^2.'),
