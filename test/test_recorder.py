@@ -729,3 +729,58 @@ def test_a_recording_says_which_ticks_it_lacks(tmp_path):
         header = [line for line in stream if line.startswith('#')]
     assert '# ticks_missing: 15\n' in header and '# ticks_recorded: 486\n' in header
     assert len(read_csv(tmp_path / 'lacking.csv')) == 486
+
+
+def test_recording_follows_a_reset(tmp_path):
+    """
+    ~/reset during a recording: from the row after it, the target is the initial anchor.
+
+    The node holds its initial anchor, then follows a target 0.3 m away; the reset puts the
+    body back and holds the initial anchor again. The recorder learns of the reset from the
+    node's service events and of the initial pose from its parameters, so the rows after it
+    show the node's small anchor error, not the distance to the old target.
+    """
+    ros = RosHarness()
+    try:
+        overrides = [
+            Parameter('rate_hz', value=RATE), Parameter('anchor', value=list(ANCHOR)),
+            Parameter('marker_rate_hz', value=0.0), Parameter('diagnostics_rate_hz', value=0.0),
+            Parameter('linear_damping', value=2.0), Parameter('angular_damping', value=2.0)]
+        node = ros.add(MouseConstraintNode(context=ros.context, namespace='resetting',
+                                           parameter_overrides=overrides))
+        held = node.simulation.target
+        targets = ros.probe.create_publisher(PointStamped, 'resetting/target', 10)
+        reset = ros.probe.create_client(Trigger, 'resetting/mouse_constraint/reset')
+        assert ros.spin_until(lambda: targets.get_subscription_count() > 0
+                              and reset.service_is_ready())
+        moved = (held[0] + 0.3, held[1], held[2])
+        targets.publish(point_message(moved, 'world', 0))
+        process = subprocess.Popen(
+            [str(BIN / 'mouse_record'), '-d', '1.5', '-o', str(tmp_path / 'reset'), '--timeout',
+             '20', '--ros-args', '-r', '__ns:=/resetting'],
+            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        lines = []
+        reader = threading.Thread(target=lambda: lines.extend(process.stderr), daemon=True)
+        reader.start()
+        deadline, started, future = time.monotonic() + 40.0, None, None
+        while process.poll() is None:
+            assert time.monotonic() < deadline, 'mouse_record did not finish'
+            ros.spin_for(0.05)
+            if started is None and any(line.startswith('recording') for line in lines):
+                started = time.monotonic()
+                targets.publish(point_message(moved, 'world', 0))
+            if future is None and started is not None and time.monotonic() - started > 0.6:
+                future = reset.call_async(Trigger.Request())
+        reader.join(timeout=5.0)
+        assert process.returncode == 0, ''.join(lines)
+        assert future is not None and future.done() and future.result().success
+    finally:
+        ros.shutdown()
+    rows = read_csv(tmp_path / 'reset.csv')
+    target = [(row['target_x'], row['target_y'], row['target_z']) for row in rows]
+    assert moved in target
+    after = target.index(held)
+    assert 0 < after < len(rows) - 10 and set(target[after:]) == {held}
+    assert target[after - 1] == moved
+    # Back at the initial pose, the body hangs from the held anchor: no 0.3 m error.
+    assert rows[after]['anchor_error'] < 0.01

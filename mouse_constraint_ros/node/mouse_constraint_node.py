@@ -29,6 +29,7 @@ from rclpy.experimental import EventsExecutor
 from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
 from rclpy.parameter import Parameter
+from rclpy.service_introspection import ServiceIntrospectionState
 from rclpy.signals import SignalHandlerOptions
 from rosgraph_msgs.msg import Clock as ClockMessage
 from std_srvs.srv import SetBool, Trigger
@@ -64,8 +65,8 @@ from ..timing.tick_grid import (CATCH_UP_CAUSE, clock_change_text, clock_jump_te
                                 MAX_CATCH_UP_SECONDS, scheduled_origin, TickGrid)
 from ..wire.interface import (CLOCK_QOS, CLOCK_TOPIC, DIAGNOSTICS_TOPIC, GRAB_TOPIC, MARKERS_TOPIC,
                               MONITOR_DEPTH, NODE_NAME, PAUSE_SERVICE, RELEASE_SERVICE,
-                              RESET_SERVICE, STEP_SERVICE, TARGET_QOS, TARGET_TOPIC, WRENCH_QOS,
-                              WRENCH_TOPIC)
+                              RESET_SERVICE, SERVICE_EVENT_QOS, STEP_SERVICE, TARGET_QOS,
+                              TARGET_TOPIC, WRENCH_QOS, WRENCH_TOPIC)
 from ..wire.messages import point_from_message, set_stamp, stamp_nanoseconds
 from ..wire.state_publishers import (BroadcasterFactory, DEFAULT_BROADCASTER, StatePublishers,
                                      TF_UNAVAILABLE)
@@ -169,8 +170,11 @@ class MouseConstraintNode(Node):
         self._twist_publisher = self._state_publishers.twist_publisher
         self.create_subscription(PointStamped, TARGET_TOPIC, self._on_target, TARGET_QOS)
         self.create_subscription(PointStamped, GRAB_TOPIC, self._on_grab, TARGET_QOS)
-        self.create_service(Trigger, RESET_SERVICE, self._on_reset)
-        self.create_service(Trigger, RELEASE_SERVICE, self._on_release)
+        for name, callback in ((RESET_SERVICE, self._on_reset),
+                               (RELEASE_SERVICE, self._on_release)):
+            # Their calls set the target: published as service events (mouse_record follows).
+            self.create_service(Trigger, name, callback).configure_introspection(
+                self.get_clock(), SERVICE_EVENT_QOS, ServiceIntrospectionState.CONTENTS)
         self._timer = None
         self._start_timer()
         self._simulator_controls_setup()

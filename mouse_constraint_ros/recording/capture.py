@@ -31,7 +31,7 @@ from .received import (header_stamp, MESSAGE_TYPES, NODE_PARAMETERS, parameter_c
 from ..cli.remote_parameters import fetch_parameters
 from ..timing.guarded_time_source import guard_time_source
 from ..timing.spin import spin_until, SpinEnd, StopRequest, wait_until
-from ..wire.interface import NODE_NAME, POSE_TOPIC, TWIST_TOPIC
+from ..wire.interface import NODE_NAME, POSE_TOPIC, SERVICE_EVENT_QOS, TWIST_TOPIC
 
 # Deep RELIABLE queues: a burst of caught-up ticks must not overwrite unread messages.
 RECORD_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
@@ -78,7 +78,7 @@ class Recorder(Node):
         for key in SERVICE_EVENTS:
             self.subscriptions_by_topic[key] = self.create_subscription(
                 MESSAGE_TYPES[key], service_event_topic(self.target_name, key),
-                self._service_receiver(key), RECORD_QOS, raw=True)
+                self._service_receiver(key), SERVICE_EVENT_QOS, raw=True)
 
     def topic_name(self, key: str) -> str:
         """Return the resolved (namespaced, remapped) name of a recorded topic."""
