@@ -472,3 +472,35 @@ def test_each_declared_range_admits_inf_only_where_the_value_is_taken(ros):
     assert checked > 20
     refused = node.set_parameters([Parameter('angular_friction', value=math.inf)])[0]
     assert not refused.successful
+
+
+def test_ros2_param_load_takes_the_shipped_file_with_its_inf_quoted(ros, tmp_path):
+    """
+    ``ros2 param load``'s path (rclpy's parameter_dict_from_yaml_file, then one set each).
+
+    The shipped file as it is: every value lands but the ``.inf`` ones, which come back as the
+    string 'inf'. Rewritten by the README's sed command (``.inf`` quoted), every one lands.
+    """
+    import math
+    from pathlib import Path
+    import re
+
+    from rclpy.parameter import parameter_dict_from_yaml_file
+
+    readme = (Path(__file__).parent.parent / 'README.md').read_text()
+    assert r"""sed "s/: \.inf\b/: '.inf'/" config/params.yaml > params_load.yaml""" in readme
+    shipped = Path(__file__).parent.parent / 'config' / 'params.yaml'
+    quoted = tmp_path / 'params_load.yaml'
+    quoted.write_text(re.sub(r': \.inf\b', ": '.inf'", shipped.read_text()))
+    node = start_node(ros, max_force=5.0)
+
+    def load(path) -> dict:
+        values = parameter_dict_from_yaml_file(str(path), use_wildcard=True)
+        return {name: node.set_parameters([Parameter.from_parameter_msg(message)])[0]
+                for name, message in values.items() if name != 'use_sim_time'}
+
+    refused = {name for name, result in load(shipped).items() if not result.successful}
+    assert refused == {'max_force'}
+    assert node.get_parameter('max_force').value == 5.0
+    assert all(result.successful for result in load(quoted).values())
+    assert node.get_parameter('max_force').value == math.inf
