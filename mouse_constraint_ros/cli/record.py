@@ -169,7 +169,8 @@ def write_outputs(node: Recorder, options: argparse.Namespace, start: Dict[str, 
     if not rows:
         logger.error('no tick with both pose and twist was recorded')
         return 1
-    grid = (Grid(start['rate_hz'], start['publish_rate_hz']) if 'rate_hz' in start else None)
+    grid = (Grid(start['rate_hz'], start.get('publish_rate_hz', 0.0)) if 'rate_hz' in start
+            else None)
     lacking = missing_ticks([row.stamp_ns for row in rows], grid)
     written = output_paths(options.output, options.mcap)
     try:

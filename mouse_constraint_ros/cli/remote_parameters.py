@@ -6,7 +6,7 @@ Ctrl-C is seen, and gives plain Python values, checked against the types asked f
 """
 
 import time
-from typing import Dict, Mapping
+from typing import Collection, Dict, Mapping
 
 from rcl_interfaces.msg import ParameterType
 from rcl_interfaces.srv import GetParameters
@@ -26,11 +26,13 @@ _TYPE_NAMES = {ParameterType.PARAMETER_BOOL: 'bool', ParameterType.PARAMETER_DOU
 
 
 def fetch_parameters(node: Node, executor: Executor, stop: StopRequest, *, target_node: str,
-                     types: Mapping[str, int], timeout: float) -> Dict[str, object]:
+                     types: Mapping[str, int], timeout: float,
+                     optional: Collection[str] = ()) -> Dict[str, object]:
     """
     Return ``target_node``'s parameters named in ``types``, each as a Python value.
 
     :param types: the ``ParameterType`` of each name (bool, double, string, double array).
+    :param optional: names that may be missing (not set): they are left out of the result.
     :param timeout: seconds to wait for the service, then as long for its answer.
     :raises RuntimeError: saying why they could not be read.
     :raises Interrupted: when ``stop`` is requested meanwhile.
@@ -51,6 +53,8 @@ def fetch_parameters(node: Node, executor: Executor, stop: StopRequest, *, targe
         result = {}
         for name, value in zip(names, values):
             wanted = types[name]
+            if value.type == ParameterType.PARAMETER_NOT_SET and name in optional:
+                continue
             if value.type != wanted:
                 raise RuntimeError(f'{target_node} has no {_TYPE_NAMES[wanted]} parameter '
                                    f'{name}')

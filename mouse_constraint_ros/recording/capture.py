@@ -163,12 +163,16 @@ def fetch_start(node: Node, executor: Executor, stop: StopRequest, *, target_nod
     """
     Return ``target_node``'s parameters of ``NODE_PARAMETERS`` (the anchor in the body frame, m).
 
+    Only ``anchor`` must be there; without the others a reset's target and the grid are not
+    known (``rows.NodeView``, ``missing_ticks``).
+
     :param timeout: seconds to wait for the parameter service, then as long for its answer.
     :raises RuntimeError: saying why they could not be read.
     :raises Interrupted: when ``stop`` is requested meanwhile.
     """
     return fetch_parameters(node, executor, stop, target_node=target_node,
-                            types=NODE_PARAMETERS, timeout=timeout)
+                            types=NODE_PARAMETERS, timeout=timeout,
+                            optional=set(NODE_PARAMETERS) - {'anchor'})
 
 
 def wait_for_first_pose(node: Recorder, executor: Executor, stop: StopRequest, *,
