@@ -1,3 +1,17 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """Helpers for tests that run nodes in-process: contexts, spinning, and collecting messages."""
 
 import time
@@ -45,6 +59,14 @@ class RosHarness:
                 return False
             self.executor.spin_once(timeout_sec=0.01)
         return True
+
+    def call(self, service_type, name: str, request):
+        """Call the service ``name`` from the probe; return the response."""
+        client = self.probe.create_client(service_type, name)
+        assert client.wait_for_service(timeout_sec=5.0)
+        future = client.call_async(request)
+        assert self.spin_until(future.done)
+        return future.result()
 
     def collect(self, message_type, topic: str, depth: int = 1000) -> list:
         """Subscribe the probe to ``topic``; return the list that received messages fill."""

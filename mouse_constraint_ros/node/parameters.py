@@ -1,3 +1,17 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """
 The node's parameters as plain data, and the core objects they make (no ROS here).
 
@@ -14,6 +28,7 @@ h = 1 / (rate_hz substeps) from 1e-7 s to 1 s (within the core's MIN_STEP..MAX_S
 import math
 from typing import Any, Mapping, NamedTuple, Optional, Tuple
 
+from .timer_limits import FINITE_MAX, MIN_REAL_TIME_FACTOR, MIN_TIMER_RATE, off_or_at_least
 from ..physics import BodyState, MouseConstraint, RigidBody, Settings
 from ..physics.algebra import Vector3
 from ..physics.limits import (MAX_ACCELERATION, MAX_CONDITION, MAX_DISTANCE, MAX_MASS, MAX_MOMENT,
@@ -26,12 +41,6 @@ from ..physics.validation import finite_vector, scalar, shown
 # step can run (some 1e5 ticks per second), so a larger factor only means "as fast as it can",
 # which is written 0.
 MAX_REAL_TIME_FACTOR = 1e6
-# The slowest timer rate (Hz) and the smallest real_time_factor other than 0: the periods they
-# give (at most 1000 s, rate_hz >= 1) are timers that run; 1e-11 Hz would overflow a timer's
-# int64 nanoseconds.
-MIN_TIMER_RATE = 1e-3
-MIN_REAL_TIME_FACTOR = 1e-3
-FINITE_MAX = math.nextafter(math.inf, 0.0)  # the top of a range of every finite value
 
 
 class ParameterSpec(NamedTuple):
@@ -100,8 +109,7 @@ PARAMETERS = (
                   'Release the body when no target arrived for this long (s); 0 = hold forever.',
                   (0.0, FINITE_MAX)),
     ParameterSpec('marker_rate_hz', 30.0,
-                  'Rate of the RViz markers on ~/markers (Hz), on their own timer; 0 = none, '
-                  f'else at least {MIN_TIMER_RATE:g}.',
+                  'Rate of the RViz markers on ~/markers (Hz), on their own timer; 0 = none.',
                   (0.0, 100.0)),
     ParameterSpec('diagnostics_rate_hz', 1.0,
                   'Rate of /diagnostics (Hz), on its own timer; the achieved tick rate is '
@@ -138,8 +146,7 @@ PARAMETERS = (
                   'use_sim_time (a node cannot follow its own clock).'),
     ParameterSpec('real_time_factor', 1.0,
                   'With publish_clock: simulated seconds per wall second; 0 = as fast as the '
-                  f'machine allows, else at least {MIN_REAL_TIME_FACTOR:g}. A change goes on '
-                  'from the simulated time it finds.',
+                  f'machine allows, else >= {MIN_REAL_TIME_FACTOR:g}; a change goes on from now.',
                   (0.0, MAX_REAL_TIME_FACTOR)),
     ParameterSpec('wrench_timeout', 0.5,
                   'Stop applying the wrench when no new one came for this long (s, of the '
@@ -273,9 +280,9 @@ def _configuration_from(values: Mapping[str, Any]) -> NodeConfig:
         workspace_radius=scalar('workspace_radius', values['workspace_radius'], above=0.0,
                                 at_most=MAX_DISTANCE),
         target_timeout=scalar('target_timeout', values['target_timeout'], at_least=0.0),
-        marker_rate_hz=_off_or_bounded('marker_rate_hz', values, MIN_TIMER_RATE, ' Hz'),
-        diagnostics_rate_hz=_off_or_bounded('diagnostics_rate_hz', values, MIN_TIMER_RATE,
-                                            ' Hz'),
+        marker_rate_hz=_bounded('marker_rate_hz', values['marker_rate_hz'], MIN_TIMER_RATE),
+        diagnostics_rate_hz=_bounded('diagnostics_rate_hz', values['diagnostics_rate_hz'],
+                                     MIN_TIMER_RATE),
         diagnostics_anchor_warn=anchor_warn,
         diagnostics_anchor_error=anchor_error,
         grab_margin=scalar('grab_margin', values['grab_margin'], at_least=0.0,
@@ -315,7 +322,8 @@ def _simulator_controls(values: Mapping[str, Any]) -> dict:
         raise ValueError(f'publish_clock must be true or false, got {shown(publish_clock)}')
     return {
         'publish_clock': publish_clock,
-        'real_time_factor': _off_or_bounded('real_time_factor', values, MIN_REAL_TIME_FACTOR),
+        'real_time_factor': _bounded('real_time_factor', values['real_time_factor'],
+                                     MIN_REAL_TIME_FACTOR),
         'wrench_timeout': scalar('wrench_timeout', values['wrench_timeout'], at_least=0.0),
         'max_wrench_force': scalar('max_wrench_force', values['max_wrench_force'],
                                    at_least=0.0),
@@ -332,19 +340,10 @@ def _flag(values: Mapping[str, Any], name: str) -> bool:
     return value
 
 
-def _bounded(name: str, value: Any) -> float:
-    """Return ``value`` checked against the range of parameter ``name`` in PARAMETERS."""
+def _bounded(name: str, value: Any, off_below: float = 0.0) -> float:
+    """Return ``value`` checked against the range of ``name``: 0 or >= ``off_below`` too."""
     low, high = BOUNDS[name]
-    return scalar(name, value, at_least=low, at_most=high)
-
-
-def _off_or_bounded(name: str, values: Mapping[str, Any], low: float, unit: str = '') -> float:
-    """Return parameter ``name`` within its range and either 0 or at least ``low``."""
-    value = _bounded(name, values[name])
-    if 0.0 < value < low:
-        raise ValueError(f'{name} must be 0 or at least {low:g}{unit}, got {value!r}: a '
-                         'smaller one makes a timer period beyond what a timer runs')
-    return value
+    return off_or_at_least(name, scalar(name, value, at_least=low, at_most=high), off_below)
 
 
 BOUNDS = {p.name: p.bounds for p in PARAMETERS if p.bounds is not None}

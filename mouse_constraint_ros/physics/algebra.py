@@ -1,3 +1,17 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """
 Quaternions and 3x3 matrices on plain float tuples.
 
@@ -92,6 +106,8 @@ def cross(a: Vector3, b: Vector3) -> Vector3:
     return (ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx)
 
 
+# Twin: written out in MouseSimulation.step's substep loop (a call per substep costs); the
+# test test_the_step_turns_the_body_as_integrate_orientation_does_to_the_bit keeps them equal.
 def integrate_orientation(q: Quaternion, w: Vector3, h: float) -> Quaternion:
     """
     Rotate ``q`` by the world-frame angular velocity ``w`` held for ``h`` seconds.

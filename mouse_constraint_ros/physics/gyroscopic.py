@@ -1,3 +1,17 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """
 The gyroscopic term of free rotation, w x (I w), integrated implicitly in the body frame.
 
@@ -16,6 +30,8 @@ _GYROSCOPIC_ITERATIONS = 6
 _CONVERGED = 1e-26
 
 
+# Twin: gyroscopic_step_diagonal below, the same arithmetic without the off-diagonal products;
+# test_physics_fast_paths.py's test_the_diagonal_gyroscopic_step_* keep the two equal to the bit.
 def gyroscopic_step(inertia: Symmetric3, w: Vector3, h: float) -> Vector3:
     """
     Advance Euler's torque-free equation I dw/dt + w x (I w) = 0 by ``h``, body frame, implicitly.
@@ -102,6 +118,8 @@ def gyroscopic_step(inertia: Symmetric3, w: Vector3, h: float) -> Vector3:
     return (vx, vy, vz)
 
 
+# Twin: gyroscopic_step above, written again for speed; test_physics_fast_paths.py's
+# test_the_diagonal_gyroscopic_step_* keep the two equal to the bit.
 def gyroscopic_step_diagonal(moments: Vector3, w: Vector3, h: float) -> Vector3:
     """
     Return ``gyroscopic_step`` for the diagonal inertia diag(``moments``), at half its cost.

@@ -1,8 +1,22 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """
 The node's state outputs: pose, twist, TF and odometry of one tick, published as raw CDR.
 
 Pose and twist (and odometry) go to the middleware as the bytes of a precompiled layout
-(``cdr_layouts``): ``Publisher.publish(bytes)`` sends them as they are, which skips the
+(``cdr``): ``Publisher.publish(bytes)`` sends them as they are, which skips the
 conversion of a Python message into C and rmw's serialization. The bytes are those rclpy would
 send for the message ``fill_pose`` / ``fill_twist`` / ``fill_odometry`` fill (the layouts check
 that when they are compiled, and a test compares what a subscriber receives). Where a layout
@@ -25,7 +39,8 @@ from geometry_msgs.msg import PoseStamped, TransformStamped, TwistStamped
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
 
-from .cdr_layouts import OdometryLayout, PoseStampedLayout, TwistStampedLayout
+from .cdr.geometry import PoseStampedLayout, TwistStampedLayout
+from .cdr.odometry import OdometryLayout
 from .interface import ODOM_TOPIC, POSE_TOPIC, STATE_QOS, TWIST_TOPIC
 from .messages import (body_frame_twist, fill_odometry, fill_pose, fill_transform, fill_twist,
                        set_stamp)
