@@ -46,13 +46,13 @@ from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
 from .help_text import plain_text
-from .remote_parameters import fetch_parameters
 from ..inputs.wrench_gate import WrenchGate
 from ..node.parameters import DEFAULTS
 from ..timing.guarded_time_source import guard_time_source
 from ..timing.spin import Interrupted, spin_until, SpinEnd, StopRequest, wait_until
 from ..wire.interface import NODE_NAME, WRENCH_QOS, WRENCH_TOPIC
 from ..wire.messages import set_stamp, wrench_message
+from ..wire.remote_parameters import fetch_parameters
 
 # The publishing rates that run (Hz): a period from 1 ms to 1000 s.
 MIN_RATE = 1e-3

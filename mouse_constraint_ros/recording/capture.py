@@ -42,10 +42,10 @@ from .mcap_file import offered_qos_yaml
 from .received import (header_stamp, MESSAGE_TYPES, NODE_PARAMETERS, parameter_changes,
                        PARAMETER_EVENTS_TOPIC, Received, service_event_topic, SERVICE_EVENTS,
                        TOPICS)
-from ..cli.remote_parameters import fetch_parameters
 from ..timing.guarded_time_source import guard_time_source
 from ..timing.spin import spin_until, SpinEnd, StopRequest, wait_until
 from ..wire.interface import NODE_NAME, POSE_TOPIC, SERVICE_EVENT_QOS, TWIST_TOPIC
+from ..wire.remote_parameters import fetch_parameters
 
 # Deep RELIABLE queues: a burst of caught-up ticks must not overwrite unread messages.
 RECORD_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
