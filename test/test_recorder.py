@@ -106,6 +106,16 @@ def harness():
     ros.shutdown()
 
 
+def start_recorder(*arguments: str):
+    """Start ``mouse_record`` with ``arguments``: the process, its stderr lines, their reader."""
+    process = subprocess.Popen([str(BIN / 'mouse_record'), *arguments], stdout=subprocess.DEVNULL,
+                               stderr=subprocess.PIPE, text=True)
+    lines = []
+    reader = threading.Thread(target=lambda: lines.extend(process.stderr), daemon=True)
+    reader.start()
+    return process, lines, reader
+
+
 def run_recorder(ros, arguments, publisher=None, signal_after=None, timeout=40.0):
     """
     Run ``mouse_record`` while the node spins, publishing a target every 0.05 s if asked.
@@ -576,13 +586,9 @@ def test_recording_follows_a_grab(tmp_path):
         grabs = ros.probe.create_publisher(PointStamped, 'grabbed/grab', 10)
         assert ros.spin_until(lambda: grabs.get_subscription_count() > 0 and poses)
         prefix = tmp_path / 'grab'
-        process = subprocess.Popen(
-            [str(BIN / 'mouse_record'), '-d', '1.5', '-o', str(prefix), '--mcap', '--timeout',
-             '20', '--ros-args', '-r', '__ns:=/grabbed'],
-            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-        lines = []
-        reader = threading.Thread(target=lambda: lines.extend(process.stderr), daemon=True)
-        reader.start()
+        process, lines, reader = start_recorder('-d', '1.5', '-o', str(prefix), '--mcap',
+                                                '--timeout', '20', '--ros-args', '-r',
+                                                '__ns:=/grabbed')
         deadline, grabbed, point = time.monotonic() + 40.0, None, None
         while process.poll() is None:
             assert time.monotonic() < deadline, 'mouse_record did not finish'
@@ -772,13 +778,9 @@ def test_recording_follows_a_reset(tmp_path):
                               and reset.service_is_ready())
         moved = (held[0] + 0.3, held[1], held[2])
         targets.publish(point_message(moved, 'world', 0))
-        process = subprocess.Popen(
-            [str(BIN / 'mouse_record'), '-d', '1.5', '-o', str(tmp_path / 'reset'), '--timeout',
-             '20', '--ros-args', '-r', '__ns:=/resetting'],
-            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-        lines = []
-        reader = threading.Thread(target=lambda: lines.extend(process.stderr), daemon=True)
-        reader.start()
+        process, lines, reader = start_recorder('-d', '1.5', '-o', str(tmp_path / 'reset'),
+                                                '--timeout', '20', '--ros-args', '-r',
+                                                '__ns:=/resetting')
         deadline, started, future = time.monotonic() + 40.0, None, None
         while process.poll() is None:
             assert time.monotonic() < deadline, 'mouse_record did not finish'
