@@ -44,6 +44,7 @@ from .startup import (CLOCK_LOOP, clock_loop, describe, rcl_reason,  # noqa: F40
 from ..inputs.grab import grab
 from ..inputs.input_timeouts import input_age, target_release_text, timed_out, wrench_removal_text
 from ..inputs.target_gate import TargetGate
+from ..inputs.target_stamps import TargetStamps
 from ..inputs.throttle import Throttle
 from ..inputs.wrench_gate import HeldWrench, NO_WRENCH, WrenchGate
 from ..monitoring.diagnostics import (constraint_status, diagnostic_array, INITIAL_ANCHOR,
@@ -54,17 +55,18 @@ from ..monitoring.markers import marker_array, reference_force, wrench_reference
 from ..physics import MouseSimulation
 from ..physics.algebra import Vector3
 from ..physics.simulation import force_bound
+from ..physics.target_motion import STREAM_GAP
 from ..timing.publish_ticks import PublishTicks, ticks_per_callback
 from ..timing.sim_clock import ClockPacer, PacingMeter, SimulatedClock
 from ..timing.spin import spin_until, StopRequest
 from ..timing.tick_budget import TickBudget
-from ..timing.tick_grid import (CATCH_UP_CAUSE, clock_change_text, clock_jump_text, drop_text,
-                                MAX_CATCH_UP_SECONDS, scheduled_origin, TickGrid)
+from ..timing.tick_grid import (CATCH_UP_CAUSE, clock_change_text, clock_jump_text, core_time,
+                                drop_text, MAX_CATCH_UP_SECONDS, scheduled_origin, TickGrid)
 from ..wire.interface import (CLOCK_QOS, CLOCK_TOPIC, DIAGNOSTICS_TOPIC, GRAB_TOPIC, MARKERS_TOPIC,
                               MONITOR_DEPTH, NODE_NAME, PAUSE_SERVICE, RELEASE_SERVICE,
                               RESET_SERVICE, STEP_SERVICE, TARGET_QOS, TARGET_TOPIC, WRENCH_QOS,
                               WRENCH_TOPIC)
-from ..wire.messages import point_from_message, set_stamp
+from ..wire.messages import point_from_message, set_stamp, stamp_nanoseconds
 from ..wire.state_publishers import (BroadcasterFactory, DEFAULT_BROADCASTER, StatePublishers,
                                      TF_UNAVAILABLE)
 
@@ -131,6 +133,7 @@ class MouseConstraintNode(Node):
         self._user_target = False
         self._last_target_ns: Optional[int] = None
         self._gate = TargetGate(self._config.frame_id, self._config.workspace_radius)
+        self._stamps = TargetStamps(STREAM_GAP)
         # The anchor of the parameters (start or ros2 param set), which ~/reset restores.
         self._configured_anchor = self._config.settings.constraint.anchor
         # True while the node sets its own anchor parameter for a grab or a reset.
@@ -243,9 +246,15 @@ class MouseConstraintNode(Node):
         if refusal is not None:
             self._warn(refusal.key, lambda: f'ignoring target {refusal.reason}')
             return
-        self._simulation.set_target(point, time=self._simulation.time)
+        now, arrival = self._now_ns(), self._simulation.time
+        stamp = stamp_nanoseconds(message.header.stamp)
+        if self.ticks_run and self._stamps.refusal(stamp, now_ns=now, tick_s=self._dt) is None:
+            self._simulation.set_target(point, time=core_time(
+                stamp, tick_stamp_ns=self._stamp_ns, tick_core_time=arrival), stamped=True)
+        else:
+            self._simulation.set_target(point, time=arrival)
         self._user_target = True
-        self._last_target_ns = self._now_ns()
+        self._last_target_ns = now
 
     def _on_grab(self, message: PointStamped) -> None:
         """Make a point on the body the anchor and the target; ignore (and say) any other."""

@@ -193,13 +193,16 @@ class MouseSimulation:
     def target(self, target: Optional[Vector3]) -> None:
         self.set_target(target)
 
-    def set_target(self, target: Optional[Vector3], *, time: Optional[float] = None) -> None:
+    def set_target(self, target: Optional[Vector3], *, time: Optional[float] = None,
+                   stamped: bool = False) -> None:
         """
         Set the target, which arrived at ``time`` (s of simulated time, see ``time``).
 
         Timed targets form a stream whose velocity the joint follows with
         ``TargetMotion.feed_forward``; a target without a time (as ``target = point`` sets)
-        is a jump. None frees the body.
+        is a jump. None frees the body. With ``stamped``, ``time`` is when the target was
+        there (its stamp, in simulated time) and it arrived now: the stream is fitted on the
+        stamps (``TargetStream``).
         """
         if target is None:
             self._target = None
@@ -210,7 +213,8 @@ class MouseSimulation:
         if time is not None:
             time = scalar('time', time)
         self._target = target
-        self._stream.add(target, time, self._settings.target_motion.max_speed)
+        self._stream.add(target, time, self._settings.target_motion.max_speed,
+                         self._time if stamped else None)
 
     @property
     def time(self) -> float:
