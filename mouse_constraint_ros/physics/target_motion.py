@@ -69,6 +69,9 @@ STAMPED_SAMPLES = 32
 # arrived; a stamped stream's arrivals jitter by the spread of their delays as well.
 EXTRAPOLATION_INTERVALS = 1.5
 STAMPED_EXTRAPOLATION_INTERVALS = 2.0
+# A stamped stream's extrapolation goes over from the previous fit to the new one in this many
+# mean intervals after a point arrived (``TargetStream.predict``).
+BLEND_INTERVALS = 1.0
 ZERO: Vector3 = (0.0, 0.0, 0.0)
 
 
@@ -103,30 +106,66 @@ class TargetMotion:
         return math.isfinite(self.max_speed) or math.isfinite(self.max_acceleration)
 
 
+Curve = Tuple[float, Vector3, Tuple[Vector3, ...]]
+
+
+def evaluate(curve: Curve, time: float) -> Tuple[Vector3, Vector3]:
+    """
+    Return the position and velocity at ``time`` of a polynomial about a point.
+
+    :param curve: (t0, p0, (c_1, ..., c_d)): p(t) = p0 + c_1 tau + ... + c_d tau^d with
+        tau = max(t - t0, 0) (a time before t0 is taken as t0).
+    """
+    t0, p, coefficients = curve
+    tau = max(time - t0, 0.0)
+    if len(coefficients) <= 2:
+        # A line or a parabola, written out: p + v tau + c_2 tau^2 and v + 2 c_2 tau.
+        v = coefficients[0]
+        c = coefficients[1] if len(coefficients) == 2 else ZERO
+        square = tau * tau
+        return ((p[0] + v[0] * tau + c[0] * square, p[1] + v[1] * tau + c[1] * square,
+                 p[2] + v[2] * tau + c[2] * square),
+                (v[0] + 2.0 * c[0] * tau, v[1] + 2.0 * c[1] * tau, v[2] + 2.0 * c[2] * tau))
+    position, velocity = [], []
+    for axis in range(3):
+        # Horner's scheme for sum c_k tau^k and its derivative sum k c_k tau^(k - 1).
+        value = slope = 0.0
+        for k in range(len(coefficients), 0, -1):
+            c = coefficients[k - 1][axis]
+            value = value * tau + c
+            slope = slope * tau + k * c
+        position.append(p[axis] + value * tau)
+        velocity.append(slope)
+    return tuple(position), tuple(velocity)
+
+
 class TargetStream:
     """The last points of the target with their times; the fit and extrapolation of them."""
 
     def __init__(self) -> None:
         """Start empty."""
         self._points: Deque[Tuple[float, Vector3]] = deque(maxlen=STAMPED_SAMPLES)
-        # The fit about the latest point: the coefficients c_1 .. c_d of
-        # p(t) = p_latest + c_1 tau + ... + c_d tau^d, tau = t - t_latest.
-        self._coefficients: Tuple[Vector3, ...] = ()
+        # The fit about the latest point (``evaluate``); None for none (no point, or one).
+        self._curve: Optional[Curve] = None
         self._horizon = 0.0
         # (time, point) of the latest point; its arrival time; whether times are stamps.
         self._latest: Optional[Tuple[float, Vector3]] = None
         self._arrival = 0.0
         self._stamped = False
+        # A stamped stream's previous fit, blended into the new one from the new point's
+        # arrival over ``_blend_length`` (s); None when not blending.
+        self._previous: Optional[Curve] = None
+        self._blend_length = 0.0
 
     @property
     def velocity(self) -> Vector3:
         """Return the estimated velocity of the stream at its latest point (m/s), zero alone."""
-        return self._coefficients[0] if self._coefficients else ZERO
+        return ZERO if self._curve is None else self._curve[2][0]
 
     def clear(self) -> None:
         """Forget every point."""
         self._points.clear()
-        self._coefficients = ()
+        self._curve = self._previous = None
         self._horizon = 0.0
         self._latest = None
 
@@ -147,23 +186,27 @@ class TargetStream:
             if 0.0 < interval <= STREAM_GAP:
                 step = math.dist(point, latest[1])
                 continues = step <= max_speed * interval
+        previous = self._curve if continues and stamped else None
         if not continues:
             self._points.clear()
         if time is None:
-            self._latest = None
-            self._coefficients = ()
+            self._latest = self._curve = self._previous = None
             self._horizon = 0.0
             return False
         self._points.append((time, point))
         self._latest = (time, point)
         self._arrival = arrival if stamped else time
         self._stamped = stamped
-        self._coefficients, self._horizon = self._fit()
+        self._curve, interval = self._fit()
+        self._horizon = interval * (STAMPED_EXTRAPOLATION_INTERVALS if stamped
+                                    else EXTRAPOLATION_INTERVALS)
+        self._previous = previous if self._curve is not None else None
+        self._blend_length = BLEND_INTERVALS * interval
         return continues
 
-    def _fit(self) -> Tuple[Tuple[Vector3, ...], float]:
+    def _fit(self) -> Tuple[Optional[Curve], float]:
         """
-        Return the coefficients of the stream's polynomial about its latest point; the horizon.
+        Return the stream's polynomial about its latest point, and its mean interval (s).
 
         Least squares in time relative to the latest point (so the linear coefficient is the
         velocity there): for arrival times a line through two or three of the last
@@ -172,7 +215,7 @@ class TargetStream:
         the last ``STAMPED_WINDOW``.
         """
         points = list(self._points)
-        t_last = points[-1][0]
+        t_last, latest = points[-1]
         if self._stamped:
             points = [p for p in points if t_last - p[0] <= STAMPED_WINDOW]
             degree = min(STAMPED_DEGREE, max(1, len(points) - 2))
@@ -181,46 +224,45 @@ class TargetStream:
             degree = 2 if len(points) >= QUADRATIC_SAMPLES else 1
         count = len(points)
         if count < 2:
-            return (), 0.0
+            return None, 0.0
         times = np.array([t - t_last for t, _ in points])
         # Offsets from the latest point: a still stream fits to exactly zero, and far
         # coordinates lose no digits. The extrapolation starts from the latest point itself.
-        latest = points[-1][1]
         values = np.array([[p[i] - latest[i] for i in range(3)] for _, p in points])
         design = np.vander(times, degree + 1, increasing=True)
         solution = np.linalg.lstsq(design, values, rcond=None)[0]
         coefficients = tuple(tuple(float(c) for c in row) for row in solution[1:])
-        interval = float(-times[0] / (count - 1))
-        return coefficients, interval * (STAMPED_EXTRAPOLATION_INTERVALS if self._stamped
-                                         else EXTRAPOLATION_INTERVALS)
+        return (t_last, latest, coefficients), float(-times[0] / (count - 1))
 
     def predict(self, time: float) -> Tuple[Vector3, Vector3]:
-        """Return where the target is at ``time`` and its velocity, extrapolated (s)."""
-        t0, p = self._latest
-        if time - self._arrival > self._horizon or not self._coefficients:
+        """
+        Return where the target is at ``time`` and its velocity, extrapolated (s).
+
+        A stamped stream goes over from its previous fit to the new one in the
+        ``BLEND_INTERVALS`` after a point arrived, with the smoothstep weight
+        w = 3 s^2 - 2 s^3 of the fraction s of that time: position and velocity stay
+        continuous where switching fits would jump (projective velocity blending, as in
+        C. Murphy, "Believable Dead Reckoning for Networked Games", Game Engine Gems 2).
+        """
+        curve = self._curve
+        if curve is None or time - self._arrival > self._horizon:
             # The stream stopped (or is a lone point): the target is where it was last sent.
-            return p, ZERO
-        tau = max(time - t0, 0.0)
-        coefficients = self._coefficients
-        if len(coefficients) <= 2:
-            # A line or a parabola, written out: p + v tau + c_2 tau^2 and v + 2 c_2 tau.
-            v = coefficients[0]
-            c = coefficients[1] if len(coefficients) == 2 else ZERO
-            square = tau * tau
-            return ((p[0] + v[0] * tau + c[0] * square, p[1] + v[1] * tau + c[1] * square,
-                     p[2] + v[2] * tau + c[2] * square),
-                    (v[0] + 2.0 * c[0] * tau, v[1] + 2.0 * c[1] * tau, v[2] + 2.0 * c[2] * tau))
-        position, velocity = [], []
-        for axis in range(3):
-            # Horner's scheme for sum c_k tau^k and its derivative sum k c_k tau^(k - 1).
-            value = slope = 0.0
-            for k in range(len(coefficients), 0, -1):
-                c = coefficients[k - 1][axis]
-                value = value * tau + c
-                slope = slope * tau + k * c
-            position.append(p[axis] + value * tau)
-            velocity.append(slope)
-        return tuple(position), tuple(velocity)
+            return self._latest[1], ZERO
+        position, velocity = evaluate(curve, time)
+        previous = self._previous
+        if previous is None:
+            return position, velocity
+        fraction = (time - self._arrival) / self._blend_length
+        if fraction >= 1.0:
+            self._previous = None
+            return position, velocity
+        fraction = max(fraction, 0.0)
+        weight = fraction * fraction * (3.0 - 2.0 * fraction)
+        rate = 6.0 * fraction * (1.0 - fraction) / self._blend_length
+        old, old_velocity = evaluate(previous, time)
+        return (tuple(o + (n - o) * weight for o, n in zip(old, position)),
+                tuple(u + (v - u) * weight + (n - o) * rate
+                      for o, n, u, v in zip(old, position, old_velocity, velocity)))
 
     def has_points(self) -> bool:
         """Return True while a timed point is held (predict needs one)."""

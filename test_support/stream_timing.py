@@ -1,0 +1,91 @@
+"""
+A drag as a browser streams it, and how closely the anchor follows it: bench and tests share it.
+
+The pointer moves round a horizontal circle at ``SPEED`` (radius ``RADIUS``) through the held
+anchor, starting there at rest (so the guide's start is part of the run). A browser samples it
+at ``rate_hz`` with irregular timing: each event is 1 / rate_hz after the previous one's slot,
+give or take ``EVENT_JITTER`` of a period (uniform), and is sent ``SEND_DELAY`` of a period or
+less after its event (uniform; at 20 Hz up to 25 ms, at 60 Hz up to 8 ms), stamped with the
+event's time and carrying the pointer's exact position then.
+
+The metrics, over the published states from ``WARM_UP`` after the start to ``TAIL`` before the
+last event:
+
+- anchor error: the RMS distance between the anchor (COM + R anchor) in the state stamped t and
+  the pointer's true position on the circle at t;
+- speed deviation: the RMS of |v_anchor| / SPEED - 1, v_anchor the finite difference of the
+  anchor between two states one tick apart.
+"""
+
+import math
+from typing import Callable, NamedTuple, Sequence
+
+import numpy as np
+
+SPEED = 1.0
+RADIUS = 0.25
+EVENT_JITTER = 0.2
+SEND_DELAY = 0.5
+WARM_UP = 1.0
+TAIL = 0.1
+
+
+class Schedule(NamedTuple):
+    """When each pointer event happened and when it is sent, from the drag's start (s)."""
+
+    events: np.ndarray
+    sends: np.ndarray
+
+
+def schedule(rate_hz: float, seconds: float, seed: int = 1) -> Schedule:
+    """Return the events of a ``seconds``-long drag at ``rate_hz``, in the order sent."""
+    random = np.random.default_rng(seed)
+    period = 1.0 / rate_hz
+    count = int(seconds * rate_hz) + 1
+    events = np.arange(count) * period + random.uniform(
+        -EVENT_JITTER * period, EVENT_JITTER * period, count)
+    events[0] = 0.0
+    sends = events + random.uniform(0.0, SEND_DELAY * period, count)
+    order = np.argsort(sends, kind='stable')
+    return Schedule(events[order], sends[order])
+
+
+def circle(start: Sequence[float]) -> Callable[[float], np.ndarray]:
+    """Return the pointer's position at t (s from the start) on the circle through ``start``."""
+    centre = np.asarray(start, dtype=float) - (RADIUS, 0.0, 0.0)
+    turn_rate = SPEED / RADIUS
+
+    def position(t: float) -> np.ndarray:
+        angle = turn_rate * t
+        return centre + RADIUS * np.array([math.cos(angle), math.sin(angle), 0.0])
+    return position
+
+
+class Following(NamedTuple):
+    """How closely the anchor followed the pointer: RMS error (m), RMS speed deviation (1)."""
+
+    error: float
+    speed_deviation: float
+    states: int
+
+
+def following(times: np.ndarray, anchors: np.ndarray, path: Callable[[float], np.ndarray],
+              duration: float, tick: float) -> Following:
+    """
+    Return the metrics of the module docstring.
+
+    :param times: the states' stamps, from the drag's start (s), increasing.
+    :param anchors: the anchor's world position in each state (m), one row each.
+    :param path: the pointer's position at a time.
+    :param duration: the time of the last event (s).
+    :param tick: the node's tick (s): speeds are taken between states this far apart.
+    """
+    inside = (times >= WARM_UP) & (times <= duration - TAIL)
+    errors = np.linalg.norm(anchors[inside] - np.array([path(t) for t in times[inside]]), axis=1)
+    gaps = np.diff(times)
+    steps = np.linalg.norm(np.diff(anchors, axis=0), axis=1)
+    paired = inside[1:] & inside[:-1] & (np.abs(gaps - tick) < 1e-3 * tick)
+    speeds = steps[paired] / gaps[paired]
+    return Following(float(np.sqrt(np.mean(np.square(errors)))),
+                     float(np.sqrt(np.mean(np.square(speeds / SPEED - 1.0)))),
+                     int(np.count_nonzero(inside)))
