@@ -8,6 +8,9 @@ each sent up to half a period after it), and records every pose. Each rate runs 
 stamped with their event times, and the same sends with zero stamps (timed by arrival, as an
 unstamped publisher is). The anchor error and speed deviation are defined in that module and in
 docs/dragging.md; the targets are <= 3 mm and <= 3 % at 20 Hz, <= 1 mm and <= 2 % at 60 Hz.
+Beside each run, the same drag replayed on the core through the node's timing path without ROS
+(``test_support.stream_timing.replay``): what scheduling and transport add shows as the
+difference.
 
 The core's own cost of the stream is measured too, without ROS: microseconds per target
 (``TargetStream.add``: the fit) and per tick (``MouseSimulation.step`` at 1 kHz, 2 substeps,
@@ -18,6 +21,7 @@ Standalone: ``python -m bench.stream_timing [--quick]`` prints the section as JS
 
 import argparse
 import json
+import os
 from pathlib import Path
 import sys
 import tempfile
@@ -28,13 +32,11 @@ from geometry_msgs.msg import PointStamped, PoseStamped
 import numpy as np
 from rclpy.serialization import deserialize_message
 
-from mouse_constraint_ros.inputs.target_stamps import TargetStamps
 from mouse_constraint_ros.physics import BodyState, MouseSimulation
-from mouse_constraint_ros.physics.target_motion import STREAM_GAP, TargetStream
-from mouse_constraint_ros.timing.tick_grid import core_time
+from mouse_constraint_ros.physics.target_motion import TargetStream
 from test_support import processes
 from test_support.mouse_feel import configured, PARAMS_FILE
-from test_support.stream_timing import circle, following, schedule
+from test_support.stream_timing import circle, following, replay, schedule
 
 RATES_HZ = (20.0, 60.0)
 TARGETS = {20.0: (0.003, 0.03), 60.0: (0.001, 0.02)}
@@ -126,48 +128,7 @@ def through_ros(rate_hz: float, stamped: bool, seconds: float) -> dict:
          m.pose.orientation.w)).world_point(anchor) for m in (messages[i] for i in order)])
     result = following(times, anchors, circle(start), seconds, 1.0 / config.rate_hz)
     return {'error': result.error, 'speed': result.speed_deviation, 'states': result.states,
-            'late_p99_ms': float(np.percentile(late, 99) * 1e3)}
-
-
-def replay(rate_hz: float, stamped: bool, seconds: float) -> dict:
-    """
-    Return the metrics of the same drag fed to the core as the node feeds it, without ROS.
-
-    Each target arrives when it is sent and is taken before the first tick due at or after
-    that; its stamp goes through the node's policy (``TargetStamps``) and clock-to-core mapping
-    (``core_time``) with the latest tick's stamp, as in ``mouse_constraint``. Ticks run on
-    time: this is the floor that scheduling and transport add to.
-    """
-    config = configured({})
-    simulation = MouseSimulation(config.settings, config.initial_state)
-    simulation.target = config.initial_anchor()
-    path = circle(config.initial_anchor())
-    plan = schedule(rate_hz, seconds)
-    tick = 1.0 / config.rate_hz
-    tick_ns = round(tick * 1e9)
-    stamps = TargetStamps(STREAM_GAP)
-    origin_ns = 1_000_000_000_000
-    pending = list(zip(plan.events, plan.sends))
-    times, anchors = [], []
-    n = 0
-    while n * tick <= seconds + 0.1:
-        now_ns = origin_ns + n * tick_ns
-        while pending and origin_ns + round(pending[0][1] * 1e9) <= now_ns:
-            event = pending.pop(0)[0]
-            stamp = origin_ns + round(event * 1e9) if stamped else 0
-            arrival = simulation.time
-            if n and stamps.refusal(stamp, now_ns=now_ns, tick_s=tick) is None:
-                simulation.set_target(tuple(path(event)), time=core_time(
-                    stamp, tick_stamp_ns=now_ns - tick_ns, tick_core_time=arrival),
-                    stamped=True)
-            else:
-                simulation.set_target(tuple(path(event)), time=arrival)
-        state = simulation.step(tick)
-        times.append(n * tick)
-        anchors.append(state.world_point(config.settings.constraint.anchor))
-        n += 1
-    result = following(np.array(times), np.array(anchors), path, seconds, tick)
-    return {'error': result.error, 'speed': result.speed_deviation, 'states': result.states}
+            'late_p99_ms': float(np.percentile(late, 99) * 1e3), 'load': os.getloadavg()[0]}
 
 
 def _cost(stamped: bool, rate_hz: float) -> dict:
@@ -217,17 +178,22 @@ def run(quick: bool = False) -> dict:
     for rate in RATES_HZ:
         limit_error, limit_speed = TARGETS[rate]
         for stamped in (True, False):
+            timing = 'stamps' if stamped else 'arrival (zero stamps)'
             r = through_ros(rate, stamped, seconds)
             met = r['error'] <= limit_error and r['speed'] <= limit_speed
             rows.append({
-                'case': f'{rate:g} Hz, {"stamps" if stamped else "arrival (zero stamps)"}',
+                'case': f'{rate:g} Hz, {timing}, through ROS',
                 'error_mm': r['error'] * 1e3, 'speed_pct': r['speed'] * 100.0,
                 'target': (f'<= {limit_error * 1e3:g} mm, <= {limit_speed * 100:g} %'
                            if stamped else 'for comparison'),
                 'verdict': ('met' if met else 'missed') if stamped else '',
                 'states': r['states']})
-            notes.append(f'{rate:g} Hz {"stamped" if stamped else "arrival"}: publisher p99 '
-                         f'{r["late_p99_ms"]:.2f} ms behind its schedule.')
+            notes.append(f'{rate:g} Hz {timing}: publisher p99 {r["late_p99_ms"]:.2f} ms '
+                         f'behind its schedule, load {r["load"]:.1f}.')
+            core = replay(rate, stamped, seconds)
+            rows.append({'case': f'{rate:g} Hz, {timing}, core replay (no ROS)',
+                         'error_mm': core.error * 1e3, 'speed_pct': core.speed_deviation * 100,
+                         'target': '', 'verdict': '', 'states': core.states})
     costs = {}
     for stamped in (True, False):
         samples = [_cost(stamped, 60.0) for _ in range(COST_REPEATS)]

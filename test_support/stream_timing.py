@@ -22,6 +22,12 @@ from typing import Callable, NamedTuple, Sequence
 
 import numpy as np
 
+from mouse_constraint_ros.inputs.target_stamps import TargetStamps
+from mouse_constraint_ros.physics import MouseSimulation
+from mouse_constraint_ros.physics.target_motion import STREAM_GAP
+from mouse_constraint_ros.timing.tick_grid import core_time
+from test_support.mouse_feel import configured
+
 SPEED = 1.0
 RADIUS = 0.25
 EVENT_JITTER = 0.2
@@ -89,3 +95,43 @@ def following(times: np.ndarray, anchors: np.ndarray, path: Callable[[float], np
     return Following(float(np.sqrt(np.mean(np.square(errors)))),
                      float(np.sqrt(np.mean(np.square(speeds / SPEED - 1.0)))),
                      int(np.count_nonzero(inside)))
+
+
+def replay(rate_hz: float, stamped: bool, seconds: float, seed: int = 1) -> Following:
+    """
+    Return the metrics of the same drag fed to the core as the node feeds it, without ROS.
+
+    Each target arrives when it is sent and is taken before the first tick due at or after
+    that; its stamp goes through the node's policy (``TargetStamps``) and clock-to-core mapping
+    (``core_time``) with the latest tick's stamp, as in ``mouse_constraint``. Ticks run on
+    time: this is the floor that scheduling and transport add to.
+    """
+    config = configured({})
+    simulation = MouseSimulation(config.settings, config.initial_state)
+    simulation.target = config.initial_anchor()
+    path = circle(config.initial_anchor())
+    plan = schedule(rate_hz, seconds, seed)
+    tick = 1.0 / config.rate_hz
+    tick_ns = round(tick * 1e9)
+    stamps = TargetStamps(STREAM_GAP)
+    origin_ns = 1_000_000_000_000
+    pending = list(zip(plan.events, plan.sends))
+    times, anchors = [], []
+    n = 0
+    while n * tick <= seconds + 0.1:
+        now_ns = origin_ns + n * tick_ns
+        while pending and origin_ns + round(pending[0][1] * 1e9) <= now_ns:
+            event = pending.pop(0)[0]
+            stamp = origin_ns + round(event * 1e9) if stamped else 0
+            arrival = simulation.time
+            if n and stamps.refusal(stamp, now_ns=now_ns, tick_s=tick) is None:
+                simulation.set_target(tuple(path(event)), time=core_time(
+                    stamp, tick_stamp_ns=now_ns - tick_ns, tick_core_time=arrival),
+                    stamped=True)
+            else:
+                simulation.set_target(tuple(path(event)), time=arrival)
+        state = simulation.step(tick)
+        times.append(n * tick)
+        anchors.append(state.world_point(config.settings.constraint.anchor))
+        n += 1
+    return following(np.array(times), np.array(anchors), path, seconds, tick)
