@@ -7,7 +7,7 @@ Serializing the node's messages: rclpy against the precompiled CDR layouts, in o
 
 - ``serialize``: filling a reused rclpy message (stamp and fields, as the node fills its pose)
   and ``rclpy.serialization.serialize_message`` of it;
-- ``pack``: ``mouse_constraint_ros.wire.cdr_layouts``'s ``pack`` of the same values (same bytes);
+- ``pack``: ``mouse_constraint_ros.wire.cdr``'s ``pack`` of the same values (same bytes);
 - ``publish(msg)``: filling the message and ``Publisher.publish(msg)``;
 - ``publish(bytes)``: ``Publisher.publish(layout.pack(...))``, which rclpy sends as it is.
 
@@ -45,8 +45,9 @@ from rclpy.signals import SignalHandlerOptions
 from rosgraph_msgs.msg import Clock
 
 from mouse_constraint_ros.physics import BodyState
-from mouse_constraint_ros.wire.cdr_layouts import (ClockLayout, OdometryLayout, PoseStampedLayout,
-                                                   TwistStampedLayout)
+from mouse_constraint_ros.wire.cdr.clock import ClockLayout
+from mouse_constraint_ros.wire.cdr.geometry import PoseStampedLayout, TwistStampedLayout
+from mouse_constraint_ros.wire.cdr.odometry import OdometryLayout
 from mouse_constraint_ros.wire.messages import fill_pose, fill_twist, set_stamp
 
 NAMESPACE = 'bench_serialization'

@@ -18,9 +18,11 @@ import pytest
 from rclpy.serialization import deserialize_message, serialize_message
 from rosgraph_msgs.msg import Clock
 
-from mouse_constraint_ros.wire.cdr_layouts import (ClockLayout, decode_point_stamped, fields_of,
-                                                   OdometryLayout, PointStampedFields,
-                                                   PoseStampedLayout, Refusal, TwistStampedLayout)
+from mouse_constraint_ros.wire.cdr.clock import ClockLayout
+from mouse_constraint_ros.wire.cdr.geometry import PoseStampedLayout, TwistStampedLayout
+from mouse_constraint_ros.wire.cdr.odometry import OdometryLayout
+from mouse_constraint_ros.wire.cdr.point_stamped import (decode_point_stamped, fields_of,
+                                                         PointStampedFields, Refusal)
 
 NS = 1_000_000_000
 INT32 = 2 ** 31

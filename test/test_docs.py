@@ -1,4 +1,4 @@
-"""README's parameter table names every declared parameter with its real default."""
+"""README's parameter table and documentation table, and the modules docs/architecture.md names."""
 
 import math
 from pathlib import Path
@@ -6,7 +6,10 @@ import re
 
 from mouse_constraint_ros.node.parameters import PARAMETERS
 
-README = Path(__file__).resolve().parent.parent / 'README.md'
+ROOT = Path(__file__).resolve().parent.parent
+README = ROOT / 'README.md'
+ARCHITECTURE = ROOT / 'docs' / 'architecture.md'
+PACKAGE = 'mouse_constraint_ros'
 
 
 def yaml_literal(value) -> str:
@@ -25,3 +28,53 @@ def test_readme_parameter_table_matches_the_declarations():
     assert set(rows) == {p.name for p in PARAMETERS}
     for parameter in PARAMETERS:
         assert rows[parameter.name] == yaml_literal(parameter.default), parameter.name
+
+
+def architecture_module_paths():
+    """
+    Yield (line, path) for every module docs/architecture.md names.
+
+    A path starting with the package's name (or test/, test_support/, bench/) is from the
+    repository's root; a bare name in the bullet of a folder is in that folder; any other is in
+    the package.
+    """
+    folder = PACKAGE
+    for line in ARCHITECTURE.read_text().splitlines():
+        bullet = re.match(rf'- `({PACKAGE}/[\w/]*)`:', line)
+        if bullet:
+            folder = bullet.group(1).rstrip('/')
+        elif not line.startswith('  '):
+            folder = PACKAGE
+        for name in re.findall(r'`([\w/]+\.py)`', line):
+            if name.split('/')[0] in (PACKAGE, 'test', 'test_support', 'bench'):
+                yield line, ROOT / name
+            else:
+                yield line, ROOT / folder / name
+
+
+def test_architecture_names_only_modules_that_exist():
+    """Every module path in docs/architecture.md is a file of the package."""
+    paths = list(architecture_module_paths())
+    assert len(paths) > 40
+    missing = [f'{path.relative_to(ROOT)} ({line.strip()})' for line, path in paths
+               if not path.is_file()]
+    assert not missing, missing
+
+
+def test_architecture_names_what_its_modules_define():
+    """A name followed by its module, as `TickGrid.due` (`.../tick_grid.py`), is defined there."""
+    text = ' '.join(ARCHITECTURE.read_text().split())
+    pairs = re.findall(rf'`(\w+(?:\.\w+)?)` \(`({PACKAGE}/[\w/]+\.py)`', text)
+    assert len(pairs) > 15
+    for symbol, module in pairs:
+        source = (ROOT / module).read_text()
+        for part in symbol.split('.'):
+            definition = rf'^\s*(?:class|def) {part}\b'
+            assert re.search(definition, source, re.MULTILINE), (symbol, module)
+
+
+def test_readme_links_every_docs_page():
+    """The documentation table links each page of docs/, the architecture included."""
+    section = README.read_text().split('## Documentation', 1)[1]
+    linked = set(re.findall(r'\]\((docs/[\w.]+\.md)\)', section))
+    assert linked == {f'docs/{page.name}' for page in (ROOT / 'docs').glob('*.md')}

@@ -85,15 +85,6 @@ def anchor_parameter(node: MouseConstraintNode) -> list:
     return list(node.get_parameter('anchor').value)
 
 
-def call(ros, service_type, name: str, request):
-    """Call a service from the probe; return the response."""
-    client = ros.probe.create_client(service_type, name)
-    assert client.wait_for_service(timeout_sec=5.0)
-    future = client.call_async(request)
-    assert ros.spin_until(future.done)
-    return future.result()
-
-
 # The pure part.
 
 @pytest.mark.parametrize('local', ON_BODY + OFF_BODY)
@@ -235,14 +226,14 @@ def test_reset_restores_the_configured_anchor_and_release_keeps_the_grabbed_one(
     node = start_node(ros, gravity=[0.0, 0.0, 0.0], hold_initial_anchor=True)
     local = EDGES[1]
     node._on_grab(grab_message(world(local)))
-    response = call(ros, Trigger, '/mouse_constraint/release', Trigger.Request())
+    response = ros.call(Trigger, '/mouse_constraint/release', Trigger.Request())
     assert response.success and response.message == 'released'
     assert node.simulation.target is None
     np.testing.assert_allclose(anchor_parameter(node), local, atol=1e-9)
     # A target after the release drags the grabbed point again.
     node._on_target(grab_message((0.5, 0.0, 1.0)))
     assert node.simulation.target == (0.5, 0.0, 1.0)
-    response = call(ros, Trigger, '/mouse_constraint/reset', Trigger.Request())
+    response = ros.call(Trigger, '/mouse_constraint/reset', Trigger.Request())
     assert response.success
     assert anchor_parameter(node) == CONFIGURED
     assert node.simulation.settings.constraint.anchor == tuple(CONFIGURED)
@@ -290,8 +281,8 @@ def test_grab_topic_parameter_service_and_markers_show_the_grabbed_point(ros):
     point = world(local)
     publisher.publish(grab_message(point, ''))
     assert ros.spin_until(lambda: node.simulation.target == point)
-    response = call(ros, GetParameters, '/mouse_constraint/get_parameters',
-                    GetParameters.Request(names=['anchor']))
+    response = ros.call(GetParameters, '/mouse_constraint/get_parameters',
+                        GetParameters.Request(names=['anchor']))
     np.testing.assert_allclose(response.values[0].double_array_value, local, atol=1e-9)
     count = len(arrays)
     assert ros.spin_until(lambda: len(arrays) > count + 2)

@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 from rcl_interfaces.msg import Parameter as ParameterMessage, ParameterType, ParameterValue
 from rcl_interfaces.srv import SetParameters
-from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rosgraph_msgs.msg import Clock
 from scipy.spatial.transform import Rotation
@@ -49,15 +48,6 @@ def target_publisher(ros):
 def stamp_ns(message) -> int:
     """Return a message's header stamp in nanoseconds."""
     return message.header.stamp.sec * 1_000_000_000 + message.header.stamp.nanosec
-
-
-def call(ros, node: Node, service_type, name: str, request):
-    """Call a service of ``node`` from the probe and return the response."""
-    client = ros.probe.create_client(service_type, name)
-    assert client.wait_for_service(timeout_sec=5.0)
-    future = client.call_async(request)
-    assert ros.spin_until(future.done)
-    return future.result()
 
 
 def test_messages_arrive_at_the_rate_with_grid_stamps(ros):
@@ -181,7 +171,7 @@ def test_parameter_service_like_ros2_param_set(ros):
         ParameterMessage(name='max_force', value=ParameterValue(
             type=ParameterType.PARAMETER_DOUBLE, double_value=-5.0)),
     ])
-    response = call(ros, node, SetParameters, '/mouse_constraint/set_parameters', request)
+    response = ros.call(SetParameters, '/mouse_constraint/set_parameters', request)
     assert [r.successful for r in response.results] == [True, False]
     assert 'max_force' in response.results[1].reason
     assert node.simulation.settings.gravity == (0.0, 0.0, -1.0)
@@ -208,11 +198,11 @@ def test_reset_and_release_services(ros):
     # A target where the anchor already is: the body hangs there at rest, nearly.
     publish_target(ros, publisher, (0.2, 0.1, 1.05))
     assert ros.spin_until(lambda: node.simulation.target == (0.2, 0.1, 1.05))
-    response = call(ros, node, Trigger, '/mouse_constraint/release', Trigger.Request())
+    response = ros.call(Trigger, '/mouse_constraint/release', Trigger.Request())
     assert response.success and node.simulation.target is None
     ros.spin_for(0.3)
     assert node.simulation.state.linear_velocity[2] < -1.0
-    response = call(ros, node, Trigger, '/mouse_constraint/reset', Trigger.Request())
+    response = ros.call(Trigger, '/mouse_constraint/reset', Trigger.Request())
     assert response.success
     assert node.simulation.target == pytest.approx(
         tuple(np.array([0.0, 0.0, 1.0]) + ANCHOR))

@@ -10,6 +10,7 @@ from mouse_constraint_ros.physics import MouseConstraint
 from mouse_constraint_ros.physics import MouseSimulation
 from mouse_constraint_ros.physics import RigidBody
 from mouse_constraint_ros.physics import Settings
+from mouse_constraint_ros.physics.algebra import integrate_orientation
 from mouse_constraint_ros.physics.gyroscopic import gyroscopic_step
 from mouse_constraint_ros.physics.gyroscopic import gyroscopic_step_diagonal
 from mouse_constraint_ros.physics.limits import MAX_MOMENT, MIN_MOMENT
@@ -78,3 +79,24 @@ def test_a_diagonal_body_moves_as_a_body_with_a_vanishing_product_of_inertia():
         for field_a, field_b in zip(a, b):
             assert all(math.isclose(x, y, rel_tol=1e-9, abs_tol=1e-12)
                        for x, y in zip(field_a, field_b))
+
+
+@pytest.mark.parametrize('w', [(1.5, -2.0, 6.0), (1e-3, 2e-3, -1e-3), (40.0, 0.0, -30.0)])
+def test_the_step_turns_the_body_as_integrate_orientation_does_to_the_bit(w):
+    """
+    The step's written-out orientation update is ``algebra.integrate_orientation``, to the bit.
+
+    With one substep the orientation a step returns is ``integrate_orientation`` of the one
+    before with the angular velocity it returns, held for the step. The three speeds take both
+    branches of the rotation (its series at small angles, sine and cosine beyond).
+    """
+    dt = 0.004
+    half = math.sqrt(0.5)
+    start = BodyState(orientation=(0.0, half, 0.0, half), angular_velocity=w)
+    body = RigidBody(2.0, (0.0083, 0.0, 0.0, 0.0283, 0.0, 0.0333))
+    sim = MouseSimulation(Settings(body), start)
+    q = start.orientation
+    for _ in range(200):
+        state = sim.step(dt)
+        assert state.orientation == integrate_orientation(q, state.angular_velocity, dt)
+        q = state.orientation

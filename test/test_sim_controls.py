@@ -104,15 +104,6 @@ def stamp_ns(stamp) -> int:
     return stamp.sec * S + stamp.nanosec
 
 
-def call(ros, service_type, name, request):
-    """Call a service from the probe and return the response."""
-    client = ros.probe.create_client(service_type, name)
-    assert client.wait_for_service(timeout_sec=5.0)
-    future = client.call_async(request)
-    assert ros.spin_until(future.done)
-    return future.result()
-
-
 @contextlib.contextmanager
 def node_process(*arguments: str):
     """
@@ -202,21 +193,21 @@ def test_pause_stops_clock_and_poses_step_runs_one_tick_resume_does_not_burst(ro
     clocks = ros.collect(Clock, '/clock', depth=10000)
     poses = ros.collect(PoseStamped, 'pose', depth=10000)
     assert ros.spin_until(lambda: len(poses) > 10)
-    response = call(ros, Trigger, '/mouse_constraint/step', Trigger.Request())
+    response = ros.call(Trigger, '/mouse_constraint/step', Trigger.Request())
     assert not response.success and 'pause it first' in response.message
-    assert call(ros, SetBool, '/mouse_constraint/pause', SetBool.Request(data=True)).success
+    assert ros.call(SetBool, '/mouse_constraint/pause', SetBool.Request(data=True)).success
     ros.spin_for(0.1)
     held = (len(clocks), len(poses))
     ros.spin_for(0.5)
     assert (len(clocks), len(poses)) == held
     last = stamp_ns(poses[-1].header.stamp)
     period = round(1e9 / rate)
-    assert call(ros, Trigger, '/mouse_constraint/step', Trigger.Request()).success
+    assert ros.call(Trigger, '/mouse_constraint/step', Trigger.Request()).success
     assert ros.spin_until(lambda: len(poses) > held[1])
     ros.spin_for(0.1)
     assert len(poses) == held[1] + 1 and len(clocks) == held[0] + 1
     assert stamp_ns(poses[-1].header.stamp) == stamp_ns(clocks[-1].clock) == last + period
-    assert call(ros, SetBool, '/mouse_constraint/pause', SetBool.Request(data=False)).success
+    assert ros.call(SetBool, '/mouse_constraint/pause', SetBool.Request(data=False)).success
     resumed, started = len(poses), time.monotonic()
     ros.spin_for(0.5)
     wall = time.monotonic() - started
@@ -232,13 +223,13 @@ def test_pause_without_publish_clock_holds_the_physics_and_restarts_the_grid(ros
     node = start_node(ros, rate_hz=rate, marker_rate_hz=0.0)
     poses = ros.collect(PoseStamped, 'pose', depth=10000)
     assert ros.spin_until(lambda: len(poses) > 10)
-    assert call(ros, SetBool, '/mouse_constraint/pause', SetBool.Request(data=True)).success
+    assert ros.call(SetBool, '/mouse_constraint/pause', SetBool.Request(data=True)).success
     ros.spin_for(0.05)
     held, state = len(poses), node.simulation.state
     ros.spin_for(0.5)
     assert len(poses) == held and node.simulation.state == state
     paused_at = stamp_ns(poses[-1].header.stamp)
-    assert call(ros, SetBool, '/mouse_constraint/pause', SetBool.Request(data=False)).success
+    assert ros.call(SetBool, '/mouse_constraint/pause', SetBool.Request(data=False)).success
     started = time.monotonic()
     ros.spin_for(0.5)
     wall = time.monotonic() - started

@@ -173,15 +173,6 @@ def wrench_message(force, torque, frame_id='world') -> WrenchStamped:
     return messages.wrench_message(force, torque, frame_id)
 
 
-def call(ros, service_type, name, request):
-    """Call a service from the probe and return the response."""
-    client = ros.probe.create_client(service_type, name)
-    assert client.wait_for_service(timeout_sec=5.0)
-    future = client.call_async(request)
-    assert ros.spin_until(future.done)
-    return future.result()
-
-
 def test_the_node_applies_a_wrench_and_drops_it_after_the_timeout(ros):
     """A wrench pushes the free body; wrench_timeout after the last one it is removed."""
     node = start_node(ros, 'pushed', rate_hz=200.0, wrench_timeout=0.3, **FREE)
@@ -213,7 +204,7 @@ def test_hostile_wrenches_change_nothing_bit_for_bit(ros, capfd):
     valid = ((1.0, 2.0, 3.0), (0.01, 0.0, 0.0))
     publisher.publish(wrench_message(*valid))
     assert ros.spin_until(lambda: node.simulation.wrench == valid, timeout=2.0)
-    assert call(ros, SetBool, '/mouse_constraint/pause', SetBool.Request(data=True)).success
+    assert ros.call(SetBool, '/mouse_constraint/pause', SetBool.Request(data=True)).success
     reference = copy.deepcopy(node.simulation)
     hostile = [wrench_message((math.nan, 0.0, 0.0), (0.0, 0.0, 0.0)),
                wrench_message((0.0, 0.0, 0.0), (0.0, 0.0, math.inf)),
@@ -224,7 +215,7 @@ def test_hostile_wrenches_change_nothing_bit_for_bit(ros, capfd):
         publisher.publish(message)
         ros.spin_for(0.05)
     for _ in range(5):
-        assert call(ros, Trigger, '/mouse_constraint/step', Trigger.Request()).success
+        assert ros.call(Trigger, '/mouse_constraint/step', Trigger.Request()).success
         reference.step(1.0 / 1000.0)
     assert node.simulation.wrench == valid
     assert node.simulation.state == reference.state

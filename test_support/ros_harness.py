@@ -46,6 +46,14 @@ class RosHarness:
             self.executor.spin_once(timeout_sec=0.01)
         return True
 
+    def call(self, service_type, name: str, request):
+        """Call the service ``name`` from the probe; return the response."""
+        client = self.probe.create_client(service_type, name)
+        assert client.wait_for_service(timeout_sec=5.0)
+        future = client.call_async(request)
+        assert self.spin_until(future.done)
+        return future.result()
+
     def collect(self, message_type, topic: str, depth: int = 1000) -> list:
         """Subscribe the probe to ``topic``; return the list that received messages fill."""
         received: list = []

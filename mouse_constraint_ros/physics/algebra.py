@@ -92,6 +92,8 @@ def cross(a: Vector3, b: Vector3) -> Vector3:
     return (ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx)
 
 
+# Twin: written out in MouseSimulation.step's substep loop (a call per substep costs); the
+# test test_the_step_turns_the_body_as_integrate_orientation_does_to_the_bit keeps them equal.
 def integrate_orientation(q: Quaternion, w: Vector3, h: float) -> Quaternion:
     """
     Rotate ``q`` by the world-frame angular velocity ``w`` held for ``h`` seconds.

@@ -16,6 +16,8 @@ _GYROSCOPIC_ITERATIONS = 6
 _CONVERGED = 1e-26
 
 
+# Twin: gyroscopic_step_diagonal below, the same arithmetic without the off-diagonal products;
+# test_physics_fast_paths.py's test_the_diagonal_gyroscopic_step_* keep the two equal to the bit.
 def gyroscopic_step(inertia: Symmetric3, w: Vector3, h: float) -> Vector3:
     """
     Advance Euler's torque-free equation I dw/dt + w x (I w) = 0 by ``h``, body frame, implicitly.
@@ -102,6 +104,8 @@ def gyroscopic_step(inertia: Symmetric3, w: Vector3, h: float) -> Vector3:
     return (vx, vy, vz)
 
 
+# Twin: gyroscopic_step above, written again for speed; test_physics_fast_paths.py's
+# test_the_diagonal_gyroscopic_step_* keep the two equal to the bit.
 def gyroscopic_step_diagonal(moments: Vector3, w: Vector3, h: float) -> Vector3:
     """
     Return ``gyroscopic_step`` for the diagonal inertia diag(``moments``), at half its cost.

@@ -2,7 +2,7 @@
 The node's state outputs: pose, twist, TF and odometry of one tick, published as raw CDR.
 
 Pose and twist (and odometry) go to the middleware as the bytes of a precompiled layout
-(``cdr_layouts``): ``Publisher.publish(bytes)`` sends them as they are, which skips the
+(``cdr``): ``Publisher.publish(bytes)`` sends them as they are, which skips the
 conversion of a Python message into C and rmw's serialization. The bytes are those rclpy would
 send for the message ``fill_pose`` / ``fill_twist`` / ``fill_odometry`` fill (the layouts check
 that when they are compiled, and a test compares what a subscriber receives). Where a layout
@@ -25,7 +25,8 @@ from geometry_msgs.msg import PoseStamped, TransformStamped, TwistStamped
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
 
-from .cdr_layouts import OdometryLayout, PoseStampedLayout, TwistStampedLayout
+from .cdr.geometry import PoseStampedLayout, TwistStampedLayout
+from .cdr.odometry import OdometryLayout
 from .interface import ODOM_TOPIC, POSE_TOPIC, STATE_QOS, TWIST_TOPIC
 from .messages import (body_frame_twist, fill_odometry, fill_pose, fill_transform, fill_twist,
                        set_stamp)

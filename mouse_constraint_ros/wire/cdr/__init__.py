@@ -1,0 +1,1 @@
+"""The node's messages as precompiled CDR bytes, and a raw PointStamped decoder."""

@@ -1,0 +1,77 @@
+"""geometry_msgs PoseStamped and TwistStamped as precompiled CDR (see ``layout``)."""
+
+import struct
+
+from geometry_msgs.msg import PoseStamped, TwistStamped
+
+from .layout import (ENCAPSULATION_LE, fill_fields, fill_stamp, NANOSECONDS_PER_SECOND,
+                     StampedLayout, Vector)
+
+
+class PoseStampedLayout(StampedLayout):
+    """
+    geometry_msgs/PoseStamped in one frame: ``pack(stamp_ns, position, orientation)``.
+
+    :param frame_id: the header's frame id.
+    """
+
+    message_type = PoseStamped
+    _PROBE = ((0.0,) * 3, (0.0,) * 4)
+
+    def pack(self, stamp_ns: int, position: Vector, orientation: Vector) -> bytes:
+        """
+        Return the bytes of the pose at ``position``, ``orientation`` (x, y, z, w).
+
+        :raises ValueError: if the stamp's seconds do not fit an int32 or a field has the wrong
+            number of elements.
+        """
+        if self._struct is None:
+            return self._fallback(stamp_ns, position, orientation)
+        sec, nanosec = divmod(stamp_ns, NANOSECONDS_PER_SECOND)
+        try:
+            return self._struct.pack(ENCAPSULATION_LE, sec, nanosec, self._frame_bytes,
+                                     *position, *orientation)
+        except (struct.error, TypeError) as error:
+            raise self._error(stamp_ns, (position, orientation), error) from None
+
+    def message(self, stamp_ns: int, position: Vector, orientation: Vector) -> PoseStamped:
+        message = PoseStamped()
+        message.header.frame_id = self._frame_id
+        fill_stamp(message.header.stamp, stamp_ns)
+        fill_fields(message.pose.position, 'xyz', position)
+        fill_fields(message.pose.orientation, 'xyzw', orientation)
+        return message
+
+
+class TwistStampedLayout(StampedLayout):
+    """
+    geometry_msgs/TwistStamped in one frame: ``pack(stamp_ns, linear, angular)``.
+
+    :param frame_id: the header's frame id.
+    """
+
+    message_type = TwistStamped
+    _PROBE = ((0.0,) * 3, (0.0,) * 3)
+
+    def pack(self, stamp_ns: int, linear: Vector, angular: Vector) -> bytes:
+        """
+        Return the bytes of the twist with ``linear`` and ``angular`` velocity.
+
+        :raises ValueError: as ``PoseStampedLayout.pack``.
+        """
+        if self._struct is None:
+            return self._fallback(stamp_ns, linear, angular)
+        sec, nanosec = divmod(stamp_ns, NANOSECONDS_PER_SECOND)
+        try:
+            return self._struct.pack(ENCAPSULATION_LE, sec, nanosec, self._frame_bytes,
+                                     *linear, *angular)
+        except (struct.error, TypeError) as error:
+            raise self._error(stamp_ns, (linear, angular), error) from None
+
+    def message(self, stamp_ns: int, linear: Vector, angular: Vector) -> TwistStamped:
+        message = TwistStamped()
+        message.header.frame_id = self._frame_id
+        fill_stamp(message.header.stamp, stamp_ns)
+        fill_fields(message.twist.linear, 'xyz', linear)
+        fill_fields(message.twist.angular, 'xyz', angular)
+        return message

@@ -1,0 +1,57 @@
+"""The package's folders are layers: a module imports only from its layer and those beneath."""
+
+import ast
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parent.parent / 'mouse_constraint_ros'
+
+# Folder -> the folders of the package its modules may import from (docs/architecture.md).
+ALLOWED = {
+    'physics': {'physics'},
+    'timing': {'timing'},
+    'inputs': {'inputs', 'physics'},
+    'wire': {'wire', 'physics', 'timing'},
+    'monitoring': {'monitoring', 'physics', 'wire'},
+    'node': {'node', 'physics', 'timing', 'inputs', 'wire', 'monitoring'},
+    'recording': {'recording', 'physics', 'timing', 'wire'},
+    'cli': {'cli', 'physics', 'timing', 'inputs', 'wire', 'recording', 'node/parameters.py'},
+}
+
+
+def imported_places(path: Path):
+    """Yield each place in the package a module imports: a folder, or a folder/module.py."""
+    package = list(path.relative_to(PACKAGE).parent.parts)
+    for node in ast.walk(ast.parse(path.read_text())):
+        if not isinstance(node, ast.ImportFrom):
+            continue
+        if node.level:
+            base = package[:len(package) - (node.level - 1)]
+            parts = base + (node.module.split('.') if node.module else [])
+        elif node.module and node.module.split('.')[0] == PACKAGE.name:
+            parts = node.module.split('.')[1:]
+        else:
+            continue
+        if parts:
+            yield parts[0], '/'.join(parts[:2]) + '.py'
+
+
+def modules():
+    """Return every module of the package in a folder, as paths."""
+    return sorted(p for p in PACKAGE.glob('*/**/*.py'))
+
+
+def test_every_folder_of_the_package_is_a_layer():
+    """Each subpackage has its row in ALLOWED, and no module lies outside the folders."""
+    assert {p.parent.name for p in PACKAGE.glob('*/__init__.py')} == set(ALLOWED)
+    assert [p.name for p in PACKAGE.glob('*.py')] == ['__init__.py']
+
+
+@pytest.mark.parametrize('path', modules(), ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_a_module_imports_only_from_its_layer_and_those_beneath(path):
+    """``from ..x import`` and ``from mouse_constraint_ros.x import`` name allowed folders."""
+    allowed = ALLOWED[path.relative_to(PACKAGE).parts[0]]
+    wrong = [module for folder, module in imported_places(path)
+             if folder not in allowed and module not in allowed]
+    assert not wrong, wrong
