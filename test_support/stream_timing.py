@@ -97,7 +97,8 @@ def following(times: np.ndarray, anchors: np.ndarray, path: Callable[[float], np
                      int(np.count_nonzero(inside)))
 
 
-def replay(rate_hz: float, stamped: bool, seconds: float, seed: int = 1) -> Following:
+def replay(rate_hz: float, stamped: bool, seconds: float, seed: int = 1, *,
+           stamp_noise: float = 0.0, pixel: float = 0.0) -> Following:
     """
     Return the metrics of the same drag fed to the core as the node feeds it, without ROS.
 
@@ -105,12 +106,17 @@ def replay(rate_hz: float, stamped: bool, seconds: float, seed: int = 1) -> Foll
     that; its stamp goes through the node's policy (``TargetStamps``) and clock-to-core mapping
     (``core_time``) with the latest tick's stamp, as in ``mouse_constraint``. Ticks run on
     time: this is the floor that scheduling and transport add to.
+
+    :param stamp_noise: each stamp is off its event by up to this much (s, uniform), as a
+        coarse clock would stamp it.
+    :param pixel: positions are rounded to this grid in x and y (m), as screen pixels are.
     """
     config = configured({})
     simulation = MouseSimulation(config.settings, config.initial_state)
     simulation.target = config.initial_anchor()
     path = circle(config.initial_anchor())
     plan = schedule(rate_hz, seconds, seed)
+    random = np.random.default_rng(seed + 1000)
     tick = 1.0 / config.rate_hz
     tick_ns = round(tick * 1e9)
     stamps = TargetStamps(STREAM_GAP)
@@ -122,14 +128,18 @@ def replay(rate_hz: float, stamped: bool, seconds: float, seed: int = 1) -> Foll
         now_ns = origin_ns + n * tick_ns
         while pending and origin_ns + round(pending[0][1] * 1e9) <= now_ns:
             event = pending.pop(0)[0]
-            stamp = origin_ns + round(event * 1e9) if stamped else 0
+            jitter = random.uniform(-stamp_noise, stamp_noise) if stamp_noise else 0.0
+            stamp = origin_ns + round((event + jitter) * 1e9) if stamped else 0
+            point = path(event)
+            if pixel:
+                point[:2] = np.round(point[:2] / pixel) * pixel
             arrival = simulation.time
             if n and stamps.refusal(stamp, now_ns=now_ns, tick_s=tick) is None:
-                simulation.set_target(tuple(path(event)), time=core_time(
+                simulation.set_target(tuple(point), time=core_time(
                     stamp, tick_stamp_ns=now_ns - tick_ns, tick_core_time=arrival),
                     stamped=True)
             else:
-                simulation.set_target(tuple(path(event)), time=arrival)
+                simulation.set_target(tuple(point), time=arrival)
         state = simulation.step(tick)
         times.append(n * tick)
         anchors.append(state.world_point(config.settings.constraint.anchor))

@@ -61,7 +61,7 @@ QUADRATIC_SAMPLES = 4
 # Stamped streams: a polynomial of at most this degree over the points of the last
 # STAMPED_WINDOW seconds, at most STAMPED_SAMPLES of them (a 1 m/s circle of radius 0.25 m at
 # 20 Hz through ROS: 0.5 mm and 2 % RMS, against 19 mm and 15 % with the arrival-timed parabola
-# on the same stamps; bench/stream_timing.py).
+# on the same stamps; bench/stream_timing.py). At most 4: ``polynomial`` lays it out as a quartic.
 STAMPED_DEGREE = 4
 STAMPED_WINDOW = 0.4
 STAMPED_SAMPLES = 32
@@ -106,37 +106,47 @@ class TargetMotion:
         return math.isfinite(self.max_speed) or math.isfinite(self.max_acceleration)
 
 
-Curve = Tuple[float, Vector3, Tuple[Vector3, ...]]
+# (t0, p0, (c_1, ..., c_d), per-axis quartic or None): made by ``polynomial``.
+Curve = Tuple[float, Vector3, Tuple[Vector3, ...], Optional[Tuple[Tuple[float, ...], ...]]]
+
+
+def polynomial(t0: float, p0: Vector3, coefficients: Tuple[Vector3, ...]) -> Curve:
+    """
+    Return the polynomial p(t) = p0 + c_1 tau + ... + c_d tau^d, tau = t - t0, for ``evaluate``.
+
+    Above degree 2 the coefficients are also laid out per axis, padded to a quartic, with the
+    derivative's (c_1, c_2, c_3, c_4, 2 c_2, 3 c_3, 4 c_4): evaluated every substep, written out.
+    """
+    quartic = None
+    if len(coefficients) > 2:
+        padded = list(coefficients) + [ZERO] * (4 - len(coefficients))
+        quartic = tuple((padded[0][i], padded[1][i], padded[2][i], padded[3][i],
+                         2.0 * padded[1][i], 3.0 * padded[2][i], 4.0 * padded[3][i])
+                        for i in range(3))
+    return (t0, p0, coefficients, quartic)
 
 
 def evaluate(curve: Curve, time: float) -> Tuple[Vector3, Vector3]:
-    """
-    Return the position and velocity at ``time`` of a polynomial about a point.
-
-    :param curve: (t0, p0, (c_1, ..., c_d)): p(t) = p0 + c_1 tau + ... + c_d tau^d with
-        tau = max(t - t0, 0) (a time before t0 is taken as t0).
-    """
-    t0, p, coefficients = curve
+    """Return the position and velocity of ``curve`` at ``time`` (a time before t0 is t0)."""
+    t0, p, coefficients, quartic = curve
     tau = max(time - t0, 0.0)
-    if len(coefficients) <= 2:
-        # A line or a parabola, written out: p + v tau + c_2 tau^2 and v + 2 c_2 tau.
+    if quartic is None:
+        # A line or a parabola: p + v tau + c_2 tau^2 and v + 2 c_2 tau.
         v = coefficients[0]
         c = coefficients[1] if len(coefficients) == 2 else ZERO
         square = tau * tau
         return ((p[0] + v[0] * tau + c[0] * square, p[1] + v[1] * tau + c[1] * square,
                  p[2] + v[2] * tau + c[2] * square),
                 (v[0] + 2.0 * c[0] * tau, v[1] + 2.0 * c[1] * tau, v[2] + 2.0 * c[2] * tau))
-    position, velocity = [], []
-    for axis in range(3):
-        # Horner's scheme for sum c_k tau^k and its derivative sum k c_k tau^(k - 1).
-        value = slope = 0.0
-        for k in range(len(coefficients), 0, -1):
-            c = coefficients[k - 1][axis]
-            value = value * tau + c
-            slope = slope * tau + k * c
-        position.append(p[axis] + value * tau)
-        velocity.append(slope)
-    return tuple(position), tuple(velocity)
+    # Horner's scheme, per axis.
+    (ax, bx, cx, dx, bx2, cx3, dx4), (ay, by, cy, dy, by2, cy3, dy4), \
+        (az, bz, cz, dz, bz2, cz3, dz4) = quartic
+    return ((p[0] + tau * (ax + tau * (bx + tau * (cx + tau * dx))),
+             p[1] + tau * (ay + tau * (by + tau * (cy + tau * dy))),
+             p[2] + tau * (az + tau * (bz + tau * (cz + tau * dz)))),
+            (ax + tau * (bx2 + tau * (cx3 + tau * dx4)),
+             ay + tau * (by2 + tau * (cy3 + tau * dy4)),
+             az + tau * (bz2 + tau * (cz3 + tau * dz4))))
 
 
 class TargetStream:
@@ -200,7 +210,7 @@ class TargetStream:
         self._curve, interval = self._fit()
         self._horizon = interval * (STAMPED_EXTRAPOLATION_INTERVALS if stamped
                                     else EXTRAPOLATION_INTERVALS)
-        self._previous = previous if self._curve is not None else None
+        self._previous = previous if self._curve is not None and BLEND_INTERVALS else None
         self._blend_length = BLEND_INTERVALS * interval
         return continues
 
@@ -232,7 +242,7 @@ class TargetStream:
         design = np.vander(times, degree + 1, increasing=True)
         solution = np.linalg.lstsq(design, values, rcond=None)[0]
         coefficients = tuple(tuple(float(c) for c in row) for row in solution[1:])
-        return (t_last, latest, coefficients), float(-times[0] / (count - 1))
+        return polynomial(t_last, latest, coefficients), float(-times[0] / (count - 1))
 
     def predict(self, time: float) -> Tuple[Vector3, Vector3]:
         """
@@ -259,10 +269,12 @@ class TargetStream:
         fraction = max(fraction, 0.0)
         weight = fraction * fraction * (3.0 - 2.0 * fraction)
         rate = 6.0 * fraction * (1.0 - fraction) / self._blend_length
-        old, old_velocity = evaluate(previous, time)
-        return (tuple(o + (n - o) * weight for o, n in zip(old, position)),
-                tuple(u + (v - u) * weight + (n - o) * rate
-                      for o, n, u, v in zip(old, position, old_velocity, velocity)))
+        (ox, oy, oz), (ux, uy, uz) = evaluate(previous, time)
+        (nx, ny, nz), (vx, vy, vz) = position, velocity
+        return ((ox + (nx - ox) * weight, oy + (ny - oy) * weight, oz + (nz - oz) * weight),
+                (ux + (vx - ux) * weight + (nx - ox) * rate,
+                 uy + (vy - uy) * weight + (ny - oy) * rate,
+                 uz + (vz - uz) * weight + (nz - oz) * rate))
 
     def has_points(self) -> bool:
         """Return True while a timed point is held (predict needs one)."""
