@@ -27,6 +27,7 @@ SUITE = [
     ('accuracy', 'the corner pendulum against the exact motion, energy'),
     ('drag', 'dragging at 1 kHz, tracking error'),
     ('mouse_feel', 'a click and a streamed drag: the shipped joint and the anchors recipes'),
+    ('stream_timing', 'a browser drag through ROS, timed by stamps and by arrival'),
     ('node_rate', 'the node process against the rclpy floor at 1 kHz and up, pose and twist read'),
     ('publish_rate', 'publishing at 100 Hz from 1 kHz physics, if the node offers it'),
     ('latency', 'target published -> first pose reflecting it, at 1 kHz'),

@@ -59,9 +59,10 @@ STREAM_SAMPLES = 8
 # arrival jitter as a two-point difference is not (3 times less error, test_mouse_feel).
 QUADRATIC_SAMPLES = 4
 # Stamped streams: a polynomial of at most this degree over the points of the last
-# STAMPED_WINDOW seconds, at most STAMPED_SAMPLES of them (a 1 m/s circle of radius 0.25 m at
-# 20 Hz through ROS: 0.5 mm and 2 % RMS, against 19 mm and 15 % with the arrival-timed parabola
-# on the same stamps; bench/stream_timing.py). At most 4: ``polynomial`` lays it out as a quartic.
+# STAMPED_WINDOW seconds, at most STAMPED_SAMPLES of them (a browser's 20 Hz drag round a 1 m/s
+# circle of radius 0.25 m: anchor 0.9 mm and speed 1.1 % RMS off, against 23 mm and 17 % with a
+# parabola on the same stamps; ``python -m bench.stream_timing --estimators``). At most 4:
+# ``polynomial`` lays it out as a quartic.
 STAMPED_DEGREE = 4
 STAMPED_WINDOW = 0.4
 STAMPED_SAMPLES = 32
