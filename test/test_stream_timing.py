@@ -6,7 +6,6 @@ through ROS are ``python -m bench.stream_timing``'s, not asserted here.
 """
 
 import math
-import time
 
 from geometry_msgs.msg import PointStamped
 import numpy as np
@@ -18,6 +17,7 @@ from mouse_constraint_ros.physics.target_motion import BLEND_INTERVALS, STAMPED_
 from mouse_constraint_ros.physics.target_motion import TargetStream
 from mouse_constraint_ros.wire.messages import point_message
 from test_support.mouse_feel import shipped_parameters
+from test_support.ros_harness import SimClock
 from test_support.stream_timing import circle, replay, SPEED
 
 
@@ -111,30 +111,37 @@ def test_the_node_times_targets_by_their_stamps(ros):
     """
     Arrivals delayed by 0-40 ms, stamps exact: the node's velocity estimate is the line's.
 
-    A line at 1 m/s, one point every 50 ms, each sent a random 0-40 ms after the time it is
-    stamped with and placed at. Timed by arrival the estimate would wander by tens of percent
-    (the same arrivals fed to an arrival-timed stream say how much); timed by the stamps it is
-    the line's velocity (to rounding; 0.1 % allowed).
+    A line at 1 m/s, one point every 50 ms, each published a random 0-40 ms (of the node's
+    clock, a /clock driven in 5 ms steps) after the time it is stamped with and placed at.
+    Timed by arrival the estimate would wander by tens of percent (the same arrivals fed to
+    an arrival-timed stream say how much); timed by the stamps it is the line's velocity (to
+    rounding; 0.1 % allowed). On /clock no tick is dropped, however loaded the machine.
     """
     parameters = shipped_parameters()
     node = ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
-        Parameter(name, value=value) for name, value in parameters.items()]))
+        Parameter('use_sim_time', value=True),
+        *(Parameter(name, value=value) for name, value in parameters.items())]))
     publisher = ros.probe.create_publisher(PointStamped, 'target', 10)
+    clock = SimClock(ros, node)
+    step = 5_000_000
+    now = 100 * 1_000_000_000
+    clock.advance_to(now)
     assert ros.spin_until(lambda: publisher.get_subscription_count() > 0 and node.ticks_run)
     start = np.array(node.simulation.anchor_position())
     random = np.random.default_rng(5)
     by_arrival = TargetStream()
     estimates, arrival_estimates = [], []
-    began = time.time_ns()
+    began = now + step
     for k in range(16):
-        event_ns = began + k * 50_000_000
-        point = tuple(start + ((event_ns - began) * 1e-9 * SPEED, 0.0, 0.0))
-        send_ns = event_ns + int(random.uniform(0.0, 0.04e9))
-        while time.time_ns() < send_ns:
-            ros.executor.spin_once(timeout_sec=0.001)
-        publisher.publish(point_message(point, parameters['frame_id'], event_ns))
+        event = began + k * 50_000_000
+        send = event + step * int(random.integers(0, 9))
+        while now < send:
+            now += step
+            clock.advance_to(now)
+        point = tuple(start + ((event - began) * 1e-9 * SPEED, 0.0, 0.0))
+        publisher.publish(point_message(point, parameters['frame_id'], event))
         assert ros.spin_until(lambda: node.simulation.target == point, timeout=5.0)
-        by_arrival.add(point, time.time_ns() * 1e-9, math.inf)
+        by_arrival.add(point, now * 1e-9, math.inf)
         if k >= 3:
             estimates.append(node.simulation.target_velocity)
             arrival_estimates.append(by_arrival.velocity)
@@ -143,3 +150,22 @@ def test_the_node_times_targets_by_their_stamps(ros):
     # The delays were irregular enough to tell the two apart: timed by arrival, off by > 2 %.
     assert arrival_error > 0.02
     assert stamped_error < 1e-3
+
+
+@pytest.mark.parametrize('degree', [1, 2, 3, 4])
+def test_stamped_motion_of_degree_up_to_four_is_extrapolated_exactly(degree):
+    """Points on a polynomial of degree <= 4 in time: position and velocity ahead, exact."""
+    def motion(t: float):
+        return (0.3 * t ** degree + 0.1 * t, -0.2 * t ** degree, 1.0)
+
+    def rate(t: float):
+        return (0.3 * degree * t ** (degree - 1) + 0.1, -0.2 * degree * t ** (degree - 1), 0.0)
+
+    stream = TargetStream()
+    for k in range(12):
+        t = 0.5 + 0.03 * k
+        stream.add(motion(t), t, math.inf, t + 0.01)
+    later = 0.5 + 0.03 * 11 + 0.04
+    position, velocity = stream.predict(later)
+    assert position == pytest.approx(motion(later), abs=1e-9)
+    assert velocity == pytest.approx(rate(later), abs=1e-7)
