@@ -107,6 +107,15 @@ def test_stamps_through_the_nodes_timing_path_follow_a_20_hz_circle():
     assert fast.error <= 0.001 and fast.speed_deviation <= 0.02
 
 
+def test_with_dropped_ticks_a_stamped_drag_still_beats_one_timed_by_arrival():
+    """Spells of 30-100 ms without ticks (a loaded machine): the stamped stream starts again."""
+    drops = [(1.5, 0.03), (2.5, 0.06), (3.5, 0.1)]
+    stamped = replay(20.0, True, 4.5, drops=drops)
+    arrival = replay(20.0, False, 4.5, drops=drops)
+    assert stamped.error < arrival.error
+    assert stamped.speed_deviation < arrival.speed_deviation
+
+
 def test_the_node_times_targets_by_their_stamps(ros):
     """
     Arrivals delayed by 0-40 ms, stamps exact: the node's velocity estimate is the line's.

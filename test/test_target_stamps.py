@@ -4,7 +4,7 @@ import pytest
 
 from mouse_constraint_ros.inputs.target_stamps import REASONS, stamp_refusal, TargetStamps
 from mouse_constraint_ros.physics.target_motion import STREAM_GAP
-from mouse_constraint_ros.timing.tick_grid import core_time
+from mouse_constraint_ros.timing.tick_grid import core_time, CoreClock
 
 NOW = 1_796_000_000_123_456_789  # a system clock reading (ns)
 TICK = 1_000_000  # 1 kHz
@@ -82,3 +82,22 @@ def test_core_time_is_the_latest_ticks_core_time_plus_the_distance_from_its_stam
     assert core_time(NOW - 3_500_000, tick_stamp_ns=NOW, tick_core_time=12.0) == \
         pytest.approx(12.0 - 3.5e-3, abs=1e-12)
     assert core_time(NOW, tick_stamp_ns=NOW, tick_core_time=12.0) == 12.0
+
+
+def test_the_core_clock_says_when_the_offset_moved():
+    """Ticks on time keep the offset; 50 ms of dropped ticks move it, once."""
+    clock = CoreClock()
+    tick_ns = 1_000_000
+    for n in range(1, 5):
+        tick_stamp = NOW + n * tick_ns
+        time, moved = clock.time_of(tick_stamp - 2 * tick_ns, tick_stamp_ns=tick_stamp,
+                                    tick_core_time=n * 1e-3, tick_s=1e-3)
+        assert not moved
+        assert time == pytest.approx((n - 2) * 1e-3, abs=1e-12)
+    # 50 ticks dropped: the clock ran 51 ms, the core 1 ms.
+    time, moved = clock.time_of(NOW + 54 * tick_ns, tick_stamp_ns=NOW + 55 * tick_ns,
+                                tick_core_time=5e-3, tick_s=1e-3)
+    assert moved
+    assert time == pytest.approx(4e-3, abs=1e-12)
+    assert not clock.time_of(NOW + 55 * tick_ns, tick_stamp_ns=NOW + 56 * tick_ns,
+                             tick_core_time=6e-3, tick_s=1e-3)[1]

@@ -18,14 +18,14 @@ last event:
 """
 
 import math
-from typing import Callable, NamedTuple, Sequence
+from typing import Callable, NamedTuple, Sequence, Tuple
 
 import numpy as np
 
 from mouse_constraint_ros.inputs.target_stamps import TargetStamps
 from mouse_constraint_ros.physics import MouseSimulation
 from mouse_constraint_ros.physics.target_motion import STREAM_GAP
-from mouse_constraint_ros.timing.tick_grid import core_time
+from mouse_constraint_ros.timing.tick_grid import CoreClock
 from test_support.mouse_feel import configured
 
 SPEED = 1.0
@@ -98,18 +98,21 @@ def following(times: np.ndarray, anchors: np.ndarray, path: Callable[[float], np
 
 
 def replay(rate_hz: float, stamped: bool, seconds: float, seed: int = 1, *,
-           stamp_noise: float = 0.0, pixel: float = 0.0) -> Following:
+           stamp_noise: float = 0.0, pixel: float = 0.0,
+           drops: Sequence[Tuple[float, float]] = ()) -> Following:
     """
     Return the metrics of the same drag fed to the core as the node feeds it, without ROS.
 
     Each target arrives when it is sent and is taken before the first tick due at or after
     that; its stamp goes through the node's policy (``TargetStamps``) and clock-to-core mapping
-    (``core_time``) with the latest tick's stamp, as in ``mouse_constraint``. Ticks run on
+    (``CoreClock``) with the latest tick's stamp, as in ``mouse_constraint``. Ticks run on
     time: this is the floor that scheduling and transport add to.
 
     :param stamp_noise: each stamp is off its event by up to this much (s, uniform), as a
         coarse clock would stamp it.
     :param pixel: positions are rounded to this grid in x and y (m), as screen pixels are.
+    :param drops: (start, length) of spells of dropped ticks (s from the start): the core does
+        not step and no state is published, as when the node cannot keep its rate.
     """
     config = configured({})
     simulation = MouseSimulation(config.settings, config.initial_state)
@@ -119,8 +122,9 @@ def replay(rate_hz: float, stamped: bool, seconds: float, seed: int = 1, *,
     random = np.random.default_rng(seed + 1000)
     tick = 1.0 / config.rate_hz
     tick_ns = round(tick * 1e9)
-    stamps = TargetStamps(STREAM_GAP)
+    stamps, clock = TargetStamps(STREAM_GAP), CoreClock()
     origin_ns = 1_000_000_000_000
+    last_tick_ns = origin_ns
     pending = list(zip(plan.events, plan.sends))
     times, anchors = [], []
     n = 0
@@ -135,12 +139,18 @@ def replay(rate_hz: float, stamped: bool, seconds: float, seed: int = 1, *,
                 point[:2] = np.round(point[:2] / pixel) * pixel
             arrival = simulation.time
             if n and stamps.refusal(stamp, now_ns=now_ns, tick_s=tick) is None:
-                simulation.set_target(tuple(point), time=core_time(
-                    stamp, tick_stamp_ns=now_ns - tick_ns, tick_core_time=arrival),
-                    stamped=True)
+                time, moved = clock.time_of(stamp, tick_stamp_ns=last_tick_ns,
+                                            tick_core_time=arrival, tick_s=tick)
+                if moved:
+                    simulation.target = tuple(point)
+                simulation.set_target(tuple(point), time=time, stamped=True)
             else:
                 simulation.set_target(tuple(point), time=arrival)
+        if any(start <= n * tick < start + length for start, length in drops):
+            n += 1  # dropped: no step, no state
+            continue
         state = simulation.step(tick)
+        last_tick_ns = now_ns
         times.append(n * tick)
         anchors.append(state.world_point(config.settings.constraint.anchor))
         n += 1

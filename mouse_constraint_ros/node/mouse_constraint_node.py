@@ -49,7 +49,7 @@ from ..physics.algebra import Vector3
 from ..physics.target_motion import STREAM_GAP
 from ..timing.spin import spin_until, StopRequest
 from ..timing.tick_budget import TickBudget
-from ..timing.tick_grid import core_time
+from ..timing.tick_grid import CoreClock
 from ..wire.interface import (GRAB_TOPIC, NODE_NAME, RELEASE_SERVICE, RESET_SERVICE, TARGET_QOS,
                               TARGET_TOPIC)
 from ..wire.messages import point_from_message, stamp_nanoseconds
@@ -108,7 +108,7 @@ class MouseConstraintNode(ParameterChanges, TickLoop, SimulatorControls, Monitor
         self._user_target = False
         self._last_target_ns: Optional[int] = None
         self._gate = TargetGate(self._config.frame_id, self._config.workspace_radius)
-        self._stamps = TargetStamps(STREAM_GAP)
+        self._stamps, self._core_clock = TargetStamps(STREAM_GAP), CoreClock()
         # The anchor of the parameters (start or ros2 param set), which ~/reset restores.
         self._configured_anchor = self._config.settings.constraint.anchor
         # True while the node sets its own anchor parameter for a grab or a reset.
@@ -193,8 +193,12 @@ class MouseConstraintNode(ParameterChanges, TickLoop, SimulatorControls, Monitor
         now, arrival = self._now_ns(), self._simulation.time
         stamp = stamp_nanoseconds(message.header.stamp)
         if self.ticks_run and self._stamps.refusal(stamp, now_ns=now, tick_s=self._dt) is None:
-            self._simulation.set_target(point, time=core_time(
-                stamp, tick_stamp_ns=self._stamp_ns, tick_core_time=arrival), stamped=True)
+            stamped, moved = self._core_clock.time_of(stamp, tick_stamp_ns=self._stamp_ns,
+                                                      tick_core_time=arrival, tick_s=self._dt)
+            if moved:
+                # Ticks were dropped (or paused) since the last stamp: a new stream.
+                self._simulation.target = point
+            self._simulation.set_target(point, time=stamped, stamped=True)
         else:
             self._simulation.set_target(point, time=arrival)
         self._user_target = True
