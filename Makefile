@@ -1,12 +1,16 @@
 # Developer entry points for mouse_constraint_ros (plain venv route, no apt ROS needed).
 #
 #   make venv   create/update .venv (only when requirements/setup files changed)
-#   make test   run the test suite with pytest (every tier: unit, ros, system)
+#   make test   run the test suite with pytest (every tier: unit, ros, system, and browser
+#               when /usr/bin/chromium is there)
 #   make test-unit  only the unit tier (pure code, no rclpy context, no process): seconds
+#   make test-browser  only the browser tier (headless chromium on mouse_view)
 #   make lint   flake8 (ament_flake8 settings, see .flake8)
 #   make run    run the node with config/params.yaml
+#   make view   run mouse_view: the body in a browser, dragged with the mouse
 #   make bench  run the benchmark suite (python -m bench.run_all): bench/results.md, .json
-#   make demo   run the node, grab it, drag a circle, a click jump; record: demo/figure.png
+#   make demo   run the node, grab it, drag a circle, a click jump; record into demo/output/
+#   make demo-figure  the same, and the figure replaces the committed demo/figure.png
 #   make clean  remove .venv and build artefacts
 
 SHELL := /bin/bash
@@ -19,6 +23,8 @@ STAMP := $(VENV)/.stamp
 REQS := $(wildcard requirements/*.txt)
 PIP := $(VPY) -m pip --disable-pip-version-check -q
 PYTEST_ARGS ?=
+# The browser tier's browser: Debian's chromium (apt-get install chromium).
+CHROMIUM := /usr/bin/chromium
 LINT_PATHS := $(wildcard mouse_constraint_ros test test_support bench launch setup.py)
 
 # If .venv/bin/python is missing or no longer runs (e.g. the base interpreter
@@ -27,7 +33,7 @@ ifneq ($(shell $(VPY) -c 'print(1)' 2>/dev/null),1)
 $(shell rm -f $(STAMP))
 endif
 
-.PHONY: venv test test-unit lint run bench bench-venv demo clean
+.PHONY: venv test test-unit test-browser lint run view bench bench-venv demo demo-figure clean
 
 # Peer engines for the benchmarks only (PyBullet, MuJoCo): installed into .venv by `make bench`,
 # never by `make venv`, `make test` or CI (requirements/bench/ is outside the wildcard above).
@@ -47,12 +53,17 @@ $(STAMP): $(REQS) setup.py setup.cfg
 	@test -x $(VPY) || $(PYTHON) -m venv $(VENV)
 	$(PIP) install $(addprefix -r ,$(REQS))
 	$(PIP) install --use-pep517 -e .
-	@test -x $(VENV)/bin/mouse_constraint_node || \
-	  { echo 'error: .venv/bin/mouse_constraint_node was not installed' >&2; exit 1; }
+	@test -x $(VENV)/bin/mouse_constraint_node -a -x $(VENV)/bin/mouse_view || \
+	  { echo 'error: .venv/bin/mouse_constraint_node or mouse_view was not installed' >&2; exit 1; }
 	@touch $@
 
 test: venv
-	$(VPY) -m pytest test/ -q $(PYTEST_ARGS)
+	@if [ -x $(CHROMIUM) ]; then $(VPY) -m pytest test/ -q $(PYTEST_ARGS); else \
+	  echo 'browser tier skipped: no $(CHROMIUM) (apt-get install chromium, then make test-browser)'; \
+	  $(VPY) -m pytest test/ -q -m 'not browser' $(PYTEST_ARGS); fi
+
+test-browser: venv
+	$(VPY) -m pytest test/ -q -m browser $(PYTEST_ARGS)
 
 test-unit: venv
 	$(VPY) -m pytest test/ -q -m unit $(PYTEST_ARGS)
@@ -62,6 +73,9 @@ lint: venv
 
 run: venv
 	$(VENV)/bin/mouse_constraint_node --ros-args --params-file config/params.yaml
+
+view: venv
+	$(VENV)/bin/mouse_view
 
 bench-venv: $(BENCH_STAMP)
 
@@ -74,9 +88,12 @@ bench: bench-venv
 	$(VPY) -m bench.run_all $(BENCH_ARGS)
 
 # The node, mouse_target (a grab, a circle, then a click jump) and mouse_record; see
-# demo/run_demo.sh.
+# demo/run_demo.sh. `make run` must not be running (the demo starts its own node).
 demo: venv
 	demo/run_demo.sh
+
+demo-figure: venv
+	UPDATE_FIGURE=1 demo/run_demo.sh
 
 clean:
 	rm -rf $(VENV) build install log .pytest_cache .hypothesis *.egg-info

@@ -1,4 +1,18 @@
 #!/usr/bin/env python3
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """
 Run the benchmark suite and write bench/results.md and bench/results.json.
 
@@ -33,6 +47,7 @@ SUITE = [
     ('latency', 'target published -> first pose reflecting it, at 1 kHz'),
     ('soak', '10 min simulated at 1 kHz, the core directly'),
     ('flood', 'target floods at the 1 kHz node: 5 000/s plain, unbounded, hostile'),
+    ('view_cost', 'mouse_view with one headless browser; the node with and without it'),
     # Last: the longest, and nothing else runs while it does.
     ('memory', 'node RSS over minutes at 1 kHz, every path exercised'),
 ]

@@ -1,8 +1,14 @@
 #!/usr/bin/env bash
 # `make demo`: start the node with config/params.yaml as shipped, record it with mouse_record
 # while mouse_target grabs the body at the centre of one face, drags that point around a circle
-# and then clicks a 0.5 m jump, and leave the figure in demo/figure.png (the CSV and MCAP in
-# demo/output/).
+# and then clicks a 0.5 m jump, and leave the figure, the CSV, the MCAP and the logs in
+# DEMO_OUTPUT (default demo/output/, untracked). With UPDATE_FIGURE=1 (`make demo-figure`) the
+# figure also replaces the committed demo/figure.png.
+#
+# Every mouse_target waits until two subscribers matched its topic, the node and mouse_record,
+# so that the recording holds every target the node took, in order, and every run draws the
+# same paths: each mouse_target is a new participant, and a volatile subscriber that discovers
+# it late never gets what was published before.
 #
 # The body starts hanging at rest from its anchor, a corner (initial_orientation puts the COM
 # below it), so the grab point's world position is known exactly, as a click on the body in RViz
@@ -15,16 +21,19 @@
 #
 # It runs in your ROS_DOMAIN_ID, so RViz (Fixed Frame `world`, a MarkerArray display on
 # /mouse_constraint/markers) can watch it; nothing else named mouse_constraint should be running
-# there. The recording ends SETTLE_SECONDS (default 3) after the jump.
+# there: stop `make run` first. The recording ends SETTLE_SECONDS (default 3) after the jump.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
-BIN=.venv/bin
-OUT=demo/output
+BIN=${DEMO_BIN:-.venv/bin}
+OUT=${DEMO_OUTPUT:-demo/output}
 SETTLE_SECONDS=${SETTLE_SECONDS:-3}
+UPDATE_FIGURE=${UPDATE_FIGURE:-0}
+# The node and mouse_record: what each mouse_target waits for.
+SUBSCRIBERS=2
 RADIUS=0.3
 mkdir -p "$OUT"
-rm -f "$OUT"/recording.* "$OUT"/*.log
+rm -f "$OUT"/recording.* "$OUT"/*.log "$OUT"/figure.png
 
 pids=()
 cleanup() {
@@ -77,20 +86,28 @@ done
 grep -q '^recording' "$OUT/record.log" || { echo 'demo: mouse_record did not start' >&2; exit 1; }
 
 sleep 1   # the body hangs at rest from its corner
-"$BIN/mouse_target" --grab "$gx" "$gy" "$gz" 2> /dev/null   # the grab
+target() {
+  "$BIN/mouse_target" --subscribers "$SUBSCRIBERS" "$@" 2>> "$OUT/target.log" ||
+    { echo "demo: mouse_target $* failed:" >&2; tail -n 2 "$OUT/target.log" >&2; exit 1; }
+}
+target --grab "$gx" "$gy" "$gz"   # the grab
 # The mouse holds still where it grabbed: a target at the same point changes nothing in the node
 # and gives mouse_record, which records target (not grab), the target from here on.
-"$BIN/mouse_target" "$gx" "$gy" "$gz" 2> /dev/null
+target "$gx" "$gy" "$gz"
 sleep 1   # the body swings down from the grabbed point, which stays where it was grabbed
 # The drag: a circle through the grabbed point (it starts at centre + radius x).
 cx=$("$BIN/python" -c "print($gx - $RADIUS)")
-"$BIN/mouse_target" --circle --center "$cx" "$gy" "$gz" --radius "$RADIUS" --period 2 \
-  --duration 4 2> /dev/null
+target --circle --center "$cx" "$gy" "$gz" --radius "$RADIUS" --period 2 --duration 4
 # The click jump: 0.5 m from where the grab was (and the circle ends), 0.3 m aside, 0.4 m up.
 read -r jx jy jz < <("$BIN/python" -c "print($gx + 0.3, $gy, $gz + 0.4)")
-"$BIN/mouse_target" "$jx" "$jy" "$jz" 2> /dev/null
+target "$jx" "$jy" "$jz"
 sleep "$SETTLE_SECONDS"
 kill -INT "$record"
 wait "$record"
-cp "$OUT/recording.png" demo/figure.png
-echo "demo: figure in demo/figure.png; CSV and MCAP in $OUT/"
+cp "$OUT/recording.png" "$OUT/figure.png"
+if [ "$UPDATE_FIGURE" = 1 ]; then
+  cp "$OUT/recording.png" demo/figure.png
+  echo "demo: figure in demo/figure.png and $OUT/; CSV and MCAP in $OUT/"
+else
+  echo "demo: figure, CSV and MCAP in $OUT/ (make demo-figure updates demo/figure.png)"
+fi

@@ -1,3 +1,17 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """
 Launch the mouse_constraint node with the installed parameters, and optionally RViz.
 
@@ -7,6 +21,11 @@ Launch the mouse_constraint node with the installed parameters, and optionally R
 
 The default parameters file and the RViz configuration are looked up in the package's installed
 share directory (ament index) when the launch file is loaded, so they are the installed copies.
+
+``/tf`` is one topic for every namespace, so two instances must not publish the same child
+frame: ``body_frame_id`` defaults to ``body`` under the namespace (``robot/body`` for
+``namespace:=/robot``, ``body`` for none) and overrides the parameters file's; the parent frame
+(``frame_id``, default ``world``) stays shared, the world both bodies move in.
 """
 
 import os
@@ -15,7 +34,9 @@ from ament_index_python.packages import get_package_share_directory
 from launch import LaunchDescription
 from launch.actions import DeclareLaunchArgument
 from launch.conditions import IfCondition
+from launch.substitution import Substitution
 from launch.substitutions import LaunchConfiguration
+from launch.utilities import perform_substitutions
 from launch_ros.actions import Node
 
 PACKAGE = 'mouse_constraint_ros'
@@ -24,6 +45,28 @@ NODE_NAME = 'mouse_constraint'
 # launch namespace with each remapped to its relative name, so that under namespace:=/robot it
 # shows /robot/pose and publishes clicks on /robot/target and /robot/grab.
 RVIZ_TOPICS = ('pose', NODE_NAME + '/markers', 'grab', 'target')
+# The spellings a boolean argument takes: IfCondition reads true/false in any case, and the
+# node's use_sim_time gets the argument parsed as YAML, where these four are booleans.
+BOOLEAN = ['true', 'false', 'True', 'False']
+
+
+class NamespacedFrame(Substitution):
+    """A frame name under the launch namespace: ``robot/body`` for /robot, ``body`` for none."""
+
+    def __init__(self, frame: str) -> None:
+        """Name ``frame`` (without namespace)."""
+        super().__init__()
+        self.frame = frame
+
+    def describe(self) -> str:
+        """Return what ``ros2 launch -s`` shows as the default."""
+        return f"'<namespace>/{self.frame}' ('{self.frame}' without a namespace)"
+
+    def perform(self, context) -> str:
+        """Return the frame under the namespace, without a leading slash (tf2's convention)."""
+        namespace = perform_substitutions(context, [LaunchConfiguration('namespace')])
+        namespace = namespace.strip('/')
+        return f'{namespace}/{self.frame}' if namespace else self.frame
 
 
 def generate_launch_description() -> LaunchDescription:
@@ -39,15 +82,20 @@ def generate_launch_description() -> LaunchDescription:
             'params_file', default_value=os.path.join(share, 'config', 'params.yaml'),
             description='Parameters file of the node.'),
         DeclareLaunchArgument(
-            'use_sim_time', default_value='false', choices=['true', 'false'],
+            'use_sim_time', default_value='false', choices=BOOLEAN,
             description='Follow /clock instead of the system clock.'),
         DeclareLaunchArgument(
-            'rviz', default_value='false', choices=['true', 'false'],
+            'rviz', default_value='false', choices=BOOLEAN,
             description='Also start rviz2 with the installed mouse_constraint.rviz.'),
-        # RViz first: where rviz2 is not installed, rviz:=true then fails before the node starts
-        # (launch stops at the failing action and does not stop processes it already started).
+        DeclareLaunchArgument(
+            'body_frame_id', default_value=NamespacedFrame('body'),
+            description='Child frame of the body on /tf and odom; overrides params_file.'),
+        # RViz first: where rviz2 is not installed, rviz:=true makes launch fail at this action
+        # (package not found) and shut down, exit code 1, before the node starts. (After a
+        # failing action launch shuts down what it started, too.)
         Node(
             package='rviz2', executable='rviz2', name='rviz2', namespace=namespace,
+            output='screen',
             arguments=['-d', os.path.join(share, 'rviz', 'mouse_constraint.rviz')],
             parameters=[{'use_sim_time': use_sim_time}],
             remappings=[('/' + topic, topic) for topic in RVIZ_TOPICS],
@@ -55,5 +103,7 @@ def generate_launch_description() -> LaunchDescription:
         Node(
             package=PACKAGE, executable='mouse_constraint_node', name=NODE_NAME,
             namespace=namespace, output='screen', emulate_tty=True,
-            parameters=[LaunchConfiguration('params_file'), {'use_sim_time': use_sim_time}]),
+            parameters=[LaunchConfiguration('params_file'),
+                        {'use_sim_time': use_sim_time,
+                         'body_frame_id': LaunchConfiguration('body_frame_id')}]),
     ])

@@ -1,3 +1,17 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """
 Shared fixtures: DDS isolation and a fresh rclpy context per test.
 
@@ -15,7 +29,7 @@ import pytest  # noqa: E402 (after the environment is set, as rclpy reads it)
 
 # Modules whose tests start executables as processes (or build with colcon): the system tier.
 SYSTEM_MODULES = {'test_cli_refusals', 'test_hardening', 'test_launch', 'test_processes',
-                  'test_recorder', 'test_startup_refusals'}
+                  'test_demo', 'test_recorder', 'test_startup_refusals'}
 
 
 TIERS = ('unit', 'ros', 'system')

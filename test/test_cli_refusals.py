@@ -1,3 +1,17 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """
 The CLIs as separate processes: refusals with a reason, signals, and plain help.
 
@@ -19,6 +33,7 @@ import pytest
 from rclpy.parameter import Parameter
 
 from mouse_constraint_ros.cli import record as recorder, target as target_cli
+from mouse_constraint_ros.inputs.grab import grab
 from mouse_constraint_ros.inputs.target_gate import TargetGate
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 
@@ -107,7 +122,7 @@ def test_unanswered_parameters_are_said_and_the_target_still_goes_out(ros):
     """A subscriber but no parameter service: a warning, then the target, unchecked; exit 0."""
     received = ros.collect(PointStamped, 'target')
     result = run_while_spinning(ros, [str(BIN / 'mouse_target'), '1e9', '0', '0', '--node',
-                                      'nobody_here', '--timeout', '1'])
+                                      'nobody_here', '--timeout', '5'])
     assert result.returncode == 0, result.stderr
     assert 'no parameter service nobody_here/get_parameters' in result.stderr
     assert 'publishing it unchecked' in result.stderr
@@ -216,3 +231,58 @@ def test_grab_takes_one_point_not_a_circle():
     with pytest.raises(SystemExit) as exit_info:
         target_cli.parse_arguments(['--grab', '--circle'])
     assert exit_info.value.code == 2
+
+
+@pytest.fixture
+def resting_node(ros):
+    """Start a node whose body rests at (0, 0, 1), anchored at its COM: a known pose."""
+    return ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
+        Parameter('rate_hz', value=100.0), Parameter('anchor', value=[0.0, 0.0, 0.0]),
+        Parameter('initial_position', value=[0.0, 0.0, 1.0]),
+        Parameter('marker_rate_hz', value=0.0), Parameter('diagnostics_rate_hz', value=0.0)]))
+
+
+@pytest.mark.parametrize('point', [(5.0, 5.0, 5.0), (0.3, 0.0, 1.0)])
+def test_grab_off_the_body_is_refused_with_its_distance(ros, resting_node, point):
+    """A grab off the box by more than grab_margin: exit 1, the node's own distance, nothing."""
+    grabs = ros.collect(PointStamped, 'grab')
+    before = resting_node.get_parameter('anchor').value
+    result = run_while_spinning(ros, [str(BIN / 'mouse_target'), '--grab',
+                                      *(repr(c) for c in point), '--timeout', str(LONG)])
+    ros.spin_for(0.2)
+    landed = grab(resting_node.simulation.state,
+                  resting_node.get_parameter('box_size').value, point)
+    margin = resting_node.get_parameter('grab_margin').value
+    assert landed.distance > margin
+    assert result.returncode == 1, result.stderr
+    [line] = error_lines(result.stderr)
+    assert f'would ignore grab {point}: {landed.distance:.6g} m off the body' in line
+    assert f'farther than grab_margin {margin:g} m' in line and 'nothing published' in line
+    assert grabs == [] and resting_node.get_parameter('anchor').value == before
+
+
+def test_grab_within_the_margin_is_published_and_taken(ros, resting_node):
+    """A grab just off the box, within grab_margin, passes the check and becomes the anchor."""
+    margin = resting_node.get_parameter('grab_margin').value
+    half_x = 0.5 * resting_node.get_parameter('box_size').value[0]
+    point = (half_x + 0.5 * margin, 0.0, 1.0)
+    result = run_while_spinning(ros, [str(BIN / 'mouse_target'), '--grab',
+                                      *(repr(c) for c in point)])
+    assert result.returncode == 0, result.stderr
+    assert ros.spin_until(lambda: resting_node.simulation.target == point)
+    assert resting_node.get_parameter('anchor').value[0] == pytest.approx(point[0], abs=1e-6)
+
+
+def test_subscribers_waits_for_that_many_and_says_how_many_matched(ros, node):
+    """--subscribers 2 with only the node: exit 1 naming 1 of 2; with a second one: published."""
+    short = run_while_spinning(ros, [str(BIN / 'mouse_target'), '0.5', '0', '1', '--subscribers',
+                                     '2', '--timeout', '5'])
+    assert short.returncode == 1, short.stderr
+    [line] = error_lines(short.stderr)
+    assert '1 of 2 subscribers on /target after 5 s' in line
+    received = ros.collect(PointStamped, 'target')
+    result = run_while_spinning(ros, [str(BIN / 'mouse_target'), '0.5', '0', '1',
+                                      '--subscribers', '2'])
+    assert result.returncode == 0, result.stderr
+    assert 'waiting up to 10 s for 2 subscribers on /target' in result.stderr
+    assert ros.spin_until(lambda: received) and node.simulation.target == (0.5, 0.0, 1.0)

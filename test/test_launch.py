@@ -1,3 +1,17 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """
 The bring-up files: the launch file and the RViz configuration, as colcon installs them.
 
@@ -17,6 +31,8 @@ import sys
 from geometry_msgs.msg import PoseStamped
 import pytest
 import yaml
+
+from test_support import qt_window_state
 
 PACKAGE = 'mouse_constraint_ros'
 ROOT = Path(__file__).resolve().parent.parent
@@ -102,7 +118,8 @@ def test_launch_file_names_the_installed_params_and_rviz_files(install, monkeypa
     assert share_directory == share(install)
     arguments = {ast.literal_eval(call.args[0]): keywords(call)
                  for call in launch_calls(path, 'DeclareLaunchArgument')}
-    assert list(arguments) == ['namespace', 'params_file', 'use_sim_time', 'rviz']
+    assert list(arguments) == ['namespace', 'params_file', 'use_sim_time', 'rviz',
+                               'body_frame_id']
     assert all(ast.literal_eval(argument['description']) for argument in arguments.values())
     params_file = share_path(arguments['params_file']['default_value'], share_directory)
     assert params_file == share(install) / 'config' / 'params.yaml'
@@ -115,7 +132,10 @@ def test_launch_file_names_the_installed_params_and_rviz_files(install, monkeypa
     assert executable == 'mouse_constraint_node'
     assert ast.unparse(node['name']) == 'NODE_NAME' and f"NODE_NAME = '{NODE_NAME}'" in source
     assert (install / 'lib' / PACKAGE / executable).is_file()
-    assert "LaunchConfiguration('params_file')" in ast.unparse(node['parameters'])
+    assert ast.unparse(node['parameters']).startswith("[LaunchConfiguration('params_file'), {")
+    assert "'body_frame_id': LaunchConfiguration('body_frame_id')" in ast.unparse(
+        node['parameters'])
+    assert all(ast.literal_eval(n['output']) == 'screen' for n in nodes.values())
     rviz = nodes['rviz2']
     rviz_arguments = rviz['arguments']
     assert ast.literal_eval(rviz_arguments.elts[0]) == '-d'
@@ -149,6 +169,200 @@ def test_rviz_configuration_names_the_node_topics_and_the_world_frame():
     assert points == [NODE_TOPICS['grab'], NODE_TOPICS['target']]
 
 
+# What rviz2 (Jazzy) reads from a .rviz, per place and per plugin class: the keys its load()
+# functions ask for and the names of the properties each class creates (whose children load
+# under the same names, and whose own value is the special key 'Value'). ANY: read whole, by
+# names the file chooses (TF frames, marker namespaces). A key outside these is ignored.
+ANY = object()
+XYZ = {'X': None, 'Y': None, 'Z': None}
+TREE = {'Expanded': None, 'Splitter Ratio': None}   # PropertyTreeWidget::load
+# RosTopicProperty with its QosProfileProperty children (displays resubscribe when they change).
+TOPIC = {'Value': None, 'Depth': None, 'History Policy': None, 'Reliability Policy': None,
+         'Durability Policy': None}
+PANELS = {
+    'rviz_common/Displays': {'Property Tree Widget': TREE, 'Tree Height': None,
+                             'Help Height': None},
+    'rviz_common/Selection': {},
+    'rviz_common/Tool Properties': TREE,
+    'rviz_common/Views': TREE,
+}
+DISPLAY = {'Class': None, 'Name': None, 'Enabled': None, 'Value': None}
+DISPLAYS = {
+    'rviz_default_plugins/Grid': {
+        'Alpha': None, 'Cell Size': None, 'Color': None,
+        'Line Style': {'Value': None, 'Line Width': None}, 'Normal Cell Count': None,
+        'Offset': XYZ, 'Plane': None, 'Plane Cell Count': None, 'Reference Frame': None},
+    'rviz_default_plugins/MarkerArray': {'Topic': TOPIC, 'Namespaces': ANY},
+    'rviz_default_plugins/Pose': {
+        'Alpha': None, 'Axes Length': None, 'Axes Radius': None, 'Color': None,
+        'Head Length': None, 'Head Radius': None, 'Shaft Length': None, 'Shaft Radius': None,
+        'Shape': None, 'Topic': dict(TOPIC, **{'Filter size': None})},
+    'rviz_default_plugins/TF': {
+        'Frame Timeout': None, 'Frames': ANY, 'Marker Scale': None, 'Show Arrows': None,
+        'Show Axes': None, 'Show Names': None, 'Tree': ANY, 'Update Interval': None,
+        'Filter (blacklist)': None, 'Filter (whitelist)': None},
+}
+# Tool::load reads only the tool's properties: no name, no shortcut. The Publish Point tool's
+# Topic has QoS children too, but its publisher is made before they are read: none is listed.
+TOOLS = {
+    'rviz_default_plugins/Interact': {'Hide Inactive Objects': None},
+    'rviz_default_plugins/MoveCamera': {},
+    'rviz_default_plugins/Select': {},
+    'rviz_default_plugins/FocusCamera': {},
+    'rviz_default_plugins/Measure': {'Line color': None},
+    'rviz_default_plugins/PublishPoint': {'Single click': None, 'Topic': {'Value': None}},
+}
+VIEWS = {
+    'rviz_default_plugins/Orbit': {
+        'Class': None, 'Name': None, 'Value': None, 'Distance': None, 'Focal Point': XYZ,
+        'Focal Shape Fixed Size': None, 'Focal Shape Size': None, 'Pitch': None, 'Yaw': None,
+        'Target Frame': None, 'Invert Z Axis': None, 'Near Clip Distance': None,
+        'Enable Stereo Rendering': {'Value': None, 'Stereo Eye Separation': None,
+                                    'Stereo Focal Distance': None, 'Swap Stereo Eyes': None}},
+}
+WINDOW = {'X': None, 'Y': None, 'Width': None, 'Height': None, 'QMainWindow State': None,
+          'Hide Left Dock': None, 'Hide Right Dock': None}
+
+
+def unread_keys(value, schema, path: str) -> list:
+    """Return the paths of the keys in ``value`` that ``schema`` does not list."""
+    if schema is ANY:
+        return []
+    if schema is None:
+        return [] if not isinstance(value, dict) else [f'{path} (a map where rviz2 reads a value)']
+    if not isinstance(value, dict):
+        return [f'{path} (a value where rviz2 reads a map)']
+    unread = []
+    for key, child in value.items():
+        if key not in schema:
+            unread.append(f'{path}/{key}')
+        else:
+            unread += unread_keys(child, schema[key], f'{path}/{key}')
+    return unread
+
+
+def by_class(items: list, classes: dict, base: dict, path: str) -> list:
+    """Return the unread keys of a list of plugin configurations, each read by its Class."""
+    unread = []
+    for index, item in enumerate(items):
+        name = item.get('Class')
+        if name not in classes:
+            unread.append(f'{path}[{index}] (class {name!r} not listed)')
+        else:
+            unread += unread_keys(item, {**base, 'Class': None, **classes[name]},
+                                  f'{path}[{index}]')
+    return unread
+
+
+def test_rviz_configuration_has_only_keys_rviz2_reads():
+    """
+    Every key of the .rviz is one rviz2 reads (its sources, Jazzy): none is silently ignored.
+
+    Panels, displays, tools and views by their class; the window geometry with one map per panel
+    (its dock's 'collapsed'); the visualization manager's own keys.
+    """
+    configuration = yaml.safe_load((ROOT / 'rviz' / RVIZ_FILE).read_text())
+    assert set(configuration) == {'Panels', 'Visualization Manager', 'Window Geometry'}
+    panels = configuration['Panels']
+    unread = by_class(panels, PANELS, {'Name': None}, '/Panels')
+    geometry = dict(WINDOW, **{panel['Name']: {'collapsed': None} for panel in panels})
+    unread += unread_keys(configuration['Window Geometry'], geometry, '/Window Geometry')
+    manager = dict(configuration['Visualization Manager'])
+    path = '/Visualization Manager'
+    unread += by_class(manager.pop('Displays'), DISPLAYS, DISPLAY, path + '/Displays')
+    unread += by_class(manager.pop('Tools'), TOOLS, {}, path + '/Tools')
+    views = manager.pop('Views')
+    unread += unread_keys(views, {'Current': ANY, 'Saved': None}, path + '/Views')
+    unread += by_class([views['Current']], VIEWS, {}, path + '/Views/Current')
+    unread += unread_keys(manager, {
+        'Enabled': None, 'Name': None, 'Value': None,
+        'Global Options': {'Background Color': None, 'Fixed Frame': None, 'Frame Rate': None},
+        'Transformation': {'Current': {'Class': None}}}, path)
+    assert unread == []
+
+
+def test_rviz_window_state_docks_every_panel():
+    """
+    The QMainWindow State docks each panel by its name (rviz2 floats any it does not name).
+
+    Displays, Views and Tool Properties are docked and shown; no panel floats; the state is the
+    one docked_layout writes (read back byte for byte).
+    """
+    configuration = yaml.safe_load((ROOT / 'rviz' / RVIZ_FILE).read_text())
+    names = [panel['Name'] for panel in configuration['Panels']]
+    data = bytes.fromhex(configuration['Window Geometry']['QMainWindow State'])
+    state = qt_window_state.decode(data)
+    assert qt_window_state.encode(state) == data
+    widgets = {widget.name: widget for widget in state.dock_widgets()}
+    assert len(widgets) == len(state.dock_widgets())
+    assert sorted(widgets) == sorted(names)
+    assert all(not widget.flags & qt_window_state.FLOATING for widget in widgets.values())
+    for name in ('Displays', 'Views', 'Tool Properties'):
+        assert widgets[name].flags & qt_window_state.VISIBLE, name
+    [(_, [toolbar])] = state.toolbars
+    assert toolbar.name == 'Tools'   # rviz2's toolbar of tools
+
+
+def test_rviz_window_state_restores_in_qt(monkeypatch):
+    """
+    Qt itself, where PyQt5 is importable: the state docks rviz2's floating panels as intended.
+
+    As rviz2 does: every panel a floating dock widget named after it, then ``restoreState``;
+    Qt's own ``saveState`` afterwards reads back with the decoder.
+    """
+    reason = 'PyQt5 is not installed (Qt: python3-pyqt5 on apt, where RViz is)'
+    widgets = pytest.importorskip('PyQt5.QtWidgets', reason=reason)
+    QtCore = pytest.importorskip('PyQt5.QtCore', reason=reason)
+    monkeypatch.setenv('QT_QPA_PLATFORM', 'offscreen')
+    configuration = yaml.safe_load((ROOT / 'rviz' / RVIZ_FILE).read_text())
+    application = widgets.QApplication.instance() or widgets.QApplication(['rviz_state'])
+    window = widgets.QMainWindow()
+    window.setCentralWidget(widgets.QWidget())
+    window.addToolBar('Tools').setObjectName('Tools')
+    docks = {}
+    for panel in configuration['Panels']:
+        dock = docks[panel['Name']] = widgets.QDockWidget(panel['Name'])
+        dock.setObjectName(panel['Name'])
+        dock.setFloating(True)
+        window.addDockWidget(QtCore.Qt.LeftDockWidgetArea, dock)
+    geometry = configuration['Window Geometry']
+    window.resize(geometry['Width'], geometry['Height'])
+    assert window.restoreState(QtCore.QByteArray.fromHex(
+        geometry['QMainWindow State'].encode()))
+    window.show()
+    application.processEvents()
+    areas = {name: window.dockWidgetArea(dock) for name, dock in docks.items()}
+    assert areas == {'Displays': QtCore.Qt.LeftDockWidgetArea,
+                     'Selection': QtCore.Qt.RightDockWidgetArea,
+                     'Tool Properties': QtCore.Qt.RightDockWidgetArea,
+                     'Views': QtCore.Qt.RightDockWidgetArea}
+    assert not any(dock.isFloating() for dock in docks.values())
+    assert [name for name, dock in docks.items() if not dock.isVisible()] == ['Selection']
+    saved = qt_window_state.decode(bytes(window.saveState()))
+    assert sorted(w.name for w in saved.dock_widgets()) == sorted(docks)
+    window.close()
+
+
+def test_qt_window_state_reads_what_qt_writes():
+    """The decoder on a state with every kind of item: tabs, nested, floating, placeholders."""
+    state = qt_window_state.WindowState(
+        docks={qt_window_state.LEFT: ((200, 500), qt_window_state.Sequence(
+            qt_window_state.VERTICAL, [
+                qt_window_state.DockWidget('a', qt_window_state.VISIBLE, (65, 250, 0, 99)),
+                qt_window_state.Nested((315, 250, 0, 0), qt_window_state.Sequence(
+                    qt_window_state.HORIZONTAL, [
+                        qt_window_state.DockWidget('b', 0, (0, 100, 0, 0)),
+                        qt_window_state.DockWidget('c', 3, (10, 20, 300, 400))], tab=1))]))},
+        central_size=(800, 500), corners=qt_window_state.DEFAULT_CORNERS)
+    data = qt_window_state.encode(state)
+    assert qt_window_state.decode(data) == state
+    assert [w.name for w in qt_window_state.decode(data).dock_widgets()] == ['a', 'b', 'c']
+    with pytest.raises(ValueError):
+        qt_window_state.decode(data + b'\0')
+    with pytest.raises(ValueError):
+        qt_window_state.decode(b'\0' * 8 + data[8:])
+
+
 @pytest.fixture
 def real_launch():
     """Skip the test, saying why, unless ``launch`` and ``launch_ros`` are importable."""
@@ -166,17 +380,22 @@ def test_launch_file_parses_and_describes_its_arguments(real_launch, install, mo
     description = get_launch_description_from_python_launch_file(
         str(share(install) / 'launch' / LAUNCH_FILE))
     arguments = description.get_launch_arguments()
-    defaults = {a.name: perform_substitutions(LaunchContext(), a.default_value)
-                for a in arguments}
-    assert defaults == {
-        'namespace': '', 'params_file': str(share(install) / 'config' / 'params.yaml'),
-        'use_sim_time': 'false', 'rviz': 'false'}
     assert all(a.description and a.description != 'no description given' for a in arguments)
+    for namespace, body_frame in (('', 'body'), ('/robot', 'robot/body'),
+                                  ('/a/b/', 'a/b/body')):
+        context = LaunchContext()
+        context.launch_configurations['namespace'] = namespace
+        defaults = {a.name: perform_substitutions(context, a.default_value) for a in arguments}
+        assert defaults == {
+            'namespace': '', 'params_file': str(share(install) / 'config' / 'params.yaml'),
+            'use_sim_time': 'false', 'rviz': 'false', 'body_frame_id': body_frame}
+    choices = {a.name: a.choices for a in arguments}
+    assert choices['rviz'] == choices['use_sim_time'] and {'True', 'true'} <= set(
+        choices['rviz'])
 
 
-def test_launch_starts_the_node_in_the_namespace(real_launch, ros, install):
-    """With the real ``launch``: namespace:=/robot runs /robot/mouse_constraint on /robot/pose."""
-    poses = ros.collect(PoseStamped, '/robot/pose')
+def launch_process(install: Path, arguments: list) -> subprocess.Popen:
+    """Start the installed launch file with the real ``launch`` in a process, output piped."""
     site_packages = next(install.glob('lib/python3*/site-packages'))
     python_path = os.pathsep.join(filter(None, [str(site_packages),
                                                 os.environ.get('PYTHONPATH')]))
@@ -191,21 +410,87 @@ def test_launch_starts_the_node_in_the_namespace(real_launch, ros, install):
         'service = LaunchService()\n'
         'service.include_launch_description(IncludeLaunchDescription(\n'
         '    PythonLaunchDescriptionSource(sys.argv[1]),\n'
-        '    launch_arguments=[("namespace", "/robot")]))\n'
+        '    launch_arguments=[a.split(":=", 1) for a in sys.argv[2:]]))\n'
         'sys.exit(service.run())\n')
-    process = subprocess.Popen(
-        [sys.executable, '-c', script, str(share(install) / 'launch' / LAUNCH_FILE)],
-        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=environment)
+    return subprocess.Popen(
+        [sys.executable, '-c', script, str(share(install) / 'launch' / LAUNCH_FILE),
+         *arguments], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+        env=environment)
+
+
+def stop(process: subprocess.Popen) -> str:
+    """SIGINT the launch process, wait for it; return its output."""
+    process.send_signal(signal.SIGINT)
+    try:
+        process.wait(timeout=15.0)
+    finally:
+        process.kill()
+    output, _ = process.communicate()
+    return output
+
+
+def node_parameters(ros, node: str, names: list) -> list:
+    """Return the values of ``names`` from ``node``'s parameter service (Python values)."""
+    from rcl_interfaces.srv import GetParameters
+    from rclpy.parameter import parameter_value_to_python
+
+    client = ros.probe.create_client(GetParameters, f'{node}/get_parameters')
+    assert ros.spin_until(client.service_is_ready, timeout=30.0)
+    future = client.call_async(GetParameters.Request(names=names))
+    assert ros.spin_until(future.done, timeout=10.0)
+    return [parameter_value_to_python(value) for value in future.result().values]
+
+
+def test_launch_starts_the_node_in_the_namespace(real_launch, ros, install):
+    """
+    With the real ``launch``: namespace:=/robot runs /robot/mouse_constraint on /robot/pose.
+
+    Its body frame on /tf is robot/body, so a second instance in another namespace publishes
+    another child frame.
+    """
+    poses = ros.collect(PoseStamped, '/robot/pose')
+    process = launch_process(install, ['namespace:=/robot'])
     try:
         assert ros.spin_until(lambda: len(poses) > 10, timeout=30.0)
-        publishers = ros.probe.get_publishers_info_by_topic('/robot/pose')
-        assert [(p.node_namespace, p.node_name) for p in publishers] == [('/robot', NODE_NAME)]
+
+        def publishers() -> list:
+            return [(p.node_namespace, p.node_name)
+                    for p in ros.probe.get_publishers_info_by_topic('/robot/pose')]
+        # The publisher's node name comes with discovery, a little after its first messages.
+        assert ros.spin_until(lambda: publishers() == [('/robot', NODE_NAME)], timeout=10.0), \
+            publishers()
+        assert node_parameters(ros, f'/robot/{NODE_NAME}', ['body_frame_id', 'frame_id']) == [
+            'robot/body', 'world']
     finally:
-        process.send_signal(signal.SIGINT)
-        try:
-            process.wait(timeout=15.0)
-        finally:
-            process.kill()
-    output, _ = process.communicate()
+        output = stop(process)
     assert process.returncode == 0, output
     assert 'process has finished cleanly' in output, output
+
+
+def test_launch_takes_capitalised_booleans(real_launch, ros, install):
+    """use_sim_time:=True and rviz:=False are taken: the node follows /clock, no RViz."""
+    process = launch_process(install, ['namespace:=/caps', 'use_sim_time:=True', 'rviz:=False',
+                                       'body_frame_id:=caps_body'])
+    try:
+        assert node_parameters(ros, f'/caps/{NODE_NAME}', ['use_sim_time', 'body_frame_id']) == [
+            True, 'caps_body']
+    finally:
+        output = stop(process)
+    assert process.returncode == 0, output
+    assert 'rviz2' not in output, output
+
+
+def test_rviz_true_without_rviz2_fails_before_the_node_starts(real_launch, install):
+    """
+    Where rviz2 is not installed, rviz:=true exits 1 naming it, and no node was started.
+
+    The launch process's ament index is the colcon install alone, so rviz2 is not in it.
+    """
+    process = launch_process(install, ['namespace:=/no_rviz', 'rviz:=true'])
+    try:
+        output, _ = process.communicate(timeout=60.0)
+    finally:
+        process.kill()
+    assert process.returncode == 1, output
+    assert "package 'rviz2' not found" in output, output
+    assert 'mouse_constraint_node' not in output, output

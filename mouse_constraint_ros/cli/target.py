@@ -1,16 +1,32 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """
 The ``mouse_target`` command: publish mouse targets on the relative topic ``target``.
 
 ``mouse_target X Y Z`` publishes one target and exits once a subscriber has acknowledged it;
 ``mouse_target --circle`` moves the target around a circle until Ctrl-C (or ``--duration``);
 ``mouse_target --grab X Y Z`` publishes one grab on ``grab`` instead: the node makes that point of
-the body the anchor (and says so when the point is off the body, which this command cannot see).
-Before publishing it reads the node's ``frame_id`` and ``workspace_radius`` parameters
-(``--node``, default ``mouse_constraint`` in this command's namespace) and refuses, with the
-reason and exit status 1, a target (or grab) the node would ignore: another frame, or beyond
-the workspace (for ``--circle``, any point of the circle). When the parameter service does not
-answer within ``--timeout`` it says so and publishes the target unchecked, since the subscriber
-need not be ``mouse_constraint``. Ctrl-C or SIGTERM stops it at once, also while waiting.
+the body the anchor. Before publishing it waits for ``--subscribers`` subscribers (default 1),
+reads the node's ``frame_id`` and ``workspace_radius`` parameters (``--node``, default
+``mouse_constraint`` in this command's namespace) and refuses, with the reason and exit status
+1, a target (or grab) the node would ignore: another frame, or beyond the workspace (for
+``--circle``, any point of the circle). A grab is also checked against the body: its latest
+``pose`` and the node's ``box_size`` and ``grab_margin``, with the node's own test (``grab``
+module), so a grab off the body is refused too. When the parameters or a pose do not come
+within ``--timeout`` it says so and publishes unchecked, since the subscriber need not be
+``mouse_constraint``. Ctrl-C or SIGTERM stops it at once, also while waiting.
 ROS arguments work as for any node: ``--ros-args -r __ns:=/robot -r target:=/clicked_point``.
 """
 
@@ -21,8 +37,6 @@ import time
 from typing import List, Optional
 
 from geometry_msgs.msg import PointStamped
-from rcl_interfaces.msg import ParameterType
-from rcl_interfaces.srv import GetParameters
 import rclpy
 from rclpy.duration import Duration
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
@@ -31,7 +45,7 @@ from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
 from .help_text import plain_text
-from ..inputs.target_gate import TargetGate
+from .node_checks import fetch_gate, grab_refusal
 from ..timing.spin import Interrupted, POLL_PERIOD, spin_until, SpinEnd, StopRequest, wait_until
 from ..wire.interface import GRAB_TOPIC, NODE_NAME, TARGET_QOS, TARGET_TOPIC
 from ..wire.messages import point_message
@@ -59,8 +73,11 @@ def build_parser() -> argparse.ArgumentParser:
                         help='the node whose frame_id and workspace_radius the targets must fit '
                              '(default: %(default)s, in this namespace)')
     parser.add_argument('--timeout', type=float, default=10.0,
-                        help='seconds to wait for a subscriber, the parameters and the '
-                             'acknowledgement (default: %(default)g)')
+                        help='seconds to wait for the subscribers, the parameters (and for a '
+                             'grab the pose) and the acknowledgement (default: %(default)g)')
+    parser.add_argument('--subscribers', type=int, default=1, metavar='N',
+                        help='publish once N subscribers have matched, e.g. 2 for the node and '
+                             'a mouse_record that must see every target (default: %(default)s)')
     circle = parser.add_argument_group('moving target')
     circle.add_argument('--circle', action='store_true',
                         help='move the target around a horizontal circle until Ctrl-C '
@@ -95,6 +112,8 @@ def parse_arguments(argv: List[str]) -> argparse.Namespace:
         parser.error('--radius and --rate must be > 0 and --period non-zero')
     if not options.timeout > 0.0:
         parser.error('--timeout must be > 0')
+    if options.subscribers < 1:
+        parser.error('--subscribers must be >= 1')
     return options
 
 
@@ -122,13 +141,15 @@ class TargetPublisher(Node):
         self.publisher.publish(
             point_message(point, frame_id, self.get_clock().now().nanoseconds))
 
-    def wait_for_subscriber(self, executor, deadline: float, stop: StopRequest) -> bool:
+    def wait_for_subscribers(self, executor, count: int, deadline: float,
+                             stop: StopRequest) -> bool:
         """
-        Spin until a subscriber has matched; return False at ``deadline`` (monotonic).
+        Spin until ``count`` subscribers have matched; return False at ``deadline`` (monotonic).
 
         :raises Interrupted: on Ctrl-C or SIGTERM.
         """
-        return wait_until(executor, stop, lambda: self.publisher.get_subscription_count() > 0,
+        return wait_until(executor, stop,
+                          lambda: self.publisher.get_subscription_count() >= count,
                           deadline=deadline)
 
     def wait_for_ack(self, executor, deadline: float, stop: StopRequest) -> bool:
@@ -145,31 +166,6 @@ class TargetPublisher(Node):
             executor, stop,
             lambda: self.publisher.wait_for_all_acked(Duration(seconds=POLL_PERIOD)),
             deadline=deadline)
-
-    def fetch_gate(self, executor, target_node: str, deadline: float,
-                   stop: StopRequest) -> TargetGate:
-        """
-        Return the target policy of ``target_node`` from its parameter service.
-
-        :raises RuntimeError: saying why the parameters could not be read by ``deadline``.
-        :raises Interrupted: on Ctrl-C or SIGTERM.
-        """
-        client = self.create_client(GetParameters, f'{target_node}/get_parameters')
-        try:
-            if not wait_until(executor, stop, client.service_is_ready, deadline=deadline):
-                raise RuntimeError(f'no parameter service {client.srv_name}')
-            future = client.call_async(
-                GetParameters.Request(names=['frame_id', 'workspace_radius']))
-            if not wait_until(executor, stop, future.done, deadline=deadline):
-                raise RuntimeError(f'{client.srv_name} did not answer')
-            values = future.result().values
-            if len(values) != 2 or values[0].type != ParameterType.PARAMETER_STRING \
-                    or values[1].type != ParameterType.PARAMETER_DOUBLE:
-                raise RuntimeError(f'{target_node} has no string frame_id and double '
-                                   'workspace_radius parameters')
-            return TargetGate(values[0].string_value, values[1].double_value)
-        finally:
-            self.destroy_client(client)
 
 
 def main(args: Optional[List[str]] = None) -> int:
@@ -192,16 +188,19 @@ def main(args: Optional[List[str]] = None) -> int:
     try:
         with StopRequest() as stop:
             try:
-                logger.info(f'waiting up to {options.timeout:g} s for a subscriber on {topic}')
-                if not node.wait_for_subscriber(executor, deadline, stop):
+                wanted = options.subscribers
+                logger.info(f'waiting up to {options.timeout:g} s for {wanted} '
+                            f'subscriber{"s" if wanted > 1 else ""} on {topic}')
+                if not node.wait_for_subscribers(executor, wanted, deadline, stop):
+                    matched = node.publisher.get_subscription_count()
                     logger.error(
-                        f'no subscriber on {topic} after {options.timeout:g} s: is '
-                        'mouse_constraint running with the same ROS_DOMAIN_ID, namespace and '
-                        'remappings?')
+                        f'{f"{matched} of {wanted} subscribers" if matched else "no subscriber"}'
+                        f' on {topic} after {options.timeout:g} s: is mouse_constraint running '
+                        'with the same ROS_DOMAIN_ID, namespace and remappings?')
                     return 1
                 frame = options.frame
                 try:
-                    gate = node.fetch_gate(executor, options.node, deadline, stop)
+                    gate = fetch_gate(node, executor, options.node, deadline, stop)
                 except RuntimeError as error:
                     logger.warning(f'cannot check the {what} against {options.node}: {error} '
                                    f'within {options.timeout:g} s (is --node right?); '
@@ -215,6 +214,18 @@ def main(args: Optional[List[str]] = None) -> int:
                     if refusal is not None:
                         logger.error(f'{options.node} would ignore {what} {refusal.reason}; '
                                      'nothing published')
+                        return 1
+                if gate is not None and options.grab:
+                    try:
+                        off = grab_refusal(node, executor, options.node, options.point,
+                                           deadline, stop)
+                    except RuntimeError as error:
+                        logger.warning(f'cannot check the grab against the body: {error} '
+                                       f'within {options.timeout:g} s; publishing it unchecked')
+                        off = None
+                    if off is not None:
+                        logger.error(f'{options.node} would ignore grab {off}; nothing '
+                                     'published')
                         return 1
                 if not options.circle:
                     node.publish_point(options.point, frame)
@@ -233,15 +244,24 @@ def main(args: Optional[List[str]] = None) -> int:
                 f'{frame!r}, {abs(options.period):g} s per turn, {options.rate:g} Hz on {topic};'
                 ' Ctrl-C stops')
 
+            published = []
+
             def tick() -> None:
-                node.publish_point(circle_point(options.center, options.radius, options.period,
-                                                time.monotonic() - start), frame)
+                published.append(circle_point(options.center, options.radius, options.period,
+                                              time.monotonic() - start))
+                node.publish_point(published[-1], frame)
 
             node.create_timer(1.0 / options.rate, tick)
             tick()
             # Ctrl-C is how a moving target ends: exit 0.
             end = spin_until(executor, stop, deadline=start + options.duration)
-            return 1 if end is SpinEnd.SHUTDOWN else 0
+            if end is SpinEnd.SHUTDOWN:
+                return 1
+            # The last targets reach every subscriber before the publisher goes.
+            acked = node.publisher.wait_for_all_acked(Duration(seconds=min(options.timeout, 1.0)))
+            logger.info(f'{len(published)} targets published on {topic}'
+                        + ('' if acked else ', the last not acknowledged'))
+            return 0
     except ExternalShutdownException:
         return 1
     finally:

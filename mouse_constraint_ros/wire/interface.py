@@ -1,3 +1,17 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """
 The node's ROS interface: its name, topic and service names, and QoS, shared by node and CLIs.
 
@@ -47,3 +61,5 @@ STEP_SERVICE = '~/step'
 CLOCK_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
                        reliability=ReliabilityPolicy.RELIABLE)
 WRENCH_QOS = TARGET_QOS
+# The browser view of the node (``mouse_view``), in the node's namespace.
+VIEW_NODE_NAME = 'mouse_view'

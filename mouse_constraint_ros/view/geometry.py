@@ -1,0 +1,140 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Where a pointer meets the body and the drag plane, in the world frame (plain floats, no ROS).
+
+A press on the body is a ray from the camera; ``ray_box_hit`` finds where it first meets the
+body's box (``box_size`` centred at the COM, turned with the body) by the slab method in the
+body frame. While dragging, the pointer's ray meets the plane that faces the camera through the
+grabbed point (``camera_plane_point``): the target stays at the grabbed point's depth, as in the
+Box2D and Bounce testbeds and MuJoCo's perturbation. ``material_point`` carries a point of the
+body from the pose the browser showed to the pose the node has now, so that a grab lands on the
+point the user pressed even when the body moved since it was drawn.
+"""
+
+import math
+from typing import NamedTuple, Optional, Sequence
+
+from ..physics.algebra import multiply, multiply_transposed, Quaternion, rotation_matrix, Vector3
+
+# Below this |cos| between a ray and a plane's normal the ray counts as parallel to the plane.
+PARALLEL = 1e-9
+
+
+class Pose(NamedTuple):
+    """A body pose: COM position (m) and orientation (x, y, z, w), world frame."""
+
+    position: Vector3
+    orientation: Quaternion
+
+
+def _sub(a: Sequence[float], b: Sequence[float]) -> Vector3:
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+def _dot(a: Sequence[float], b: Sequence[float]) -> float:
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _along(origin: Sequence[float], direction: Sequence[float], t: float) -> Vector3:
+    return (origin[0] + t * direction[0], origin[1] + t * direction[1],
+            origin[2] + t * direction[2])
+
+
+def ray_box_hit(origin: Sequence[float], direction: Sequence[float], *, pose: Pose,
+                box_size: Sequence[float]) -> Optional[Vector3]:
+    """
+    Return the first point where a ray meets the body's box, or None when it misses.
+
+    The ray and the box are taken into the body frame (R^T (p - x)), where the box is
+    [-s/2, s/2] on each axis, and each pair of faces bounds the ray's parameter t (the slab
+    method). A ray that starts inside the box meets it where it leaves.
+
+    :param origin: the ray's origin, world frame (m).
+    :param direction: the ray's direction, world frame (any non-zero length).
+    :param pose: the body's pose.
+    :param box_size: the box's full edge lengths (m).
+    :returns: the world point (m), or None for a miss, a ray pointing away, or a zero or
+        non-finite direction.
+    """
+    rotation = rotation_matrix(pose.orientation)
+    start = multiply_transposed(_sub(origin, pose.position), rotation)
+    heading = multiply_transposed(tuple(float(c) for c in direction), rotation)
+    if not all(math.isfinite(c) for c in (*start, *heading)) or not any(heading):
+        return None
+    near, far = -math.inf, math.inf
+    for p, d, size in zip(start, heading, box_size):
+        half = 0.5 * size
+        if d == 0.0:
+            if abs(p) > half:
+                return None
+            continue
+        t1, t2 = (-half - p) / d, (half - p) / d
+        near, far = max(near, min(t1, t2)), min(far, max(t1, t2))
+    if near > far or far < 0.0:
+        return None
+    return _along(origin, direction, near if near >= 0.0 else far)
+
+
+def camera_plane_point(origin: Sequence[float], direction: Sequence[float], *,
+                       through: Sequence[float],
+                       normal: Sequence[float]) -> Optional[Vector3]:
+    """
+    Return where a ray meets the plane through ``through`` with normal ``normal``.
+
+    The point is origin + t direction with t = n . (through - origin) / n . direction.
+
+    :param origin: the ray's origin, world frame (m): the camera.
+    :param direction: the ray's direction: through the pointer.
+    :param through: a point of the plane (m): the grabbed point.
+    :param normal: the plane's normal: the camera's viewing direction.
+    :returns: the world point (m), or None when the ray is parallel to the plane or meets it
+        behind its origin.
+    """
+    rate = _dot(normal, direction)
+    scale = math.sqrt(_dot(normal, normal) * _dot(direction, direction))
+    if not math.isfinite(rate) or not scale > 0.0 or abs(rate) <= PARALLEL * scale:
+        return None
+    t = _dot(normal, _sub(through, origin)) / rate
+    if not t >= 0.0:
+        return None
+    return _along(origin, direction, t)
+
+
+def material_point(point: Sequence[float], *, shown: Pose, now: Pose) -> Vector3:
+    """
+    Return where the body point that was at ``point`` (pose ``shown``) is at pose ``now``.
+
+    The point in the body frame is R_shown^T (point - x_shown); at the new pose it is
+    x_now + R_now of that.
+
+    :param point: a world point (m), on the body as it was shown.
+    :param shown: the pose the point was taken at.
+    :param now: the body's pose now.
+    """
+    local = multiply_transposed(_sub(point, shown.position), rotation_matrix(shown.orientation))
+    x = multiply(local, rotation_matrix(now.orientation))
+    return (now.position[0] + x[0], now.position[1] + x[1], now.position[2] + x[2])
+
+
+def world_point(pose: Pose, local: Sequence[float]) -> Vector3:
+    """Return the world position of the body-frame point ``local`` (from the COM) at ``pose``."""
+    x = multiply(tuple(float(c) for c in local), rotation_matrix(pose.orientation))
+    return (pose.position[0] + x[0], pose.position[1] + x[1], pose.position[2] + x[2])
+
+
+def wxyz(orientation: Sequence[float]) -> Quaternion:
+    """Return a quaternion (x, y, z, w), REP 103's order, in the web view's order (w, x, y, z)."""
+    return (orientation[3], orientation[0], orientation[1], orientation[2])

@@ -1,0 +1,334 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The ``mouse_view`` node: serves the page (``scene``) and turns its gestures into the node's input.
+
+It wires ROS to pure parts and holds no geometry of its own: ``Gestures`` says what a pointer
+event sends, ``PushThrottle`` how often a pose goes to the browser, ``node_readouts`` what the
+node's parameters and /diagnostics say. All names are the ``interface`` module's, relative to the
+view's namespace, so ``--ros-args -r __ns:=/robot`` views ``/robot/mouse_constraint``.
+
+viser calls the pointer and button callbacks on its own threads; they only queue work with the
+time of the event, which a timer runs every ``WORK_PERIOD`` on the executor's thread, so every
+publish and service call happens there (the EventsExecutor has no guard conditions to wake it
+sooner). The same timer takes the newest pose (``NewestMessage``: no callback per pose) and
+offers it to the throttle; poses and twists are decoded only when used.
+"""
+
+import queue
+import time
+from typing import Callable, List, Optional
+
+from diagnostic_msgs.msg import DiagnosticArray
+from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
+from rcl_interfaces.msg import ParameterEvent
+from rcl_interfaces.srv import GetParameters
+from rclpy.clock import Clock, ClockType
+from rclpy.node import Node
+from rclpy.qos import qos_profile_parameter_events, QoSProfile, ReliabilityPolicy
+from rclpy.serialization import deserialize_message
+from std_srvs.srv import SetBool, Trigger
+from visualization_msgs.msg import Marker, MarkerArray
+
+from .geometry import Pose, world_point
+from .gestures import Action, Camera, Gestures, GRAB, RELEASE
+from .newest_message import NewestMessage
+from .node_readouts import number_text, Readouts, ViewParameters
+from .push_throttle import PushThrottle
+from ..wire.interface import (DIAGNOSTICS_TOPIC, GRAB_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH,
+                              NODE_NAME, PAUSE_SERVICE, POSE_TOPIC, RELEASE_SERVICE,
+                              RESET_SERVICE, STEP_SERVICE, TARGET_QOS, TARGET_TOPIC, TWIST_TOPIC,
+                              VIEW_NODE_NAME)
+from ..wire.messages import point_message
+
+# Only the newest pose and twist matter to the view: depth 1, best effort (a reliable
+# publisher serves it).
+LATEST_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)
+# Periods (s): the queued work and the throttle's flush, the panel's numbers, the look for
+# the node.
+WORK_PERIOD, PANEL_PERIOD, PRESENCE_PERIOD = 0.004, 0.2, 0.5
+# The parameters the page is drawn with.
+PARAMETER_NAMES = list(ViewParameters._fields)
+
+
+def node_name(private: str) -> str:
+    """Return a private name of the node (``~/reset``) as the view reaches it (relative)."""
+    return NODE_NAME + private[1:] if private.startswith('~') else private
+
+
+def _pose(message: PoseStamped) -> Pose:
+    p, q = message.pose.position, message.pose.orientation
+    return Pose((p.x, p.y, p.z), (q.x, q.y, q.z, q.w))
+
+
+def _camera(client) -> Optional[Camera]:
+    """Return the browser's camera, or None before the browser has reported it."""
+    try:
+        camera = client.camera
+        position = tuple(float(c) for c in camera.position)
+        forward = tuple(float(a) - b for a, b in zip(camera.look_at, position))
+    except (AssertionError, AttributeError, TypeError, ValueError):
+        return None
+    return Camera(position, forward)
+
+
+class MouseViewNode(Node):
+    """
+    The view of one ``mouse_constraint`` node in this namespace.
+
+    :param scene_factory: makes the page (``ViewScene``) from the node's parameters as known.
+    :param clock: seconds of a monotonic clock (the throttle's time).
+    :param kwargs: passed to ``rclpy.node.Node``.
+    """
+
+    def __init__(self, *, scene_factory: Callable, clock: Callable[[], float] = time.monotonic,
+                 **kwargs) -> None:
+        """Create the topics, services, timers and the scene."""
+        super().__init__(VIEW_NODE_NAME, **kwargs)
+        namespace = self.get_namespace().rstrip('/')
+        self.target_node = f'{namespace}/{NODE_NAME}'
+        self.parameters, self.readouts = ViewParameters(), Readouts()
+        self.gestures, self.throttle = Gestures(), PushThrottle()
+        self._monotonic = clock
+        self._work: 'queue.SimpleQueue[Callable[[], None]]' = queue.SimpleQueue()
+        self._pose_raw: Optional[bytes] = None
+        self._twist_raw: Optional[bytes] = None
+        self._latest: Optional[Pose] = None
+        self._present: Optional[bool] = None  # not looked yet
+        self._parameters_known = False
+        self.pushes = 0  # poses pushed to the page
+        self.grab_publisher = self.create_publisher(PointStamped, GRAB_TOPIC, TARGET_QOS)
+        self.target_publisher = self.create_publisher(PointStamped, TARGET_TOPIC, TARGET_QOS)
+        # Never spun: its pose and twist subscriptions are only taken from (NewestMessage).
+        self.reader = Node(f'{VIEW_NODE_NAME}_reader', context=self.context,
+                           namespace=self.get_namespace())
+        self.pose_subscription = NewestMessage(self.reader, PoseStamped, POSE_TOPIC, LATEST_QOS)
+        self.twist_subscription = NewestMessage(self.reader, TwistStamped, TWIST_TOPIC,
+                                                LATEST_QOS)
+        self.create_subscription(MarkerArray, node_name(MARKERS_TOPIC), self._on_markers,
+                                 MONITOR_DEPTH)
+        self.create_subscription(DiagnosticArray, DIAGNOSTICS_TOPIC, self._on_diagnostics,
+                                 MONITOR_DEPTH)
+        self.create_subscription(ParameterEvent, '/parameter_events', self._on_parameter_event,
+                                 qos_profile_parameter_events)
+        self._node_services = {name: self.create_client(kind, node_name(name)) for name, kind in (
+            (PAUSE_SERVICE, SetBool), (STEP_SERVICE, Trigger), (RESET_SERVICE, Trigger),
+            (RELEASE_SERVICE, Trigger))}
+        self._get_parameters = self.create_client(GetParameters,
+                                                  f'{NODE_NAME}/get_parameters')
+        self.scene = scene_factory(self.parameters)
+        self._bind_scene()
+        # On the steady clock: the page stays live while a simulated clock stands still.
+        steady = Clock(clock_type=ClockType.STEADY_TIME)
+        self._timers = [self.create_timer(period, callback, clock=steady) for period, callback in (
+            (WORK_PERIOD, self._run_work), (PANEL_PERIOD, self._update_panel),
+            (PRESENCE_PERIOD, self._look_for_node))]
+        self._look_for_node()
+
+    # Work from viser's threads: queued with the event's time, run on the executor's.
+
+    def queue(self, work: Callable[[], None]) -> None:
+        """Run ``work()`` on the executor's thread within ``WORK_PERIOD`` (thread-safe)."""
+        self._work.put(work)
+
+    def _run_work(self) -> None:
+        raw = self.pose_subscription.take()
+        if raw is not None:
+            self._on_pose(raw)
+        elif self.throttle.flush(self._monotonic()) is not None:
+            self._push()
+        while True:
+            try:
+                work = self._work.get_nowait()
+            except queue.Empty:
+                return
+            try:
+                work()
+            except Exception as error:  # A gesture or button must never end the view.
+                self.get_logger().error(f'{type(error).__name__}: {error}')
+
+    def _bind_scene(self) -> None:
+        scene = self.scene
+        scene.body.on_drag('left')(self._on_drag)
+        scene.body.on_drag('left', modifier='shift')(self._on_drag)
+        scene.body.on_click(self._on_click)
+        scene.body.on_click(modifier='shift')(self._on_click)
+        scene.on_button(scene.pause, lambda: self.queue(self.toggle_pause))
+        for button, service in ((scene.step, STEP_SERVICE), (scene.reset, RESET_SERVICE),
+                                (scene.release, RELEASE_SERVICE)):
+            scene.on_button(button, lambda service=service: self.queue(
+                lambda: self.call(service)))
+
+    def _now_ns(self) -> int:
+        return self.get_clock().now().nanoseconds
+
+    async def _on_drag(self, event) -> None:
+        stamp, hold = self._now_ns(), bool(self.scene.hold.value)
+        if event.phase == 'start':
+            camera = _camera(event.client)
+            self.queue(lambda: self._start_drag(event.client_id, event.start_position,
+                                                camera, stamp))
+        elif event.phase == 'update':
+            self.queue(lambda: self.send(
+                self.gestures.move(event.client_id, event.end_position), stamp))
+        else:
+            self.queue(lambda: self.send(self.gestures.end(
+                event.client_id, event.end_position, modifier=event.modifier, hold=hold),
+                stamp))
+
+    def _start_drag(self, client: int, pressed, camera: Optional[Camera], stamp: int) -> None:
+        now, shown = self.latest_pose(), self.scene.shown
+        if now is None or shown is None:
+            return
+        self.send(self.gestures.start(client, pressed=pressed, camera=camera, shown=shown,
+                                      now=now), stamp)
+
+    async def _on_click(self, event) -> None:
+        stamp, hold = self._now_ns(), bool(self.scene.hold.value)
+
+        def click() -> None:
+            now = self.latest_pose()
+            if now is not None:
+                self.send(Gestures.click(event.ray_origin, event.ray_direction, now=now,
+                                         box_size=self.parameters.box_size,
+                                         modifier=event.modifier, hold=hold), stamp)
+        self.queue(click)
+
+    # Inputs to the node.
+
+    def send(self, actions: List[Action], stamp_ns: int) -> None:
+        """Publish grabs and targets stamped ``stamp_ns``, call ``~/release`` for a release."""
+        for action in actions:
+            if action.kind == RELEASE:
+                self.call(RELEASE_SERVICE)
+                continue
+            message = point_message(action.point, self.parameters.frame_id, stamp_ns)
+            (self.grab_publisher if action.kind == GRAB else self.target_publisher).publish(
+                message)
+
+    def call(self, service: str, data: Optional[bool] = None) -> None:
+        """Call one of the node's services; show its answer on the page."""
+        client = self._node_services[service]
+        name = self.target_node + service[1:]
+        if not client.service_is_ready():
+            self.scene.show_reply(f'{name}: no such service (is the node running?)')
+            return
+        request = client.srv_type.Request()
+        if data is not None:
+            request.data = data
+        future = client.call_async(request)
+
+        def answered(done) -> None:
+            response = done.result()
+            if response is not None:
+                self.scene.show_reply(f'{name}: {response.message}')
+        future.add_done_callback(answered)
+
+    def toggle_pause(self) -> None:
+        """Pause the node, or resume it when its diagnostics say it is paused."""
+        self.call(PAUSE_SERVICE, not self.readouts.paused)
+        self.readouts = self.readouts._replace(paused=not self.readouts.paused)
+
+    # What the node publishes.
+
+    def _on_pose(self, raw: bytes) -> None:
+        self._pose_raw, self._latest = raw, None
+        if self.throttle.offer(raw, self._monotonic()) is not None:
+            self._push()
+
+    def latest_pose(self) -> Optional[Pose]:
+        """Return the node's latest pose (None before the first), decoded once."""
+        if self._latest is None and self._pose_raw is not None:
+            try:
+                self._latest = _pose(deserialize_message(self._pose_raw, PoseStamped))
+            except Exception:  # A malformed pose is passed over.
+                self._pose_raw = None
+        return self._latest
+
+    def _push(self) -> None:
+        pose = self.latest_pose()
+        if pose is None:
+            return
+        self.scene.show_pose(pose, world_point(pose, self.parameters.anchor))
+        self.pushes += 1
+
+    def _on_markers(self, array: MarkerArray) -> None:
+        for marker in array.markers:
+            if marker.ns == 'target':
+                p = marker.pose.position
+                self.scene.show_target((p.x, p.y, p.z) if marker.action == Marker.ADD
+                                       else None)
+
+    def _on_diagnostics(self, array: DiagnosticArray) -> None:
+        self.readouts = self.readouts.updated(array, self.target_node)
+
+    def _on_parameter_event(self, event: ParameterEvent) -> None:
+        if event.node != self.target_node:
+            return
+        changed = (*event.new_parameters, *event.changed_parameters)
+        self._set_parameters((p.name, p.value) for p in changed)
+
+    def _set_parameters(self, pairs) -> None:
+        self.parameters = self.parameters.with_values(pairs)
+        self.scene.apply_parameters(self.parameters)
+
+    def _look_for_node(self) -> None:
+        topic = self.pose_subscription.topic_name
+        present = self.count_publishers(topic) > 0
+        if present != self._present:
+            self.get_logger().info(f'{self.target_node} publishes on {topic}' if present else
+                                   f'no node on {topic}: waiting for it')
+        if not present:
+            self.readouts, self._parameters_known = Readouts(), False
+        elif not self._parameters_known and self._get_parameters.service_is_ready():
+            self._parameters_known = True
+            self._get_parameters.call_async(
+                GetParameters.Request(names=PARAMETER_NAMES)).add_done_callback(
+                self._parameters_answered)
+        self._present = present
+
+    def _parameters_answered(self, done) -> None:
+        response = done.result()
+        if response is None or len(response.values) != len(PARAMETER_NAMES):
+            self._parameters_known = False  # Asked again at the next look.
+            return
+        self._set_parameters(zip(PARAMETER_NAMES, response.values))
+
+    def _update_panel(self) -> None:
+        speed = None
+        self._twist_raw = self.twist_subscription.take() or self._twist_raw
+        if self._twist_raw is not None:
+            try:
+                linear = deserialize_message(self._twist_raw, TwistStamped).twist.linear
+                speed = (linear.x ** 2 + linear.y ** 2 + linear.z ** 2) ** 0.5
+            except Exception:  # A malformed twist shows as n/a.
+                self._twist_raw = None
+        topic = self.pose_subscription.topic_name
+        status = (f'**{self.target_node}** on `{topic}`' if self._present else
+                  f'**no node on {topic}**: waiting for it (`make run`)')
+        readouts = self.readouts
+        numbers = '  \n'.join((
+            f'COM speed: {number_text(speed, "m/s")}',
+            f'anchor error: {number_text(readouts.anchor_error, "mm", scale=1e3, decimals=2)}',
+            f'rate: {number_text(readouts.rate_hz, "Hz", decimals=1)}',
+            f'mode: {self.parameters.mode}'))
+        self.scene.show_text(status=status, numbers=numbers, paused=readouts.paused)
+
+    def destroy_node(self) -> None:
+        """Stop the timers, then destroy the node."""
+        for timer in self._timers:
+            timer.cancel()
+        self.reader.destroy_node()
+        super().destroy_node()

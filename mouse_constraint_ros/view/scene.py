@@ -1,0 +1,159 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The page that ``viser`` draws in the browser: the scene and the panel.
+
+The scene holds the body, its anchor, the target and the line between, a trail of the anchor,
+the grid and axes, and the floor when the node has one; the panel the buttons and the numbers.
+
+``ViewScene`` builds them once on a ``viser.ViserServer`` and then only moves them: each push
+sets a pose or a point, which viser sends to every browser attached. The colours and the
+spheres' size are the RViz markers' (``markers`` module), so both views look alike. The pointer
+callbacks and the buttons are handed in by the node; viser calls them on its own threads.
+"""
+
+from collections import deque
+from typing import Callable, Deque, Optional, Sequence
+
+import numpy as np
+import viser
+
+from .geometry import Pose, wxyz
+from .node_readouts import ViewParameters
+from ..monitoring.markers import (ANCHOR_COLOR, BODY_COLOR, LINE_FRACTION, SPHERE_FRACTION,
+                                  TARGET_COLOR)
+from ..physics.algebra import Vector3
+
+# The trail keeps every TRAIL_EVERY-th anchor position pushed, TRAIL_LENGTH of them: about a
+# second at 60 pushes a second.
+TRAIL_EVERY, TRAIL_LENGTH = 3, 20
+TRAIL_COLOR = (1.0, 0.75, 0.4)
+FLOOR_COLOR = (0.55, 0.55, 0.55)
+# The floor drawn: a square slab this wide (m) and thin, its top at floor_height.
+FLOOR_WIDTH, FLOOR_THICKNESS = 6.0, 0.002
+GRID_WIDTH, GRID_CELL = 4.0, 0.1
+
+
+def _rgb(color: Sequence[float]) -> tuple:
+    return tuple(float(c) for c in color[:3])
+
+
+class ViewScene:
+    """
+    The scene and the panel on one viser server.
+
+    :param server: the viser server.
+    :param parameters: the node's parameters as known now.
+    """
+
+    def __init__(self, server: viser.ViserServer, parameters: ViewParameters) -> None:
+        """Add every scene node and panel element."""
+        scene, gui = server.scene, server.gui
+        self._server = server
+        scene.world_axes.visible = True
+        scene.add_grid('/grid', GRID_WIDTH, GRID_WIDTH, plane='xy', cell_size=GRID_CELL,
+                       section_size=1.0)
+        self.floor = scene.add_box('/floor', _rgb(FLOOR_COLOR),
+                                   (FLOOR_WIDTH, FLOOR_WIDTH, FLOOR_THICKNESS), opacity=0.5,
+                                   visible=False)
+        self.body = scene.add_box('/body', _rgb(BODY_COLOR), parameters.box_size,
+                                  opacity=BODY_COLOR[3])
+        radius = 0.5 * SPHERE_FRACTION * max(parameters.box_size)
+        # A child of the body: it moves with the body's pose, at no cost per push.
+        self.anchor = scene.add_icosphere('/body/anchor', radius, _rgb(ANCHOR_COLOR))
+        self.target = scene.add_icosphere('/target', radius, _rgb(TARGET_COLOR), visible=False)
+        self._line_width = LINE_FRACTION * max(parameters.box_size)
+        self.line = scene.add_line_segments('/constraint', np.zeros((1, 2, 3)),
+                                            _rgb(TARGET_COLOR), thickness=self._line_width,
+                                            visible=False)
+        self._trail: Deque[Vector3] = deque(maxlen=TRAIL_LENGTH)
+        self.trail = scene.add_line_segments('/trail', np.zeros((1, 2, 3)), _rgb(TRAIL_COLOR),
+                                             thickness=0.5 * self._line_width, visible=False)
+        self.status = gui.add_markdown('')
+        self.pause = gui.add_button('Pause')
+        self.step = gui.add_button('Step')
+        self.reset = gui.add_button('Reset')
+        self.release = gui.add_button('Release')
+        self.hold = gui.add_checkbox('Hold on release', False,
+                                     hint='Keep the body held where it is let go (or hold '
+                                          'shift while releasing).')
+        self.numbers = gui.add_markdown('')
+        self.reply = gui.add_markdown('')
+        self.shown: Optional[Pose] = None
+        self._pushes = 0
+        self._anchor: Optional[Vector3] = None
+        self._target: Optional[Vector3] = None
+        self.apply_parameters(parameters)
+
+    def apply_parameters(self, parameters: ViewParameters) -> None:
+        """Draw the box at ``box_size`` and the floor as the node's parameters say."""
+        self.body.dimensions = parameters.box_size
+        self.anchor.position = parameters.anchor
+        self.floor.visible = parameters.floor
+        self.floor.position = (0.0, 0.0, parameters.floor_height - 0.5 * FLOOR_THICKNESS)
+
+    def show_pose(self, pose: Pose, anchor: Vector3) -> None:
+        """
+        Move the body (and its anchor sphere) to ``pose``; extend the trail and the line.
+
+        :param pose: the body's pose.
+        :param anchor: the anchor's world position at ``pose``.
+        """
+        with self._server.atomic():  # position and orientation land in one frame
+            self.body.position, self.body.wxyz = pose.position, wxyz(pose.orientation)
+        self.shown, self._anchor = pose, anchor
+        self._pushes += 1
+        if self._pushes % TRAIL_EVERY == 0:
+            self._trail.append(anchor)
+            if len(self._trail) >= 2:
+                points = np.asarray(self._trail)
+                self.trail.points = np.stack([points[:-1], points[1:]], axis=1)
+                self.trail.visible = True
+        if self._target is not None:
+            self._update_line()
+
+    def show_target(self, target: Optional[Vector3]) -> None:
+        """Show the target and the line to it, or hide both (a free body)."""
+        self._target = target
+        self.target.visible = target is not None
+        if target is not None:
+            self.target.position = target
+        self._update_line()
+
+    def _update_line(self) -> None:
+        target, anchor = self._target, self._anchor
+        if target is None or anchor is None:
+            self.line.visible = False
+            return
+        self.line.points = np.array([[anchor, target]])
+        self.line.visible = True
+
+    def show_text(self, *, status: str, numbers: str, paused: Optional[bool]) -> None:
+        """Set the status line, the numbers and the pause button's label."""
+        if self.status.content != status:
+            self.status.content = status
+        if self.numbers.content != numbers:
+            self.numbers.content = numbers
+        label = 'Resume' if paused else 'Pause'
+        if self.pause.label != label:
+            self.pause.label = label
+
+    def show_reply(self, text: str) -> None:
+        """Show the node's answer to the last button."""
+        self.reply.content = text
+
+    def on_button(self, button, callback: Callable[[], None]) -> None:
+        """Call ``callback()`` when ``button`` is clicked."""
+        button.on_click(lambda _event: callback())

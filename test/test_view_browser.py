@@ -1,0 +1,234 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The browser tier: a real mouse in Debian's chromium (headless, Playwright) on the rendered body.
+
+The node and ``mouse_view`` run in-process (their executor spins on a thread while Playwright
+drives the browser); chromium draws the page with SwiftShader, its first frame in 10-20 s. The
+pointer is aimed at the body through the camera the browser reports (a pinhole with its vertical
+field of view), away from the panel. The test presses on the body and checks the node's
+``anchor`` parameter becomes a point on the body, drags and checks the target is the pointer's
+ray met with the camera-facing plane through the grabbed point and that the anchor follows it,
+then releases and checks the body is free. It saves a screenshot of the drag: to
+``MOUSE_VIEW_SCREENSHOT`` when set (``docs/view.md`` names the command), else to the test's
+temporary folder.
+"""
+
+import contextlib
+import os
+from pathlib import Path
+import threading
+import time
+
+import numpy as np
+import pytest
+from rclpy.parameter import Parameter
+from scipy.spatial.transform import Rotation
+
+# mouse_view serves its page with viser (requirements/view.txt; no rosdep key: package.xml).
+pytest.importorskip('viser', reason='mouse_view needs viser: pip install -r requirements/view.txt')
+from mouse_constraint_ros.inputs.grab import box_distance
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
+from mouse_constraint_ros.view.command import (INITIAL_CAMERA, INITIAL_LOOK_AT, page_address,
+                                               serve)
+from mouse_constraint_ros.view.geometry import camera_plane_point, world_point
+from mouse_constraint_ros.view.node import MouseViewNode
+from mouse_constraint_ros.view.scene import ViewScene
+
+pytestmark = pytest.mark.browser
+
+CHROMIUM = '/usr/bin/chromium'
+CHROMIUM_ARGS = ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking',
+                 '--disable-component-update', '--disable-sync', '--no-first-run']
+VIEWPORT = {'width': 1280, 'height': 720}
+BOX = (0.4, 0.2, 0.1)
+# The body at rest where it starts; a slow guide, so that the picture catches it on its way.
+AT_REST = {'gravity': [0.0, 0.0, 0.0], 'hold_initial_anchor': False, 'box_size': list(BOX),
+           'max_target_speed': 0.25}
+DEFAULT_ANCHOR = (0.2, 0.1, 0.05)
+# The drag, in pixels from the press.
+DRAG = np.array([120.0, -80.0])
+# How long presses are tried until the page has drawn the body (s): SwiftShader's first frame
+# takes 10-20 s, several times that on a loaded machine.
+GRAB_TIMEOUT = 180.0
+
+
+@contextlib.contextmanager
+def spinning(ros):
+    """Spin the harness's executor on a thread until the block ends."""
+    stop = threading.Event()
+
+    def spin() -> None:
+        while not stop.is_set():
+            ros.executor.spin_once(timeout_sec=0.01)
+    thread = threading.Thread(target=spin, daemon=True)
+    thread.start()
+    try:
+        yield
+    finally:
+        stop.set()
+        thread.join(timeout=5.0)
+
+
+def wait_for(condition, timeout: float, what: str) -> None:
+    """Poll ``condition()`` until it holds; fail saying ``what`` after ``timeout`` s."""
+    deadline = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > deadline:
+            pytest.fail(f'{what} within {timeout:g} s')
+        time.sleep(0.05)
+
+
+class PinholeCamera:
+    """The browser's camera: pixels to rays and back (OpenCV axes: x right, y down, z ahead)."""
+
+    def __init__(self, camera) -> None:
+        """Read the position, orientation, vertical field of view and canvas size."""
+        self.position = np.array(camera.position, dtype=float)
+        w, x, y, z = camera.wxyz
+        self.rotation = Rotation.from_quat([x, y, z, w]).as_matrix()
+        self.width, self.height = camera.image_width, camera.image_height
+        self.focal = 0.5 * self.height / np.tan(0.5 * camera.fov)
+
+    def pixel(self, point) -> np.ndarray:
+        """Return where the world ``point`` is drawn on the canvas (CSS px)."""
+        x, y, z = self.rotation.T @ (np.asarray(point) - self.position)
+        return np.array([0.5 * self.width + self.focal * x / z,
+                         0.5 * self.height + self.focal * y / z])
+
+    def ray(self, pixel) -> np.ndarray:
+        """Return the world direction of the ray through ``pixel``."""
+        u, v = pixel
+        return self.rotation @ np.array([(u - 0.5 * self.width) / self.focal,
+                                         (v - 0.5 * self.height) / self.focal, 1.0])
+
+    @property
+    def forward(self) -> np.ndarray:
+        """Return the viewing direction."""
+        return self.rotation[:, 2]
+
+
+@pytest.fixture
+def chromium_page():
+    """Yield a 1280x720 page of Debian's chromium, headless; closed afterwards."""
+    if not os.access(CHROMIUM, os.X_OK):
+        pytest.skip(f'no {CHROMIUM} (apt-get install chromium)')
+    sync_api = pytest.importorskip('playwright.sync_api')
+    with sync_api.sync_playwright() as playwright:
+        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        try:
+            yield browser.new_page(viewport=VIEWPORT)
+        finally:
+            browser.close()
+
+
+def test_a_real_mouse_grabs_drags_and_releases_the_body(ros, chromium_page, tmp_path):
+    """Press on the body: it is grabbed there; drag: the anchor follows; release: it is free."""
+    server = serve('127.0.0.1', 0)
+    try:
+        node = ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
+            Parameter(name, value=value) for name, value in AT_REST.items()]))
+        view = ros.add(MouseViewNode(scene_factory=lambda p: ViewScene(server, p),
+                                     context=ros.context))
+        page = chromium_page
+        with spinning(ros):
+            page.goto(page_address('127.0.0.1', server.get_port()), timeout=60_000)
+            wait_for(lambda: any(_camera_known(c) for c in server.get_clients().values()),
+                     60.0, 'the browser reported its camera')
+            camera, press = _grab(page, node, lambda: _aim(server, view))
+            anchor = np.array(node.get_parameter('anchor').value)
+            assert box_distance(anchor, BOX) <= node.get_parameter('grab_margin').value
+            grabbed = world_point(view.latest_pose(), anchor)
+            end = press + DRAG
+            page.mouse.move(*end, steps=12)
+            expected = camera_plane_point(camera.position, camera.ray(end), through=grabbed,
+                                          normal=camera.forward)
+            wait_for(lambda: node.simulation.target is not None and np.linalg.norm(
+                np.subtract(node.simulation.target, expected)) < 0.01, 10.0,
+                "the target reached the pointer's plane point")
+            wait_for(lambda: np.linalg.norm(np.subtract(world_point(
+                view.latest_pose(), anchor), expected)) < 0.01, 10.0,
+                "the anchor followed the drag to the pointer's plane point")
+            # The picture while the body is on its way back: target, line and trail in sight.
+            page.mouse.move(*(end - 1.5 * DRAG), steps=4)
+            time.sleep(0.5)
+            shot = Path(os.environ.get('MOUSE_VIEW_SCREENSHOT', tmp_path / 'view.png'))
+            page.screenshot(path=str(shot))
+            assert shot.stat().st_size > 10_000
+            page.mouse.up()
+            wait_for(lambda: node.simulation.target is None, 10.0, 'the release freed the body')
+    finally:
+        server.stop()
+
+
+def _camera_known(client) -> bool:
+    try:
+        return client.camera.image_height > 0 and client.camera.fov > 0.0
+    except AssertionError:
+        return False
+
+
+def _facing(pose, local, camera: PinholeCamera) -> float:
+    normal = Rotation.from_quat(pose.orientation).apply(np.sign(local) * (np.abs(local) > 0))
+    return float(np.dot(normal, camera.forward))
+
+
+def _aim(server, view):
+    """
+    Return the browser's camera and the pixel of the centre of the face that looks at it.
+
+    The camera is put back where it starts first: a press before the page has drawn the body
+    orbits it.
+    """
+    client = next(iter(server.get_clients().values()))
+    client.camera.position, client.camera.look_at = INITIAL_CAMERA, INITIAL_LOOK_AT
+    time.sleep(0.5)
+    camera = PinholeCamera(client.camera)
+    assert abs(camera.width / camera.height - 1280 / 720) < 0.05
+    pose = view.latest_pose()
+    faces = [tuple(s * h if i == axis else 0.0 for i, h in enumerate(np.array(BOX) / 2))
+             for axis in range(3) for s in (-1.0, 1.0)]
+    local = min(faces, key=lambda face: _facing(pose, face, camera))
+    press = camera.pixel(world_point(pose, local))
+    assert 100 < press[0] < 900 and 150 < press[1] < 650  # clear of the panel and the notes
+    return camera, press
+
+
+def _grab(page, node, aim):
+    """
+    Press on the body and move past the drag threshold until the node takes the grab.
+
+    Each try aims anew, the camera put back where it starts.
+
+    :returns: the camera and the pressed pixel of the try that grabbed.
+    """
+    deadline = time.monotonic() + GRAB_TIMEOUT
+    while True:
+        camera, press = aim()
+        page.mouse.move(*press)
+        page.mouse.down()
+        page.mouse.move(*(press + (6.0, 0.0)), steps=3)
+        try:
+            wait_for(lambda: not np.allclose(node.get_parameter('anchor').value,
+                                             DEFAULT_ANCHOR), 3.0, 'grab')
+            return camera, press
+        except pytest.fail.Exception:
+            page.mouse.up()  # the page was not drawn yet: press again
+            if time.monotonic() > deadline:
+                shot = Path(os.environ.get('MOUSE_VIEW_SCREENSHOT', '/tmp/view.png'))
+                page.screenshot(path=str(shot.with_name('view-no-grab.png')))
+                pytest.fail(f'no grab reached the node within {GRAB_TIMEOUT:g} s of pressing at '
+                            f'{press}: see {shot.with_name("view-no-grab.png")}')
+            time.sleep(1.0)
