@@ -339,6 +339,14 @@ INVALID = {
     'max_target_speed': 0.0,
     'max_target_acceleration': -1.0,
     'target_feed_forward': 'yes',
+    'floor': 'yes',
+    'floor_height': math.nan,
+    'friction': -1.0,
+    'restitution': 1.5,
+    'restitution_threshold': -1.0,
+    'contact_iterations': 0,
+    'contact_margin': 0.0,
+    'contact_slop': -1.0,
 }
 
 

@@ -46,8 +46,10 @@ def by_namespace(array: MarkerArray) -> dict:
     """Return the markers of ``array`` keyed by namespace (one marker each)."""
     markers = {m.ns: m for m in array.markers}
     assert len(markers) == len(array.markers)
-    # The node adds its wrench arrow (test_wrench.py); a call without a wrench has none.
-    assert set(markers) - {'wrench'} == {'body', 'anchor', 'target', 'constraint'}
+    # The node adds its wrench arrow (test_wrench.py) and its floor and contacts
+    # (test_floor_ros.py); a call without them has none.
+    assert set(markers) - {'wrench', 'floor', 'contacts'} == {'body', 'anchor', 'target',
+                                                              'constraint'}
     return markers
 
 

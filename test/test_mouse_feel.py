@@ -112,7 +112,7 @@ def test_a_jump_in_a_stream_is_not_taken_for_a_velocity():
 
 def test_a_jump_during_a_drag_moves_the_body_like_a_click():
     """A 0.5 m jump in the middle of a 50 Hz stream: the body is not flung along a velocity."""
-    simulation = MouseSimulation(_shipped_settings())
+    simulation = MouseSimulation(*_shipped())
     simulation.target = simulation.anchor_position()
     start = np.array(simulation.anchor_position())
     peak = 0.0
@@ -202,14 +202,16 @@ def test_target_motion_is_validated():
         TargetMotion(feed_forward=1)
 
 
-def _shipped_settings() -> Settings:
+def _shipped() -> tuple:
+    """Return the settings and initial state of config/params.yaml (above its floor)."""
     from test_support.mouse_feel import configured
-    return configured({}).settings
+    config = configured({})
+    return config.settings, config.initial_state
 
 
 def test_a_drag_that_stops_ends_on_the_last_point():
     """Extrapolation runs out 1.5 intervals after the last point: the anchor ends on it."""
-    simulation = MouseSimulation(_shipped_settings())
+    simulation = MouseSimulation(*_shipped())
     simulation.target = simulation.anchor_position()
     start = np.array(simulation.anchor_position())
     for tick in range(2000):

@@ -228,7 +228,8 @@ def publishing_values(publish_rate_hz: float, tf_status: str,
 def constraint_status(name: str, hardware_id: str, *, target_kind: str,
                       target: Optional[Vector3], anchor_error: Optional[float], force: Vector3,
                       force_bound: float, target_age: Optional[float], target_timeout: float,
-                      thresholds: Thresholds = Thresholds()) -> DiagnosticStatus:
+                      thresholds: Thresholds = Thresholds(),
+                      floor_contacts: Optional[int] = None) -> DiagnosticStatus:
     """
     Return the constraint status: anchor error, constraint force, target and its age.
 
@@ -243,6 +244,7 @@ def constraint_status(name: str, hardware_id: str, *, target_kind: str,
     :param target_age: seconds since the last user target, or None.
     :param target_timeout: the node's ``target_timeout`` (s, 0 = never).
     :param thresholds: where the levels change.
+    :param floor_contacts: how many of the box's corners touch the floor, None without a floor.
     """
     level, problems = OK, []
     magnitude = math.hypot(*force)
@@ -273,6 +275,8 @@ def constraint_status(name: str, hardware_id: str, *, target_kind: str,
         KeyValue(key='constraint force (N)', value=_value(magnitude)),
         KeyValue(key='force bound (N)', value=_value(force_bound)),
         KeyValue(key='target timeout (s)', value=_value(target_timeout)),
+        KeyValue(key='floor contacts',
+                 value='no floor' if floor_contacts is None else str(floor_contacts)),
     ]
     return _status(name, hardware_id, level=level, problems=problems, fine=fine, values=values)
 

@@ -26,6 +26,10 @@ target        SPHERE     the target; deleted while the body is free
 constraint    LINE_LIST  anchor to target, green (no force) - yellow - red (``reference_force``)
 wrench        ARROW      the external force from the COM, one longest box edge per body weight
                          (``wrench_reference``); deleted while no force is applied
+floor         CUBE       the floor: a thin square ``FLOOR_SPAN`` longest box edges wide, its top
+                         at ``floor_height``, under the COM (so it is under the body wherever it
+                         slides); deleted without a floor
+contacts      SPHERE_LIST the box's corners touching the floor; deleted while there are none
 ============  =========  =========================================================================
 
 The spheres' diameter is ``SPHERE_FRACTION`` of the box's longest edge, the line's width a third
@@ -39,7 +43,7 @@ from geometry_msgs.msg import Point
 from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import Marker, MarkerArray
 
-from ..physics import BodyState, Settings, STANDARD_GRAVITY
+from ..physics import BodyState, Floor, Settings, STANDARD_GRAVITY
 from ..physics.algebra import Vector3
 from ..physics.simulation import force_bound
 from ..wire.messages import fill_point, fill_pose, set_stamp
@@ -55,6 +59,11 @@ BODY_COLOR = (0.35, 0.55, 0.85, 0.8)
 ANCHOR_COLOR = (1.0, 0.55, 0.0, 1.0)
 TARGET_COLOR = (0.85, 0.1, 0.85, 1.0)
 WRENCH_COLOR = (0.1, 0.8, 0.9, 1.0)
+FLOOR_COLOR = (0.5, 0.5, 0.5, 0.6)
+CONTACT_COLOR = (0.95, 0.2, 0.2, 1.0)
+# The floor's width and thickness in longest box edges.
+FLOOR_SPAN = 20.0
+FLOOR_THICKNESS = 0.02
 
 
 def reference_force(settings: Settings) -> float:
@@ -139,7 +148,8 @@ def _deleted(namespace: str, frame_id: str, stamp_ns: int) -> Marker:
 def marker_array(*, frame_id: str, stamp_ns: int, box_size: Vector3, state: BodyState,
                  anchor: Vector3, target: Optional[Vector3], force: Vector3,
                  reference: float, wrench_force: Optional[Vector3] = None,
-                 wrench_reference: float = 1.0) -> MarkerArray:
+                 wrench_reference: float = 1.0, floor: Optional[Floor] = None,
+                 contacts: Sequence[Vector3] = ()) -> MarkerArray:
     """
     Return the markers of one moment of the simulation.
 
@@ -155,6 +165,9 @@ def marker_array(*, frame_id: str, stamp_ns: int, box_size: Vector3, state: Body
         None leaves the wrench namespace out.
     :param wrench_reference: the force (N) whose arrow is the box's longest edge long, see
         ``wrench_reference``.
+    :param floor: the simulation's floor (one not enabled deletes its marker); None leaves the
+        floor and contacts namespaces out.
+    :param contacts: the world points of the box's corners touching the floor (m).
     """
     body = _marker('body', Marker.CUBE, frame_id, stamp_ns)
     fill_pose(body, state)
@@ -177,9 +190,40 @@ def marker_array(*, frame_id: str, stamp_ns: int, box_size: Vector3, state: Body
         line.scale.x = LINE_FRACTION * max(box_size)
         line.color = _color(force_color(math.hypot(*force), reference))
         markers.append(line)
+    if floor is not None:
+        markers += _floor_markers(frame_id, stamp_ns, floor, state.position, box_size, contacts)
     if wrench_force is None:
         return MarkerArray(markers=markers)
     longest = max(box_size)
     markers.append(_wrench_arrow(frame_id, stamp_ns, state.position, wrench_force,
                                  longest / wrench_reference, LINE_FRACTION * longest))
     return MarkerArray(markers=markers)
+
+
+def _floor_markers(frame_id: str, stamp_ns: int, floor: Floor, position: Vector3,
+                   box_size: Vector3, contacts: Sequence[Vector3]) -> list:
+    """Return the floor's plate under ``position`` and the contact points' spheres."""
+    if not floor.enabled:
+        plate = _deleted('floor', frame_id, stamp_ns)
+        plate.type = Marker.CUBE
+    else:
+        longest = max(box_size)
+        thickness = FLOOR_THICKNESS * longest
+        plate = _marker('floor', Marker.CUBE, frame_id, stamp_ns)
+        fill_point(plate.pose.position,
+                   (position[0], position[1], floor.height - 0.5 * thickness))
+        fill_point(plate.scale, (FLOOR_SPAN * longest, FLOOR_SPAN * longest, thickness))
+        plate.color = _color(FLOOR_COLOR)
+    if not contacts:
+        spheres = _deleted('contacts', frame_id, stamp_ns)
+        spheres.type = Marker.SPHERE_LIST
+        return [plate, spheres]
+    spheres = _marker('contacts', Marker.SPHERE_LIST, frame_id, stamp_ns)
+    spheres.points = []
+    for point in contacts:
+        corner = Point()
+        fill_point(corner, point)
+        spheres.points.append(corner)
+    spheres.scale.x = spheres.scale.y = spheres.scale.z = 0.5 * SPHERE_FRACTION * max(box_size)
+    spheres.color = _color(CONTACT_COLOR)
+    return [plate, spheres]

@@ -92,7 +92,9 @@ class Monitors:
             anchor=simulation.anchor_position(), target=simulation.target,
             force=simulation.constraint_force, reference=reference_force(simulation.settings),
             wrench_force=simulation.wrench[0],
-            wrench_reference=wrench_reference(simulation.settings)))
+            wrench_reference=wrench_reference(simulation.settings),
+            floor=simulation.settings.floor,
+            contacts=[point for point, _ in simulation.contacts]))
 
     def _publish_diagnostics(self) -> None:
         """
@@ -138,6 +140,8 @@ class Monitors:
                               force=simulation.constraint_force,
                               force_bound=force_bound(config.settings),
                               target_age=age, target_timeout=config.target_timeout,
-                              thresholds=thresholds),
+                              thresholds=thresholds,
+                              floor_contacts=(simulation.contact_count
+                                              if config.settings.floor.enabled else None)),
             self._simulator_status(f'{name}: simulator', hardware_id, now),
         ]))

@@ -79,8 +79,7 @@ class ParameterChanges:
         previous, self._config = self._config, config
         if not self._setting_anchor and any(p.name == 'anchor' for p in changes):
             self._configured_anchor = config.settings.constraint.anchor
-        self._simulation.settings = config.settings
-        self._simulation.initial_state = config.initial_state
+        self._simulation.configure(config.settings, config.initial_state)
         if (config.frame_id, config.workspace_radius) != (
                 previous.frame_id, previous.workspace_radius):
             self._gate = TargetGate(config.frame_id, config.workspace_radius)

@@ -28,6 +28,7 @@ h = 1 / (rate_hz substeps) from 1e-7 s to 1 s (within the core's MIN_STEP..MAX_S
 import math
 from typing import Any, Mapping, NamedTuple, Optional, Tuple
 
+from .floor_parameters import floor_from, FLOOR_PARAMETERS
 from ..physics import BodyState, MouseConstraint, RigidBody, Settings
 from ..physics.algebra import Vector3
 from ..physics.limits import (MAX_ACCELERATION, MAX_CONDITION, MAX_DISTANCE, MAX_MASS, MAX_MOMENT,
@@ -177,7 +178,7 @@ PARAMETERS = (
     ParameterSpec('target_feed_forward', True,
                   'Estimate the velocity of streamed targets (a drag) from their arrival times '
                   'and let the joint follow it, so a drag does not lag.'),
-)
+) + tuple(ParameterSpec(*spec) for spec in FLOOR_PARAMETERS)
 
 DEFAULTS = {p.name: p.default for p in PARAMETERS}
 
@@ -254,9 +255,10 @@ def _configuration_from(values: Mapping[str, Any]) -> NodeConfig:
     settings = Settings(body, constraint, gravity=values['gravity'],
                         linear_damping=values['linear_damping'],
                         angular_damping=values['angular_damping'], substeps=substeps,
-                        target_motion=motion)
+                        target_motion=motion, floor=floor_from(values, box_size))
     initial_state = BodyState(values['initial_position'],
                               values['initial_orientation']).validated(prefix='initial_')
+    settings.floor.check_state(initial_state.position, initial_state.orientation)
     frame_id = values['frame_id']
     if not isinstance(frame_id, str) or not frame_id:
         raise ValueError(f'frame_id must be a non-empty string, got {shown(frame_id)}')

@@ -21,9 +21,10 @@ to it, and ``limits`` the ranges of the settings.
 """
 
 from .body import RigidBody
+from .floor import Floor
 from .mouse_joint import MouseConstraint
 from .simulation import MouseSimulation, Settings, STANDARD_GRAVITY
 from .state import BodyState
 
-__all__ = ['BodyState', 'MouseConstraint', 'MouseSimulation', 'RigidBody', 'Settings',
+__all__ = ['BodyState', 'Floor', 'MouseConstraint', 'MouseSimulation', 'RigidBody', 'Settings',
            'STANDARD_GRAVITY']

@@ -28,7 +28,8 @@ from typing import Tuple
 
 import numpy as np
 
-from .algebra import congruence, Matrix3, multiply_symmetric, Symmetric3, Vector3
+from .algebra import (congruence, Matrix3, multiply, multiply_symmetric, multiply_transposed,
+                      Quaternion, rotation_matrix, Symmetric3, Vector3)
 from .limits import MAX_CONDITION, MAX_DISTANCE, MAX_MASS, MAX_MOMENT, MIN_MASS, MIN_MOMENT
 from .validation import finite_vector, scalar, shown
 
@@ -142,6 +143,16 @@ class RigidBody:
         lx, ly, lz = multiply_symmetric(angular_velocity_body, self.inertia)
         wx, wy, wz = angular_velocity_body
         return 0.5 * (self.mass * (vx * vx + vy * vy + vz * vz) + wx * lx + wy * ly + wz * lz)
+
+    def body_rate(self, orientation: Quaternion, angular_velocity: Vector3) -> Vector3:
+        """Return the world ``angular_velocity`` in the body frame of ``orientation``."""
+        return multiply_transposed(angular_velocity, rotation_matrix(orientation))
+
+    def angular_momentum(self, orientation: Quaternion, angular_velocity: Vector3) -> Vector3:
+        """Return L = R I_b R^T w about the COM, world frame, for the world velocity."""
+        rotation = rotation_matrix(orientation)
+        w_body = multiply_transposed(angular_velocity, rotation)
+        return multiply(multiply_symmetric(w_body, self.inertia), rotation)
 
 
 def _matrix(s: Symmetric3) -> np.ndarray:

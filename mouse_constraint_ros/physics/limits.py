@@ -68,3 +68,10 @@ MAX_MASS = 1e100
 # in. It adds at most 1e12 m/s per substep, far below MAX_CORRECTION_SPEED, so the bounds on
 # mass hold with it; a free fall at it takes 1e148 s to leave the float range.
 MAX_ACCELERATION = 1e12
+
+# The floor's Coulomb coefficient: beyond any material (rubber on rubber is about 1 to 2), and
+# low enough that mu times a normal impulse stays finite.
+MAX_FRICTION = 1e6
+# Sequential-impulse sweeps over the floor's contacts per substep: each sweep costs about a
+# microsecond per contact in plain Python.
+MAX_CONTACT_ITERATIONS = 1000

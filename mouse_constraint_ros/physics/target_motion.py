@@ -59,7 +59,7 @@ from typing import Deque, Optional, Tuple
 
 import numpy as np
 
-from .algebra import Vector3
+from .algebra import multiply, rotation_matrix, Vector3
 from .validation import scalar
 
 # Points further apart in time than this (s) are not one stream: a pause ends a drag.
@@ -340,3 +340,39 @@ class Guide:
         u = (ux + dx, uy + dy, uz + dz)
         self.velocity = u
         self.position = (gx + h * u[0], gy + h * u[1], gz + h * u[2])
+
+
+def pull_point(target: Optional[Vector3], motion: TargetMotion, stream: TargetStream,
+               guide: Optional[Guide], anchor: Vector3, body: Tuple, time: float,
+               h: float) -> Tuple[Optional[Tuple[Vector3, Optional[Vector3]]], Optional[Guide]]:
+    """
+    Return the point the joint pulls to over the substep from ``time`` and its velocity; the guide.
+
+    The velocity is None unless ``motion`` feeds it forward. With a guide the point is the
+    guide's position at ``time`` and the velocity the one that carries it over the substep,
+    so that a rigid joint's error still decays as (1 - delta) per substep. A guide is started
+    where the anchor is when there is none (None: no target, or no guide kept).
+
+    :param body: the body's position (x, y, z), orientation, v and w.
+    """
+    if target is None:
+        return None, guide
+    (px, py, pz), q, v, w = body
+    if motion.feed_forward and stream.has_points():
+        goal, goal_velocity = stream.predict(time)
+    else:
+        goal, goal_velocity = target, (0.0, 0.0, 0.0)
+    if not motion.guided:
+        return (goal, (goal_velocity if motion.feed_forward else None)), None
+    if guide is None:
+        # Picked up where the anchor is, moving as it moves (within the speed bound).
+        rx, ry, rz = multiply(anchor, rotation_matrix(q))
+        ux, uy, uz = (v[0] + w[1] * rz - w[2] * ry, v[1] + w[2] * rx - w[0] * rz,
+                      v[2] + w[0] * ry - w[1] * rx)
+        speed = math.sqrt(ux * ux + uy * uy + uz * uz)
+        if speed > motion.max_speed:
+            ux, uy, uz = (c * motion.max_speed / speed for c in (ux, uy, uz))
+        guide = Guide((px + rx, py + ry, pz + rz), (ux, uy, uz))
+    position = guide.position
+    guide.advance(goal, goal_velocity, h, motion.max_speed, motion.max_acceleration)
+    return (position, (guide.velocity if motion.feed_forward else None)), guide
