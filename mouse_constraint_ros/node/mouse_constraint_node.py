@@ -57,15 +57,18 @@ from .tick_loop import TickLoop
 from ..inputs.grab import grab
 from ..inputs.input_timeouts import target_release_text, timed_out
 from ..inputs.target_gate import apart, TargetGate
+from ..inputs.target_stamps import TargetStamps
 from ..inputs.throttle import Throttle
 from ..physics import MouseSimulation
 from ..physics.algebra import Vector3
+from ..physics.target_motion import STREAM_GAP
 from ..timing.guarded_time_source import guard_time_source
 from ..timing.spin import spin_until, StopRequest
 from ..timing.tick_budget import TickBudget
+from ..timing.tick_grid import CoreClock
 from ..wire.interface import (GRAB_TOPIC, NODE_NAME, RELEASE_SERVICE, RESET_SERVICE,
                               SERVICE_EVENT_QOS, TARGET_QOS, TARGET_TOPIC)
-from ..wire.messages import point_from_message
+from ..wire.messages import point_from_message, stamp_nanoseconds
 from ..wire.state_publishers import (BroadcasterFactory, DEFAULT_BROADCASTER, StatePublishers,
                                      TF_UNAVAILABLE)
 
@@ -122,6 +125,7 @@ class MouseConstraintNode(ParameterChanges, TickLoop, SimulatorControls, Monitor
         self._user_target = False
         self._last_target_ns: Optional[int] = None
         self._gate = TargetGate(self._config.frame_id, self._config.workspace_radius)
+        self._stamps, self._core_clock = TargetStamps(STREAM_GAP), CoreClock()
         # The anchor of the parameters (start or ros2 param set), which ~/reset restores.
         self._configured_anchor = self._config.settings.constraint.anchor
         # True while the node sets its own anchor parameter for a grab or a reset.
@@ -209,9 +213,19 @@ class MouseConstraintNode(ParameterChanges, TickLoop, SimulatorControls, Monitor
         if refusal is not None:
             self._warn(refusal.key, lambda: f'ignoring target {refusal.reason}')
             return
-        self._simulation.set_target(point, time=self._simulation.time)
+        now, arrival = self._now_ns(), self._simulation.time
+        stamp = stamp_nanoseconds(message.header.stamp)
+        if self.ticks_run and self._stamps.refusal(stamp, now_ns=now, tick_s=self._dt) is None:
+            stamped, moved = self._core_clock.time_of(stamp, tick_stamp_ns=self._stamp_ns,
+                                                      tick_core_time=arrival, tick_s=self._dt)
+            if moved:
+                # Ticks were dropped (or paused) since the last stamp: a new stream.
+                self._simulation.target = point
+            self._simulation.set_target(point, time=stamped, stamped=True)
+        else:
+            self._simulation.set_target(point, time=arrival)
         self._user_target = True
-        self._last_target_ns = self._now_ns()
+        self._last_target_ns = now
 
     def _on_grab(self, message: PointStamped) -> None:
         """Make a point on the body the anchor and the target; ignore (and say) any other."""
