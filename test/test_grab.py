@@ -316,3 +316,64 @@ def test_grab_topic_parameter_service_and_markers_show_the_grabbed_point(ros):
     assert ros.spin_until(lambda: node.simulation.target == target)
     assert ros.spin_until(lambda: np.linalg.norm(node.simulation.anchor_error()) < 1e-4)
     np.testing.assert_allclose(anchor_parameter(node), local, atol=1e-9)
+
+
+def test_a_flood_of_grabs_logs_short_throttled_lines(ros, capfd):
+    """
+    500 grabs in a burst: each one is taken, and the log has at most a short line per period.
+
+    A grab sets the node's own anchor parameter; that change used to log the whole summary
+    (some 450 characters) every time.
+    """
+    node = start_node(ros)
+    # A throttled warning first: the notes must not share its call site (rclpy refuses one
+    # call site at two severities).
+    node._on_grab(grab_message((50.0, 50.0, 50.0)))
+    capfd.readouterr()
+    local = ON_BODY[0]
+    for _ in range(500):
+        node._on_grab(grab_message(world(local)))
+    np.testing.assert_allclose(anchor_parameter(node), local, rtol=0.0, atol=1e-9)
+    lines = [line for line in capfd.readouterr().err.splitlines() if line.strip()]
+    assert 'parameters changed' not in ''.join(lines)
+    assert 1 <= len(lines) <= 2 and all(len(line) < 160 for line in lines), lines
+    assert 'set by the node' in lines[0]
+    # A change through the parameters still logs the summary.
+    assert node.set_parameters([Parameter('mass', value=3.0)])[0].successful
+    assert 'parameters changed' in capfd.readouterr().err
+
+
+def test_a_corner_exactly_on_the_box_is_taken_at_margin_zero():
+    """
+    Every corner of boxes resting in many poses, placed by the pose, is taken at margin 0.
+
+    Turned into the body frame it lands a few 1e-17 m off the box: rounding, not distance.
+    A point a whole millimetre out is still refused at margin 0.
+    """
+    rng = np.random.default_rng(7)
+    for _ in range(200):
+        orientation = tuple(Rotation.random(random_state=rng).as_quat())
+        state = BodyState(tuple(rng.uniform(-5.0, 5.0, 3)), orientation).validated()
+        for signs in itertools.product((-1.0, 1.0), repeat=3):
+            corner = tuple(float(s * h) for s, h in zip(signs, HALF))
+            assert grab(state, BOX, state.world_point(corner)).taken(0.0), (state, corner)
+            out = tuple(c + 1e-3 * s for c, s in zip(corner, signs))
+            assert not grab(state, BOX, state.world_point(out)).taken(0.0)
+
+
+def test_a_refusal_shows_the_digits_that_tell_value_and_bound_apart(ros):
+    """|torque| just over 100 is not '100 exceeds 100'; a grab just beyond the margin neither."""
+    from mouse_constraint_ros.inputs.target_gate import apart
+    from mouse_constraint_ros.inputs.wrench_gate import WrenchGate
+
+    assert apart(100.00000000000001, 100.0) == ('100.00000000000001', '100.0')
+    assert apart(150.0, 100.0) == ('150', '100')
+    gate = WrenchGate('world', 1000.0, 100.0)
+    refusal = gate.refusal('', (0.0, 0.0, 0.0), (100.00000000000001, 0.0, 0.0))
+    assert '|torque| 100.00000000000001 N m exceeds max_wrench_torque 100.0 N m' in refusal.reason
+    node = start_node(ros, grab_margin=0.01)
+    warnings = warnings_of(node)
+    node._on_grab(grab_message(world((HALF[0] + 0.010000001, 0.0, 0.0))))
+    [(_, text)] = warnings
+    assert 'm off the body, farther than grab_margin 0.01 m' in text
+    assert ' 0.01 m off' not in text

@@ -55,11 +55,14 @@ from rcl_interfaces.srv import SetParametersAtomically
 from rclpy.parameter import Parameter
 from rosgraph_msgs.msg import Clock
 
+from mouse_constraint_ros.inputs.target_stamps import TargetStamps
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.node.parameters import DEFAULTS
 from mouse_constraint_ros.node.parameters import node_config
 from mouse_constraint_ros.physics import MouseSimulation
 from mouse_constraint_ros.physics import RigidBody
+from mouse_constraint_ros.physics.target_motion import STREAM_GAP
+from mouse_constraint_ros.timing.tick_grid import core_time
 from mouse_constraint_ros.wire.messages import point_message
 from test_support import hardening_tools as tools
 from test_support.processes import ChildProcess
@@ -144,20 +147,31 @@ def replay_in_core(ticks: int) -> list:
     Return the states the node should publish: the pure core fed the valid targets.
 
     A target that arrives between ticks k - 1 and k is received at the clock of tick k - 1 and
-    used from tick k on; the node releases the body before a tick when target_timeout has
-    passed since the last target.
+    used from tick k on, timed by its stamp where the node's policy takes it (``TargetStamps``,
+    mapped to the core's time from tick k - 1 as the node maps it) and else by its arrival;
+    the node releases the body before a tick when target_timeout has passed since the last
+    target.
     """
     config = node_config(dict(DEFAULTS, **SIM_OVERRIDES))
     simulation = MouseSimulation(config.settings, config.initial_state)
     simulation.target = config.initial_anchor()
     timeout_ns = SIM_OVERRIDES['target_timeout'] * 1e9
+    stamps = TargetStamps(STREAM_GAP)
     last_target_ns = None
     states = []
     for k in range(ticks):
         now = SIM_START_NS + k * SIM_PERIOD_NS
         if k in VALID_TARGETS:
-            simulation.set_target(VALID_TARGETS[k][0], time=simulation.time)
-            last_target_ns = now - SIM_PERIOD_NS
+            point, (_, stamp) = VALID_TARGETS[k]
+            received = now - SIM_PERIOD_NS
+            stamp_ns = stamp_of(stamp or divmod(received, NS))
+            arrival = simulation.time
+            if stamps.refusal(stamp_ns, now_ns=received, tick_s=1.0 / SIM_RATE) is None:
+                simulation.set_target(point, time=core_time(
+                    stamp_ns, tick_stamp_ns=received, tick_core_time=arrival), stamped=True)
+            else:
+                simulation.set_target(point, time=arrival)
+            last_target_ns = received
         if last_target_ns is not None and now - last_target_ns > timeout_ns:
             simulation.target = None
             last_target_ns = None
@@ -169,9 +183,10 @@ def test_bad_targets_change_nothing_bit_for_bit(ros):
     """
     Bad targets leave no trace: the next valid target is served exactly as if none had come.
 
-    Nodes A and B run on the same /clock; A also gets every bad target of ``BAD_TARGETS``
-    between ticks (each one handled before the clock moves on), and gets the valid targets
-    with an empty frame_id or absurd stamps. Their pose and twist streams are identical to
+    Nodes A and B run on the same /clock and get the same valid targets with the same stamps
+    (the time of the tick before, or absurd ones the stamp policy refuses); A also gets every
+    bad target of ``BAD_TARGETS`` between ticks (each one handled before the clock moves on),
+    and some valid targets with an empty frame_id. Their pose and twist streams are identical to
     the bit, finite, one per tick, and equal the pure core's replay of the valid targets,
     including the release by target_timeout that bad targets must not postpone.
     """
@@ -213,7 +228,7 @@ def test_bad_targets_change_nothing_bit_for_bit(ros):
                 point, (frame_id, stamp) = VALID_TARGETS[k]
                 now = divmod(SIM_START_NS + (k - 1) * SIM_PERIOD_NS, NS)
                 send('a', point, frame_id, stamp or now)
-                send('b', point, 'world', now)
+                send('b', point, 'world', stamp or now)
             send('a', *BAD_TARGETS[bad % len(BAD_TARGETS)])
             bad += 1
         tick(k)

@@ -410,3 +410,101 @@ def test_switching_use_sim_time_off_restarts_the_grid_without_drops(ros, capfd):
     err = capfd.readouterr().err
     assert 'clock changed to system time: restarting the tick grid' in err
     assert 'cannot keep' not in err
+
+
+def test_a_negative_clock_is_ignored_with_one_warning(ros, capfd):
+    """
+    use_sim_time and a /clock of -1 s (``ros2 topic pub --once /clock ... {sec: -1}``).
+
+    rclpy's own time source raises on it inside the executor, which ended the node; the node
+    ignores it with one warning, the clock stays where it was, and the next valid /clock
+    drives the ticks as before. use_sim_time switched off and on again keeps the guard.
+    """
+    node = start_node(ros, rate_hz=100.0, use_sim_time=True)
+    poses = ros.collect(PoseStamped, 'pose')
+    clock = ros.probe.create_publisher(Clock, '/clock', 10)
+    assert ros.spin_until(lambda: clock.get_subscription_count() > 0)
+
+    def publish(sec: int, nanosec: int = 0) -> None:
+        message = Clock()
+        message.clock.sec, message.clock.nanosec = sec, nanosec
+        clock.publish(message)
+        ros.spin_for(0.05)
+
+    publish(5)
+    assert node.get_clock().now().nanoseconds == 5 * 10 ** 9
+    for _ in range(3):
+        publish(-1)
+    assert node.get_clock().now().nanoseconds == 5 * 10 ** 9
+    publish(5, 500_000_000)
+    assert ros.spin_until(lambda: poses and stamp_ns(poses[-1]) == 5_500_000_000, timeout=5.0)
+    assert node.set_parameters([Parameter('use_sim_time', value=False)])[0].successful
+    assert node.set_parameters([Parameter('use_sim_time', value=True)])[0].successful
+    publish(-2)
+    publish(6)
+    assert node.get_clock().now().nanoseconds == 6 * 10 ** 9
+    err = capfd.readouterr().err
+    assert err.count('ignoring /clock -1 s 0 ns') == 1, err
+    assert 'the clock stays where it was' in err and 'Traceback' not in err
+
+
+def test_each_declared_range_admits_inf_only_where_the_value_is_taken(ros):
+    """
+    A descriptor's range tops at .inf only for parameters that take .inf (max_force ...).
+
+    The others (angular_friction, mass, the timeouts ...) take every finite value: their range
+    tops at the largest float, so that ``ros2 param describe`` does not offer what is refused.
+    """
+    import math
+
+    from mouse_constraint_ros.node.parameters import DEFAULTS, node_config, PARAMETERS
+
+    node = start_node(ros)
+    checked = 0
+    for spec in PARAMETERS:
+        if spec.bounds is None or not isinstance(spec.default, float):
+            continue
+        [descriptor] = node.describe_parameters([spec.name])
+        [declared] = descriptor.floating_point_range
+        try:
+            node_config({**DEFAULTS, spec.name: math.inf})
+            takes_inf = True
+        except ValueError:
+            takes_inf = False
+        assert (declared.to_value == math.inf) == takes_inf, spec.name
+        checked += 1
+    assert checked > 20
+    refused = node.set_parameters([Parameter('angular_friction', value=math.inf)])[0]
+    assert not refused.successful
+
+
+def test_ros2_param_load_takes_the_shipped_file_with_its_inf_quoted(ros, tmp_path):
+    """
+    ``ros2 param load``'s path (rclpy's parameter_dict_from_yaml_file, then one set each).
+
+    The shipped file as it is: every value lands but the ``.inf`` ones, which come back as the
+    string 'inf'. Rewritten by the README's sed command (``.inf`` quoted), every one lands.
+    """
+    import math
+    from pathlib import Path
+    import re
+
+    from rclpy.parameter import parameter_dict_from_yaml_file
+
+    readme = (Path(__file__).parent.parent / 'README.md').read_text()
+    assert r"""sed "s/: \.inf\b/: '.inf'/" config/params.yaml > params_load.yaml""" in readme
+    shipped = Path(__file__).parent.parent / 'config' / 'params.yaml'
+    quoted = tmp_path / 'params_load.yaml'
+    quoted.write_text(re.sub(r': \.inf\b', ": '.inf'", shipped.read_text()))
+    node = start_node(ros, max_force=5.0)
+
+    def load(path) -> dict:
+        values = parameter_dict_from_yaml_file(str(path), use_wildcard=True)
+        return {name: node.set_parameters([Parameter.from_parameter_msg(message)])[0]
+                for name, message in values.items() if name != 'use_sim_time'}
+
+    refused = {name for name, result in load(shipped).items() if not result.successful}
+    assert refused == {'max_force'}
+    assert node.get_parameter('max_force').value == 5.0
+    assert all(result.successful for result in load(quoted).values())
+    assert node.get_parameter('max_force').value == math.inf

@@ -41,9 +41,13 @@ from rcl_interfaces.msg import ParameterEvent
 from rcl_interfaces.msg import ParameterType
 from rcl_interfaces.msg import ParameterValue
 from rclpy.parameter import Parameter
+from rclpy.qos import QoSProfile
+from rclpy.qos import ReliabilityPolicy
 from rclpy.serialization import deserialize_message
 from rclpy.serialization import serialize_message
 from scipy.spatial.transform import Rotation
+from service_msgs.msg import ServiceEventInfo
+from std_srvs.srv import Trigger
 from visualization_msgs.msg import Marker
 import yaml
 
@@ -55,13 +59,16 @@ from mouse_constraint_ros.recording.figure import FIGURE_DPI
 from mouse_constraint_ros.recording.figure import FIGURE_INCHES
 from mouse_constraint_ros.recording.mcap_file import message_definition
 from mouse_constraint_ros.recording.mcap_file import schema_name
+from mouse_constraint_ros.recording.missing_ticks import Grid
+from mouse_constraint_ros.recording.missing_ticks import missing_ticks
 from mouse_constraint_ros.recording.outputs import check_writable
 from mouse_constraint_ros.recording.outputs import output_paths
-from mouse_constraint_ros.recording.received import anchor_change
+from mouse_constraint_ros.recording.received import parameter_changes
 from mouse_constraint_ros.recording.received import PARAMETER_EVENTS_TOPIC
 from mouse_constraint_ros.recording.received import Received
 from mouse_constraint_ros.recording.rows import COLUMNS
 from mouse_constraint_ros.recording.rows import tick_rows
+from mouse_constraint_ros.timing.publish_ticks import PublishTicks
 from mouse_constraint_ros.wire.messages import point_message
 from mouse_constraint_ros.wire.messages import stamp_nanoseconds
 from test_support.ros_harness import RosHarness
@@ -97,6 +104,16 @@ def harness():
         Parameter('linear_damping', value=2.0), Parameter('angular_damping', value=2.0)]))
     yield ros
     ros.shutdown()
+
+
+def start_recorder(*arguments: str):
+    """Start ``mouse_record`` with ``arguments``: the process, its stderr lines, their reader."""
+    process = subprocess.Popen([str(BIN / 'mouse_record'), *arguments], stdout=subprocess.DEVNULL,
+                               stderr=subprocess.PIPE, text=True)
+    lines = []
+    reader = threading.Thread(target=lambda: lines.extend(process.stderr), daemon=True)
+    reader.start()
+    return process, lines, reader
 
 
 def run_recorder(ros, arguments, publisher=None, signal_after=None, timeout=40.0):
@@ -155,7 +172,7 @@ def recording(harness, tmp_path_factory):
 def read_csv(path: Path) -> list:
     """Return the CSV's rows as dicts, numbers parsed, '' as None."""
     with open(path, newline='') as stream:
-        reader = csv.DictReader(stream)
+        reader = csv.DictReader(line for line in stream if not line.startswith('#'))
         assert tuple(reader.fieldnames) == COLUMNS
         return [{k: (None if v == '' else int(v) if k == 'stamp_ns' else float(v))
                  for k, v in row.items()} for row in reader]
@@ -226,7 +243,9 @@ def test_mcap_reads_back_with_the_mcap_library(recording):
         assert reader.get_header().profile == 'ros2'
         summary = reader.get_summary()
         channels = {c.topic: c for c in summary.channels.values()}
-        assert set(channels) == {'/target', '/pose', '/twist', '/grab', '/parameter_events'}
+        assert set(channels) == {'/target', '/pose', '/twist', '/grab', '/parameter_events',
+                                 '/mouse_constraint/reset/_service_event',
+                                 '/mouse_constraint/release/_service_event'}
         for topic, message_type in (('/target', PointStamped), ('/pose', PoseStamped),
                                     ('/twist', TwistStamped)):
             channel = channels[topic]
@@ -239,7 +258,11 @@ def test_mcap_reads_back_with_the_mcap_library(recording):
         for _, channel, message, ros_message in reader.iter_decoded_messages():
             decoded[channel.topic].append((message, ros_message))
     poses = recording['poses']
-    assert len(decoded['/pose']) >= DURATION * RATE * 0.9
+    # Every tick of the CSV, as received (the node in this process may drop ticks under load).
+    rows = read_csv(recording['prefix'].with_suffix('.csv'))
+    stamps = {row['stamp_ns'] for row in rows}
+    assert len(rows) >= 0.75 * DURATION * RATE
+    assert stamps <= {stamp_nanoseconds(pose.header.stamp) for _, pose in decoded['/pose']}
     for message, pose in decoded['/pose']:
         stamp = pose.header.stamp.sec * 1_000_000_000 + pose.header.stamp.nanosec
         published = poses[stamp]
@@ -249,7 +272,7 @@ def test_mcap_reads_back_with_the_mcap_library(recording):
         assert deserialize_message(message.data, PoseStamped) == published
     targets = set(recording['targets'])
     assert decoded['/target'] and all(xyz(t.point) in targets for _, t in decoded['/target'])
-    assert len(decoded['/twist']) >= DURATION * RATE * 0.9
+    assert stamps <= {stamp_nanoseconds(twist.header.stamp) for _, twist in decoded['/twist']}
 
 
 @pytest.mark.parametrize('message', [
@@ -297,56 +320,142 @@ def test_tick_rows_join_pose_and_twist_and_hold_the_latest_target():
 
     received = [pose(10), twist(10), target((1.0, 0.0, 1.0)), pose(20), twist(20), pose(30),
                 target((0.0, 0.0, 1.0)), twist(30), twist(40)]
-    rows = tick_rows(received, (1.0, 0.0, 0.0))
+    rows = tick_rows(received, {'anchor': (1.0, 0.0, 0.0)})
     assert [row.stamp_ns for row in rows] == [10, 20, 30]
     assert [row.time for row in rows] == [0.0, 1e-8, 2e-8]
     assert [row.target for row in rows] == [None, (1.0, 0.0, 1.0), (1.0, 0.0, 1.0)]
     assert rows[0].anchor == (1.0, 0.0, 1.0)
     assert rows[0].anchor_error is None and rows[1].anchor_error == 0.0
     assert rows[0].speed == 5.0
-    assert rows[0].fields()[-12:] == ['', '', '', '', 5.0, 0.0, 1.0, 0.0, 0.0, '', '', '']
+    assert rows[0].fields()[-13:] == ['', '', '', '', 5.0, 0.0, 1.0, 0.0, 0.0, '', '', '', '']
     assert all(row.body_anchor == (1.0, 0.0, 0.0) and row.grab is None for row in rows)
 
 
-def anchor_event(node_name: str, anchor) -> Received:
+def anchor_event(node_name: str, anchor, stamp_ns: int = 0, name: str = 'anchor') -> Received:
     """Return a /parameter_events message of ``node_name`` that changes its anchor."""
     value = ParameterValue(type=ParameterType.PARAMETER_DOUBLE_ARRAY,
                            double_array_value=list(anchor))
     event = ParameterEvent(node=node_name, changed_parameters=[
-        ParameterMessage(name='anchor', value=value)])
+        ParameterMessage(name=name, value=value)])
+    event.stamp.sec, event.stamp.nanosec = divmod(stamp_ns, 1_000_000_000)
     return Received(PARAMETER_EVENTS_TOPIC, 0, serialize_message(event))
 
 
-def test_tick_rows_follow_anchor_changes_and_mark_grabs():
-    """From the pose after an anchor change the row uses it; a grab lands on the next row."""
-    def state(kind, ns):
-        message = PoseStamped() if kind == 'pose' else TwistStamped()
-        message.header.stamp.nanosec = ns
-        if kind == 'pose':
-            message.pose.orientation.w = 1.0
-        return Received(kind, ns, serialize_message(message))
+def state(kind: str, ns: int, position=(0.0, 0.0, 0.0)) -> Received:
+    """Return a received pose (at ``position``, unturned) or twist (at rest) stamped ``ns``."""
+    message = PoseStamped() if kind == 'pose' else TwistStamped()
+    message.header.stamp.sec, message.header.stamp.nanosec = divmod(ns, 1_000_000_000)
+    if kind == 'pose':
+        message.pose.orientation.w = 1.0
+        p = message.pose.position
+        p.x, p.y, p.z = position
+    return Received(kind, ns, serialize_message(message))
 
+
+def point_received(topic: str, point) -> Received:
+    """Return a received target or grab at ``point``."""
+    return Received(topic, 0, serialize_message(point_message(point, 'world', 0)))
+
+
+def service_event(key: str, success: bool = True, stamp_ns: int = 0) -> Received:
+    """Return a received response event of the node's ``~/reset`` or ``~/release``."""
+    event = Trigger.Event()
+    event.info.event_type = ServiceEventInfo.RESPONSE_SENT
+    event.info.stamp.sec, event.info.stamp.nanosec = divmod(stamp_ns, 1_000_000_000)
+    event.response = [Trigger.Response(success=success, message='')]
+    return Received(key, 0, serialize_message(event))
+
+
+def test_tick_rows_take_a_grab_on_the_row_the_node_took_it():
+    """
+    A grab switches anchor, target and mark together, where the node took it.
+
+    The grab comes before the node takes it: all switch on the first pose after the node's
+    anchor change; the anchor error is the node's (zero there).
+    """
     grabbed = (0.1, 0.0, 0.05)
     received = [state('pose', 10), state('twist', 10),
-                Received('grab', 0, serialize_message(point_message(grabbed, 'world', 0))),
+                point_received('target', (1.0, 0.0, 0.0)), point_received('grab', grabbed),
+                state('pose', 20), state('twist', 20),
+                anchor_event('/mouse_constraint', grabbed), state('pose', 30),
+                state('twist', 30), state('pose', 40), state('twist', 40)]
+    rows = tick_rows(received, {'anchor': (1.0, 0.0, 0.0)})
+    assert [row.body_anchor for row in rows] == [(1.0, 0.0, 0.0)] * 2 + [grabbed] * 2
+    assert [row.target for row in rows] == [None, (1.0, 0.0, 0.0), grabbed, grabbed]
+    assert [row.anchor_error for row in rows] == [None, 0.0, 0.0, 0.0]
+    assert [(row.grab, row.grab_taken) for row in rows] == [
+        (None, None), (None, None), (grabbed, True), (None, None)]
+    assert rows[2].fields()[-7:] == [*grabbed, *grabbed, 1]
+
+
+def test_tick_rows_mark_an_ignored_grab_and_keep_the_target():
+    """A grab with no anchor change of the node is marked ignored; target and anchor stay."""
+    received = [state('pose', 10), state('twist', 10),
+                point_received('target', (1.0, 0.0, 0.0)), point_received('grab', (5.0, 5.0, 5.0)),
+                state('pose', 20), state('twist', 20),
+                anchor_event('/mouse_constraint', (0.0, 1.0, 0.0)), state('pose', 30),
+                state('twist', 30)]
+    rows = tick_rows(received, {'anchor': (1.0, 0.0, 0.0)})
+    assert [(row.grab, row.grab_taken) for row in rows] == [
+        (None, None), ((5.0, 5.0, 5.0), False), (None, None)]
+    # The later anchor change is a parameter change, not the grab: the target stays.
+    assert [row.target for row in rows] == [None, (1.0, 0.0, 0.0), (1.0, 0.0, 0.0)]
+    assert rows[2].body_anchor == (0.0, 1.0, 0.0)
+
+
+def test_tick_rows_follow_reset_and_release():
+    """
+    ~/reset and ~/release set the target as the node does.
+
+    ~/reset: the configured anchor back and the initial anchor's world position the target
+    (when held); ~/release: no target. A failed reset changes nothing.
+    """
+    start = {'anchor': (0.2, 0.0, 0.0), 'hold_initial_anchor': True,
+             'initial_position': (0.0, 0.0, 1.0), 'initial_orientation': (0.0, 0.0, 1.0, 0.0)}
+    grabbed = (0.0, 0.1, 0.0)
+    received = [state('pose', 10), state('twist', 10), point_received('grab', grabbed),
                 anchor_event('/mouse_constraint', grabbed), state('pose', 20), state('twist', 20),
-                state('pose', 30), state('twist', 30)]
-    rows = tick_rows(received, (1.0, 0.0, 0.0))
-    assert [row.body_anchor for row in rows] == [(1.0, 0.0, 0.0), grabbed, grabbed]
-    assert [row.anchor for row in rows] == [(1.0, 0.0, 0.0), grabbed, grabbed]
-    assert [row.grab for row in rows] == [None, grabbed, None]
-    assert rows[1].fields()[-6:] == [*grabbed, *grabbed]
+                service_event('reset', success=False), state('pose', 30), state('twist', 30),
+                anchor_event('/mouse_constraint', start['anchor']), service_event('reset'),
+                state('pose', 40, (0.0, 0.0, 1.0)), state('twist', 40), service_event('release'),
+                state('pose', 50), state('twist', 50)]
+    rows = tick_rows(received, start)
+    assert [row.body_anchor for row in rows] == [start['anchor'], grabbed, grabbed,
+                                                 start['anchor'], start['anchor']]
+    # Turned half about z, the initial anchor (0.2, 0, 0) is at (-0.2, 0, 1).
+    initial = rows[3].target
+    np.testing.assert_allclose(initial, (-0.2, 0.0, 1.0), atol=1e-15)
+    assert [row.target for row in rows] == [None, grabbed, grabbed, initial, None]
+    without = tick_rows(received, {'anchor': start['anchor']})
+    assert without[3].target is None
 
 
-def test_anchor_change_reads_only_a_three_vector_anchor():
-    """Other parameters, and an anchor that is no 3-vector, set no anchor."""
+def test_tick_rows_apply_a_change_to_the_ticks_stamped_after_it():
+    """A change received after a pose stamped later than the node's stamp of it applies there."""
+    received = [state('pose', 10), state('twist', 10), state('pose', 20), state('twist', 20),
+                state('pose', 30), state('twist', 30),
+                anchor_event('/mouse_constraint', (0.0, 1.0, 0.0), stamp_ns=25),
+                state('pose', 40), state('twist', 40)]
+    rows = tick_rows(received, {'anchor': (1.0, 0.0, 0.0)})
+    assert [row.body_anchor for row in rows] == [(1.0, 0.0, 0.0)] * 2 + [(0.0, 1.0, 0.0)] * 2
+    # On another clock (far from the poses' stamps) the order of arrival decides.
+    received[6] = anchor_event('/mouse_constraint', (0.0, 1.0, 0.0), stamp_ns=10 ** 18)
+    rows = tick_rows(received, {'anchor': (1.0, 0.0, 0.0)})
+    assert [row.body_anchor for row in rows] == [(1.0, 0.0, 0.0)] * 3 + [(0.0, 1.0, 0.0)]
+
+
+def test_parameter_changes_read_only_the_followed_parameters():
+    """Other parameters, and arrays of another length, set nothing."""
     event = deserialize_message(anchor_event('/n', (1.0, 2.0, 3.0)).data, ParameterEvent)
-    assert anchor_change(event) == (1.0, 2.0, 3.0)
+    assert parameter_changes(event) == {'anchor': (1.0, 2.0, 3.0)}
     event.changed_parameters[0].name = 'mass'
-    assert anchor_change(event) is None
+    assert parameter_changes(event) == {}
     event.changed_parameters[0].name = 'anchor'
     event.changed_parameters[0].value.double_array_value = [1.0, 2.0]
-    assert anchor_change(event) is None
+    assert parameter_changes(event) == {}
+    event = deserialize_message(
+        anchor_event('/n', (0.0, 0.0, 0.0, 1.0), name='initial_orientation').data, ParameterEvent)
+    assert parameter_changes(event) == {'initial_orientation': (0.0, 0.0, 0.0, 1.0)}
 
 
 def test_progress_bar_and_lines_off_a_terminal():
@@ -477,13 +586,9 @@ def test_recording_follows_a_grab(tmp_path):
         grabs = ros.probe.create_publisher(PointStamped, 'grabbed/grab', 10)
         assert ros.spin_until(lambda: grabs.get_subscription_count() > 0 and poses)
         prefix = tmp_path / 'grab'
-        process = subprocess.Popen(
-            [str(BIN / 'mouse_record'), '-d', '1.5', '-o', str(prefix), '--mcap', '--timeout',
-             '20', '--ros-args', '-r', '__ns:=/grabbed'],
-            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-        lines = []
-        reader = threading.Thread(target=lambda: lines.extend(process.stderr), daemon=True)
-        reader.start()
+        process, lines, reader = start_recorder('-d', '1.5', '-o', str(prefix), '--mcap',
+                                                '--timeout', '20', '--ros-args', '-r',
+                                                '__ns:=/grabbed')
         deadline, grabbed, point = time.monotonic() + 40.0, None, None
         while process.poll() is None:
             assert time.monotonic() < deadline, 'mouse_record did not finish'
@@ -506,10 +611,16 @@ def test_recording_follows_a_grab(tmp_path):
     assert 0 < changed < len(rows) - 10
     assert set(body[:changed]) == {ANCHOR} and set(body[changed:]) == {new_anchor}
     marked = [i for i, row in enumerate(rows) if row['grab_x'] is not None]
-    # The grab and the anchor change come on two topics: within a tick or two of each other.
-    assert len(marked) == 1 and abs(marked[0] - changed) <= 2
-    assert (rows[marked[0]]['grab_x'], rows[marked[0]]['grab_y'],
-            rows[marked[0]]['grab_z']) == tuple(point)
+    # Marked on the row from which the node holds it, taken; from there it is the target.
+    assert marked == [changed] and rows[changed]['grab_taken'] == 1
+    assert (rows[changed]['grab_x'], rows[changed]['grab_y'],
+            rows[changed]['grab_z']) == tuple(point)
+    assert all(row['target_x'] is None for row in rows[:changed])
+    assert {(row['target_x'], row['target_y'], row['target_z'])
+            for row in rows[changed:]} == {tuple(point)}
+    # The node placed the grabbed point where it was: no jump, and a rigid joint holds it.
+    assert rows[changed]['anchor_error'] < 1e-3
+    assert max(row['anchor_error'] for row in rows[changed:]) < 0.01
     for row, anchor in zip(rows, body):
         q = [row['qx'], row['qy'], row['qz'], row['qw']]
         world = np.array([row['x'], row['y'], row['z']]) + Rotation.from_quat(q).apply(anchor)
@@ -523,3 +634,172 @@ def test_recording_follows_a_grab(tmp_path):
     events = [m for topic, m in decoded if topic == '/parameter_events']
     assert [e.node for e in events] == ['/grabbed/mouse_constraint']
     assert tuple(events[0].changed_parameters[0].value.double_array_value) == new_anchor
+
+
+def resting_rows(count: int = 50, target=None) -> list:
+    """Return the rows of a body at rest at (0, 0, 1) + 1e-12 noise, with ``target`` or none."""
+    received = []
+    for k in range(count):
+        ns = 1_000_000 * (k + 1)
+        received += [state('pose', ns, (0.2, 0.1, 1.0 + 1e-12 * (k % 3))), state('twist', ns)]
+        if target is not None and k == 0:
+            received.append(point_received('target', target))
+    return tick_rows(received, {'anchor': (0.0, 0.0, 0.0)})
+
+
+def test_the_figure_of_a_body_at_rest_reads_plainly():
+    """
+    The figure of a body at rest: plain labels, a note, both speed lines in view.
+
+    Plain tick labels (no offset), a note for the empty anchor error panel, and the zero speed
+    drawn inside the axes, under a dashed zero angular speed.
+    """
+    from mouse_constraint_ros.recording.figure import draw_figure
+
+    figure = draw_figure(resting_rows(), anchor=(0.0, 0.0, 0.0), frame_id='world')
+    figure.canvas.draw()
+    top, side, error, speed, spin = figure.axes
+    for axes in (top, side, speed, spin):
+        for axis in (axes.xaxis, axes.yaxis):
+            # Each label is its tick's value (to the label's digits), not an offset from one.
+            locations = axis.get_ticklocs()
+            labels = [float(t.get_text().replace('\u2212', '-')) for t in axis.get_ticklabels()]
+            step = np.min(np.diff(locations))
+            np.testing.assert_allclose(labels, locations, atol=step / 2, err_msg=str(axis))
+    assert [t.get_text() for t in error.texts] == [
+        'no target: the node held none while recorded']
+    for axes in (speed, spin):
+        [line] = [line for line in axes.get_lines() if not line.get_label().startswith('_')]
+        low, high = axes.get_ylim()
+        assert low < 0.0 == line.get_ydata().max() < high
+    assert spin.get_lines()[0].get_linestyle() == '--'
+    assert speed.get_lines()[0].get_linestyle() == '-'
+    figure = draw_figure(resting_rows(target=(0.2, 0.1, 1.5)), anchor=(0.0, 0.0, 0.0),
+                         frame_id='world')
+    assert not figure.axes[2].texts and figure.axes[2].get_lines()
+
+
+def test_the_figure_escapes_what_its_font_cannot_draw(tmp_path):
+    """An emoji frame id is drawn as its escape, without a missing-glyph warning."""
+    import warnings
+
+    from mouse_constraint_ros.recording.figure import drawable, write_figure
+
+    assert drawable('world') == 'world' and drawable('m\u00e8tre') == 'm\u00e8tre'
+    assert drawable('\U0001f916 arm') == '\\U0001f916 arm'
+    with warnings.catch_warnings():
+        warnings.simplefilter('error')
+        write_figure(tmp_path / 'emoji.png', resting_rows(), anchor=(0.0, 0.0, 0.0),
+                     frame_id='\U0001f916', title='robot \U0001f916')
+    assert (tmp_path / 'emoji.png').stat().st_size > 0
+
+
+def test_missing_ticks_count_the_gaps_on_the_grid():
+    """Gaps on the grid count as missing ticks; a step back or off the grid is a restart."""
+    ms = 1_000_000
+    stamps = [0, ms, 2 * ms, 5 * ms, 6 * ms, 16 * ms]
+    lacking = missing_ticks(stamps, Grid(1000.0))
+    assert (lacking.expected, lacking.recorded, lacking.missing) == (17, 6, 11)
+    assert (lacking.longest_gap, lacking.gap_at, lacking.restarts) == (0.01, 0.006, 0)
+    assert missing_ticks(stamps, None).missing == 11
+    # A restart (back in time, or off the grid) counts nothing across it.
+    restarted = missing_ticks([0, ms, 2 * ms, ms // 2, ms // 2 + ms, 2 * ms + 777], Grid(1000.0))
+    assert (restarted.missing, restarted.restarts) == (0, 2)
+    # 300 Hz published at 1 kHz: gaps of 3 and 4 ticks are no loss; 13 ticks lack 3 publishes.
+    ticks = PublishTicks(1000.0, 300.0)
+    published = [n * ms for n in range(100) if ticks.due(n)]
+    assert missing_ticks(published, Grid(1000.0, 300.0)).missing == 0
+    assert missing_ticks(published[:5] + published[8:], Grid(1000.0, 300.0)).missing == 3
+    assert 'ticks_missing: 3' in missing_ticks(published[:5] + published[8:],
+                                               Grid(1000.0, 300.0)).lines()
+
+
+def test_a_recording_says_which_ticks_it_lacks(tmp_path):
+    """
+    Ticks absent from the grid: the exit warning and the CSV's header count them.
+
+    The test publishes the stamped poses and twists itself (1 ms apart from 5 s, without
+    ticks 100 to 109 and 300 to 304), so the gaps are known; without the node's parameters
+    (``--anchor``) the grid is the smallest step. The recording ends at 0.5 s of stamps.
+    """
+    ros = RosHarness()
+    try:
+        qos = QoSProfile(depth=10000, reliability=ReliabilityPolicy.RELIABLE)
+        poses = ros.probe.create_publisher(PoseStamped, 'lacking/pose', qos)
+        twists = ros.probe.create_publisher(TwistStamped, 'lacking/twist', qos)
+        process = subprocess.Popen(
+            [str(BIN / 'mouse_record'), '-d', '0.5', '-o', str(tmp_path / 'lacking'), '--anchor',
+             '0', '0', '0', '--timeout', '20', '--ros-args', '-r', '__ns:=/lacking'],
+            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        assert ros.spin_until(lambda: poses.get_subscription_count() > 0
+                              and twists.get_subscription_count() > 0, timeout=20.0)
+        kept = [n for n in range(700) if not (100 <= n < 110 or 300 <= n < 305)]
+        for n in kept:
+            for publisher, kind in ((poses, 'pose'), (twists, 'twist')):
+                publisher.publish(deserialize_message(
+                    state(kind, 5_000_000_000 + n * 1_000_000).data,
+                    PoseStamped if kind == 'pose' else TwistStamped))
+            ros.spin_for(0.0005)
+        assert ros.spin_until(lambda: process.poll() is not None, timeout=30.0)
+        stderr = process.stderr.read()
+    finally:
+        if process.poll() is None:
+            process.kill()
+        ros.shutdown()
+    assert process.returncode == 0, stderr
+    assert '15 of 501 ticks missing from the recording (longest gap 0.011 s' in stderr
+    with open(tmp_path / 'lacking.csv') as stream:
+        header = [line for line in stream if line.startswith('#')]
+    assert '# ticks_missing: 15\n' in header and '# ticks_recorded: 486\n' in header
+    assert len(read_csv(tmp_path / 'lacking.csv')) == 486
+
+
+def test_recording_follows_a_reset(tmp_path):
+    """
+    ~/reset during a recording: from the row after it, the target is the initial anchor.
+
+    The node holds its initial anchor, then follows a target 0.3 m away; the reset puts the
+    body back and holds the initial anchor again. The recorder learns of the reset from the
+    node's service events and of the initial pose from its parameters, so the rows after it
+    show the node's small anchor error, not the distance to the old target.
+    """
+    ros = RosHarness()
+    try:
+        overrides = [
+            Parameter('rate_hz', value=RATE), Parameter('anchor', value=list(ANCHOR)),
+            Parameter('marker_rate_hz', value=0.0), Parameter('diagnostics_rate_hz', value=0.0),
+            Parameter('linear_damping', value=2.0), Parameter('angular_damping', value=2.0)]
+        node = ros.add(MouseConstraintNode(context=ros.context, namespace='resetting',
+                                           parameter_overrides=overrides))
+        held = node.simulation.target
+        targets = ros.probe.create_publisher(PointStamped, 'resetting/target', 10)
+        reset = ros.probe.create_client(Trigger, 'resetting/mouse_constraint/reset')
+        assert ros.spin_until(lambda: targets.get_subscription_count() > 0
+                              and reset.service_is_ready())
+        moved = (held[0] + 0.3, held[1], held[2])
+        targets.publish(point_message(moved, 'world', 0))
+        process, lines, reader = start_recorder('-d', '1.5', '-o', str(tmp_path / 'reset'),
+                                                '--timeout', '20', '--ros-args', '-r',
+                                                '__ns:=/resetting')
+        deadline, started, future = time.monotonic() + 40.0, None, None
+        while process.poll() is None:
+            assert time.monotonic() < deadline, 'mouse_record did not finish'
+            ros.spin_for(0.05)
+            if started is None and any(line.startswith('recording') for line in lines):
+                started = time.monotonic()
+                targets.publish(point_message(moved, 'world', 0))
+            if future is None and started is not None and time.monotonic() - started > 0.6:
+                future = reset.call_async(Trigger.Request())
+        reader.join(timeout=5.0)
+        assert process.returncode == 0, ''.join(lines)
+        assert future is not None and future.done() and future.result().success
+    finally:
+        ros.shutdown()
+    rows = read_csv(tmp_path / 'reset.csv')
+    target = [(row['target_x'], row['target_y'], row['target_z']) for row in rows]
+    assert moved in target
+    after = target.index(held)
+    assert 0 < after < len(rows) - 10 and set(target[after:]) == {held}
+    assert target[after - 1] == moved
+    # Back at the initial pose, the body hangs from the held anchor: no 0.3 m error.
+    assert rows[after]['anchor_error'] < 0.01

@@ -330,3 +330,31 @@ def test_factor_zero_with_a_publish_rate_publishes_every_tenth_tick(ros, namespa
     assert all(value % period == 0 for value in clock_values)
     publishing = {value for value in clock_values if value % (every * period) == 0}
     assert publishing and publishing <= set(stamps.tolist())
+
+
+@pytest.mark.parametrize('name, value', [
+    ('real_time_factor', 1.0e-13), ('marker_rate_hz', 1.0e-11),
+    ('diagnostics_rate_hz', 1.0e-11)])
+def test_a_rate_whose_timer_cannot_run_is_refused_at_run_time(ros, name, value):
+    """
+    ros2 param set of a factor or a rate whose timer period overflows: refused, nothing changes.
+
+    Such a value used to end the node from create_timer (the period overflows a timer's int64
+    nanoseconds); now it is refused with the reason and the clock runs on at its factor.
+    """
+    node = start_node(ros, publish_clock=True, rate_hz=250.0, marker_rate_hz=10.0)
+    clocks = ros.collect(Clock, '/clock', depth=10000)
+    assert ros.spin_until(lambda: len(clocks) > 10)
+    client = ros.probe.create_client(SetParameters, '/mouse_constraint/set_parameters')
+    assert client.wait_for_service(timeout_sec=5.0)
+    future = client.call_async(SetParameters.Request(parameters=[
+        ParameterMessage(name=name, value=ParameterValue(type=ParameterType.PARAMETER_DOUBLE,
+                                                         double_value=value))]))
+    assert ros.spin_until(future.done)
+    [result] = future.result().results
+    assert not result.successful
+    assert f'{name} must be 0 or at least 0.001' in result.reason
+    assert node.get_parameter(name).value != value
+    before = len(clocks)
+    ros.spin_for(0.3)
+    assert len(clocks) > before

@@ -72,7 +72,7 @@ def test_type_hint_only_where_the_fix_is_plain(value, expected, hint):
     ('frame_id', 3, 'frame_id: 3 is an integer, frame_id takes a string'),
     ('rate_hz', 0.0, 'rate_hz: 0.0 is outside its range [1.0, 10000.0]'),
     ('substeps', 0, 'substeps: 0 is outside its range [1, 1000]'),
-    ('mass', math.nan, 'mass: .nan is not a number, so not within its range [0.0, .inf]'),
+    ('mass', math.nan, 'mass: .nan is not a number, so not within its range [0.0, finite]'),
 ])
 def test_a_refusal_names_the_parameter_the_reason_and_the_fix(name, value, expected):
     """The lines test_startup_refusals reads from the executable, here from the function."""

@@ -62,7 +62,7 @@ def the_one_line(result: subprocess.CompletedProcess) -> str:
     ('rate_hz: 0.0', 'rate_hz: 0.0 is outside its range [1.0, 10000.0]'),
     ('rate_hz: 20000.0', 'rate_hz: 20000.0 is outside its range [1.0, 10000.0]'),
     ('substeps: 0', 'substeps: 0 is outside its range [1, 1000]'),
-    ('mass: .nan', 'mass: .nan is not a number, so not within its range [0.0, .inf]'),
+    ('mass: .nan', 'mass: .nan is not a number, so not within its range [0.0, finite]'),
 ])
 def test_a_wrong_type_or_range_is_one_line_naming_the_parameter(tmp_path, line, expected):
     """Each bad value: exit 1 and one FATAL line with the parameter, the reason and the fix."""
@@ -129,3 +129,15 @@ def test_an_unknown_key_is_warned_about_with_the_nearest_name(tmp_path):
     assert any('[WARN]' in line and
                "ignoring unknown parameter 'baumgarde': did you mean 'baumgarte'?" in line
                for line in lines), lines
+
+
+@pytest.mark.parametrize('line, name', [
+    ('real_time_factor: 1.0e-13', 'real_time_factor'),
+    ('marker_rate_hz: 1.0e-11', 'marker_rate_hz'),
+    ('diagnostics_rate_hz: 1.0e-11', 'diagnostics_rate_hz'),
+])
+def test_a_rate_whose_timer_cannot_run_is_one_line(tmp_path, line, name):
+    """A factor or rate whose timer period overflows: one FATAL line, not a traceback."""
+    result = run_node('--params-file', str(params_file(tmp_path, 'publish_clock: true', line)))
+    assert result.returncode == 1
+    assert f'{name} must be 0 or at least 0.001' in the_one_line(result)

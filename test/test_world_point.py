@@ -79,5 +79,5 @@ def test_recorded_anchor_is_the_world_point_of_the_anchor():
         fill_twist(twist, state)
         received += [Received('pose', k, serialize_message(pose)),
                      Received('twist', k, serialize_message(twist))]
-    rows = tick_rows(received, ANCHOR)
+    rows = tick_rows(received, {'anchor': ANCHOR})
     assert [row.anchor for row in rows] == [state.world_point(ANCHOR) for state in states]

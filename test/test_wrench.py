@@ -29,11 +29,13 @@ from scipy.spatial.transform import Rotation
 from std_srvs.srv import SetBool, Trigger
 from visualization_msgs.msg import Marker, MarkerArray
 
-from mouse_constraint_ros.inputs.wrench_gate import HeldWrench, NO_WRENCH, WrenchGate
+from mouse_constraint_ros.inputs.wrench_gate import (effective_time, HeldWrench, NO_WRENCH,
+                                                     STAMP_WINDOW_NS, WrenchGate)
 from mouse_constraint_ros.monitoring.markers import marker_array, wrench_reference
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.physics import BodyState, MouseSimulation, RigidBody, Settings
 from mouse_constraint_ros.wire import messages
+from test_support.ros_harness import SimClock
 
 MASS = 2.0
 BOX = (0.4, 0.2, 0.1)
@@ -153,6 +155,27 @@ def test_a_held_wrench_times_out_and_zero_holds_it():
     assert held.wrench == NO_WRENCH and held.applied is None
 
 
+def test_a_scheduled_wrench_takes_effect_at_its_stamp_and_zero_ends_it():
+    """Wrenches take effect in order from their times; a zero one clears; far off is arrival."""
+    held = HeldWrench()
+    held.schedule((1.0, 0.0, 0.0), (0.0, 0.0, 0.0), 100)
+    held.schedule((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), 300)
+    assert not held.advance(99) and held.wrench == NO_WRENCH
+    assert held.advance(100) and held.wrench == ((1.0, 0.0, 0.0), ZERO3)
+    assert held.applied.since_ns == 100
+    assert not held.advance(299) and held.advance(300) and held.applied is None
+    held.schedule((1.0, 0.0, 0.0), (0.0, 0.0, 0.0), 400)
+    held.clear()
+    assert not held.advance(500)
+    now = 5 * STAMP_WINDOW_NS
+    assert effective_time(now - STAMP_WINDOW_NS, now) == now - STAMP_WINDOW_NS
+    assert effective_time(now + 7, now) == now + 7
+    assert effective_time(0, now) == now and effective_time(now - STAMP_WINDOW_NS - 1, now) == now
+
+
+ZERO3 = (0.0, 0.0, 0.0)
+
+
 def test_the_marker_arrow_shows_the_force_from_the_com():
     """The arrow starts at the COM along F, one longest box edge per body weight; 0 deletes."""
     simulation = free_simulation()
@@ -202,6 +225,36 @@ def test_the_node_applies_a_wrench_and_drops_it_after_the_timeout(ros):
     assert speed == pytest.approx(force[0] / MASS * 0.3, rel=0.1)
     ros.spin_for(0.2)
     assert node.simulation.state.linear_velocity[0] == speed
+
+
+def test_a_stamped_push_lasts_its_duration_to_the_tick(ros):
+    """
+    A push stamped t0 and its zero wrench stamped t1: the ticks stamped in [t0, t1) push.
+
+    On a simulated clock driven here, both messages arrive before any of those ticks runs:
+    taken at their arrival, they would cancel; taken at their stamps, the body gains exactly
+    F (t1 - t0) / m, however late the ticks run (here in steps of two ticks).
+    """
+    node = start_node(ros, rate_hz=100.0, use_sim_time=True, wrench_timeout=0.0, **FREE)
+    clock = SimClock(ros, node)
+    start = 1_000 * 10 ** 9
+    clock.advance_to(start)
+    publisher = ros.probe.create_publisher(WrenchStamped, 'wrench', 10)
+    assert ros.spin_until(lambda: publisher.get_subscription_count() > 0)
+    force = 3.0
+    for stamp, value in ((start + 50_000_000, force), (start + 250_000_000, 0.0)):
+        message = wrench_message((value, 0.0, 0.0), ZERO3)
+        messages.set_stamp(message.header.stamp, stamp)
+        publisher.publish(message)
+        # The wrench subscription keeps the newest message only: let the node take each.
+        ros.spin_for(0.1)
+    assert node.simulation.wrench == NO_WRENCH
+    for k in range(1, 26):
+        clock.advance_to(start + k * 20_000_000)
+    assert node.dropped_ticks == 0
+    assert node.simulation.wrench == NO_WRENCH
+    assert node.simulation.state.linear_velocity[0] == pytest.approx(force / MASS * 0.2,
+                                                                     rel=1e-12)
 
 
 def test_hostile_wrenches_change_nothing_bit_for_bit(ros, capfd):
@@ -256,34 +309,139 @@ def test_markers_show_the_applied_force(ros):
     assert ros.spin_until(lambda: arrow().action == Marker.DELETE)
 
 
+def run_wrench_cli(ros, arguments, *, signal_after=None, timeout=20.0):
+    """
+    Run ``mouse_wrench`` with ``arguments`` while ``ros`` spins; return (status, stdout, stderr).
+
+    :param signal_after: send SIGINT this many seconds after the push began (its first line).
+    """
+    process = subprocess.Popen([sys.executable, '-m', 'mouse_constraint_ros.cli.wrench',
+                                *arguments], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                               text=True)
+    started = None
+
+    def done() -> bool:
+        nonlocal started
+        if signal_after is not None and started is None and any(
+                node.simulation.wrench != NO_WRENCH for node in ros.nodes[1:]):
+            started = time.monotonic()
+        if started is not None and time.monotonic() - started > signal_after:
+            process.send_signal(signal.SIGINT)
+            started = math.inf
+        return process.poll() is not None
+
+    try:
+        assert ros.spin_until(done, timeout=timeout), 'mouse_wrench did not end'
+    finally:
+        if process.poll() is None:
+            process.kill()
+    stdout, stderr = process.communicate(timeout=5.0)
+    return process.returncode, stdout, stderr
+
+
+def record_pushed_ticks(node) -> list:
+    """Return the list that gets, for each step of ``node``, (wrench applied, dropped ticks)."""
+    simulation, ticks = node.simulation, []
+    step = simulation.step
+
+    def recording_step(dt):
+        ticks.append((simulation.wrench != NO_WRENCH, node.dropped_ticks))
+        return step(dt)
+
+    simulation.step = recording_step
+    return ticks
+
+
 @pytest.mark.system
-def test_the_wrench_cli_pushes_for_its_duration_then_stops(ros):
-    """mouse_wrench: the wrench is applied for --duration, then a zero wrench ends it."""
+@pytest.mark.parametrize('duration', [0.05, 0.3])
+def test_the_wrench_cli_pushes_for_its_duration_then_stops(ros, duration):
+    """
+    mouse_wrench: the push lasts its duration within a few ticks, not a polling period.
+
+    A free 2 kg body, no timeout: the zero wrench alone ends the push. The ticks stepped with
+    the wrench are the push (the command's own rate, 20 Hz, would show as 50 ms too long), and
+    the velocity gained is F t / m over them. A push during which this loaded machine made the
+    node drop ticks (its simulated time is then shorter than the wall time) is tried again, at
+    most three times.
+    """
+    node = start_node(ros, rate_hz=500.0, wrench_timeout=0.0, **FREE)
+    ticks = record_pushed_ticks(node)
+    force = 2.0
+    for _ in range(3):
+        speed = node.simulation.state.linear_velocity[0]
+        del ticks[:]
+        status, stdout, stderr = run_wrench_cli(
+            ros, ['--force', str(force), '0', '0', '--duration', str(duration)])
+        ros.spin_for(0.2)
+        assert status == 0, stderr
+        assert node.simulation.wrench == NO_WRENCH
+        pushed = [k for k, (applied, _) in enumerate(ticks) if applied]
+        dropped = {ticks[k][1] for k in range(pushed[0], pushed[-1] + 2)}
+        if len(dropped) == 1:
+            break
+    assert len(dropped) == 1, 'the node dropped ticks in each of three pushes'
+    assert pushed == list(range(pushed[0], pushed[-1] + 1))
+    assert abs(len(pushed) / 500.0 - duration) <= 0.01, len(pushed)
+    gained = (node.simulation.state.linear_velocity[0] - speed) * MASS / force
+    assert gained == pytest.approx(len(pushed) / 500.0, rel=1e-9)
+    assert f'for {duration:g} s' in stdout
+    assert 'Traceback' not in stderr and 'Exception ignored' not in stderr
+
+
+@pytest.mark.system
+def test_an_endless_push_ends_with_the_zero_wrench_on_ctrl_c(ros):
+    """--duration inf pushes until SIGINT; then the zero wrench ends it (no timeout here)."""
     node = start_node(ros, rate_hz=200.0, wrench_timeout=0.0, **FREE)
+    status, stdout, stderr = run_wrench_cli(
+        ros, ['--force', '1', '0', '0', '--duration', 'inf'], signal_after=0.5)
+    ros.spin_for(0.2)
+    assert status == 0, stderr
+    assert 'Traceback' not in stderr and 'until Ctrl-C' in stderr
+    assert node.simulation.wrench == NO_WRENCH
+    speed = node.simulation.state.linear_velocity[0]
+    ros.spin_for(0.2)
+    assert node.simulation.state.linear_velocity[0] == speed > 0.4 * 1.0 / MASS
+    assert 'pushed with force' in stdout
+
+
+@pytest.mark.parametrize('arguments', [
+    ['--rate', 'inf'], ['--rate', '1e-300'], ['--rate', '0'], ['--rate', 'nan'],
+    ['--rate', '1e6'], ['--duration', 'nan'], ['--duration', '-1'], ['--duration', '1e300'],
+    ['--timeout', '0'],
+])
+def test_the_wrench_cli_refuses_rates_and_durations_that_do_not_run(arguments, capsys):
+    """A rate, duration or timeout whose timer cannot run is a usage error (exit 2)."""
+    from mouse_constraint_ros.cli.wrench import build_parser
+    with pytest.raises(SystemExit) as exit_info:
+        build_parser().parse_args(arguments)
+    assert exit_info.value.code == 2
+    assert 'must be in' in capsys.readouterr().err
+
+
+@pytest.mark.system
+@pytest.mark.parametrize('arguments, reason', [
+    (['--force', '60', '0', '0'], 'max_wrench_force 50 N'),
+    (['--torque', '0', '0', '6'], 'max_wrench_torque 5 N m'),
+    (['--force', '1', '0', '0', '--frame', 'map'], "in frame 'map'"),
+    (['--force', '1', '0', '0', '--rate', '1', '--duration', '2'], 'wrench_timeout 0.5 s'),
+])
+def test_the_wrench_cli_refuses_what_the_running_node_would_ignore(ros, arguments, reason):
+    """Checked against the node's own bounds, frame and timeout: exit 1, nothing sent."""
+    node = start_node(ros, rate_hz=200.0, max_wrench_force=50.0, max_wrench_torque=5.0, **FREE)
     seen = []
     ros.probe.create_timer(0.01, lambda: seen.append(node.simulation.wrench))
-    process = subprocess.Popen(
-        [sys.executable, '-m', 'mouse_constraint_ros.cli.wrench', '--force', '2', '0', '0',
-         '--torque', '0', '0', '0.5', '--duration', '0.5'],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    assert ros.spin_until(lambda: process.poll() is not None, timeout=20.0)
-    ros.spin_for(0.2)
-    assert process.returncode == 0, process.stderr.read()
-    pushed = [w for w in seen if w != NO_WRENCH]
-    assert pushed and set(pushed) == {((2.0, 0.0, 0.0), (0.0, 0.0, 0.5))}
-    # About the duration at 10 ms per sample, and nothing after the zero wrench.
-    assert 0.3 <= 0.01 * len(pushed) <= 1.0
-    assert node.simulation.wrench == NO_WRENCH
-    assert 'pushed with force' in process.stdout.read()
+    status, stdout, stderr = run_wrench_cli(ros, arguments)
+    assert status == 1 and reason in stderr and 'nothing published' in stderr, stderr
+    assert set(seen) == {NO_WRENCH} and 'pushed' not in stdout
 
 
 @pytest.mark.system
-def test_the_wrench_cli_refuses_what_the_node_would_ignore():
-    """A force over the default max_wrench_force: exit 1 with the reason, nothing sent."""
+def test_the_wrench_cli_refuses_a_non_finite_wrench_at_once():
+    """A non-finite force is refused before anything starts: exit 1, no node needed."""
     result = subprocess.run(
-        [sys.executable, '-m', 'mouse_constraint_ros.cli.wrench', '--force', '2000', '0', '0'],
+        [sys.executable, '-m', 'mouse_constraint_ros.cli.wrench', '--force', 'nan', '0', '0'],
         capture_output=True, text=True, timeout=20.0)
-    assert result.returncode == 1 and 'max_wrench_force' in result.stderr
+    assert result.returncode == 1 and 'not finite' in result.stderr
 
 
 @pytest.mark.system

@@ -20,21 +20,22 @@ The ``mouse_record`` command: record target, pose, twist and grabs, then draw th
 then writes
 
 - ``run.csv``: one row per tick (pose and twist of the same stamp), with the anchor's world
-  position, the latest target received before that pose, the anchor error, speed and angular
-  speed, the body-frame anchor in effect and the grab received since the tick before;
+  position, the node's target at that tick (the latest target received, a grab the node took,
+  what ``~/reset`` and ``~/release`` leave), the anchor error, speed and angular speed, the
+  body-frame anchor in effect and the grabs, taken or ignored;
 - ``run.png``: anchor and target paths from above and from the side, the anchor error, speed and
   angular speed over time, grabs marked;
 - ``run.mcap`` with ``--mcap``: the topics as received (CDR, ``ros2`` profile), with the
-  recorded node's anchor changes from ``/parameter_events``, which Foxglove and
-  ``ros2 bag info/play`` open.
+  recorded node's changes from ``/parameter_events`` and its reset and release service events,
+  which Foxglove and ``ros2 bag info/play`` open.
 
-The anchor (body frame) is read at the start from the ``anchor`` parameter of the node being
-recorded (``--node``, default ``mouse_constraint`` in the recorder's namespace) through its
-parameter service, then followed on ``/parameter_events`` (a ``grab`` makes the grabbed point
-the node's anchor), so the figure always matches the node; ``--anchor X Y Z`` gives the
-starting anchor instead and needs no node. Ctrl-C ends the recording early and still writes
-the files. The files are checked for writing before the recording starts: an unwritable
-``--output`` fails at once.
+The anchor (body frame), ``hold_initial_anchor`` and the initial pose are read at the start from
+the node being recorded (``--node``, default ``mouse_constraint`` in the recorder's namespace)
+through its parameter service, then followed on ``/parameter_events`` (a ``grab`` makes the
+grabbed point the node's anchor), so the figure always matches the node; ``--anchor X Y Z``
+gives the starting anchor instead and needs no node (the target after a reset is then not
+known). Ctrl-C ends the recording early and still writes the files. The files are checked for
+writing before the recording starts: an unwritable ``--output`` fails at once.
 
 This module is the command (its options and ``main``); the recording, the rows, the figure and
 the MCAP file are in the ``recording`` package.
@@ -45,7 +46,7 @@ import datetime
 import math
 from pathlib import Path
 import sys
-from typing import List, Optional
+from typing import Dict, List, Optional
 
 import rclpy
 from rclpy.executors import ExternalShutdownException
@@ -54,10 +55,10 @@ from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
 from .help_text import plain_text
-from ..physics.algebra import Vector3
-from ..recording.capture import capture, fetch_anchor, Progress, Recorder, wait_for_first_pose
+from ..recording.capture import capture, fetch_start, Progress, Recorder, wait_for_first_pose
 from ..recording.figure import write_figure
 from ..recording.mcap_file import write_mcap
+from ..recording.missing_ticks import Grid, missing_ticks
 from ..recording.outputs import check_writable, describe_os_error, output_paths
 from ..recording.rows import frame_of, tick_rows, write_csv
 from ..timing.spin import Interrupted, SpinEnd, StopRequest
@@ -97,8 +98,8 @@ def build_parser() -> argparse.ArgumentParser:
                         help='the node whose anchor parameter to read and follow '
                              '(default: %(default)s, in this namespace)')
     parser.add_argument('--timeout', type=_finite('--timeout', 0.0), default=10.0,
-                        help='seconds to wait for the parameter service and the first pose '
-                             '(default: %(default)g)')
+                        help='seconds to wait for the parameter service and the first pose, '
+                             'and for each pose while recording (default: %(default)g)')
     return parser
 
 
@@ -136,27 +137,30 @@ def main(args: Optional[List[str]] = None) -> int:
     executor.add_node(node)
     try:
         with StopRequest() as stop:
-            anchor = options.anchor
-            if anchor is None:
+            if options.anchor is not None:
+                start = {'anchor': tuple(options.anchor)}
+            else:
                 try:
-                    anchor = fetch_anchor(node, executor, stop, target_node=options.node,
-                                          timeout=options.timeout)
+                    start = fetch_start(node, executor, stop, target_node=options.node,
+                                        timeout=options.timeout)
                 except RuntimeError as error:
                     logger.error(f'{error}: is the node running (same ROS_DOMAIN_ID and '
                                  'namespace, --node)? Or give --anchor X Y Z')
                     return 1
-                logger.info(f'anchor {anchor} m (body frame) from {options.node}')
-            anchor = tuple(anchor)
+                logger.info(f'anchor {start["anchor"]} m (body frame) from {options.node}')
             try:
                 wait_for_first_pose(node, executor, stop, timeout=options.timeout)
             except RuntimeError as error:
                 logger.error(str(error))
                 return 1
             end = capture(node, executor, stop, duration=options.duration,
-                          progress=Progress(options.duration))
+                          idle_timeout=options.timeout, progress=Progress(options.duration))
             if end is SpinEnd.SHUTDOWN:
                 return 1
-        return write_outputs(node, options, anchor)
+            if end is SpinEnd.DEADLINE:
+                logger.warning(f'no pose for {options.timeout:g} s (the node paused or gone): '
+                               f'the recording ends at {node.elapsed():.3f} s')
+        return write_outputs(node, options, start)
     except Interrupted:
         logger.warning('interrupted before the first pose: nothing recorded')
         return INTERRUPTED_STATUS
@@ -167,17 +171,25 @@ def main(args: Optional[List[str]] = None) -> int:
         rclpy.try_shutdown()
 
 
-def write_outputs(node: Recorder, options: argparse.Namespace, anchor: Vector3) -> int:
-    """Write the CSV, the figure and, with ``--mcap``, the MCAP file; log where they went."""
+def write_outputs(node: Recorder, options: argparse.Namespace, start: Dict[str, object]) -> int:
+    """
+    Write the CSV, the figure and, with ``--mcap``, the MCAP file; log where they went.
+
+    :param start: the recorded node's parameters at the start (``rows.NodeView``).
+    """
     logger = node.get_logger()
-    rows = tick_rows(node.received, anchor)
+    anchor = start['anchor']
+    rows = tick_rows(node.received, start)
     if not rows:
         logger.error('no tick with both pose and twist was recorded')
         return 1
+    grid = (Grid(start['rate_hz'], start.get('publish_rate_hz', 0.0)) if 'rate_hz' in start
+            else None)
+    lacking = missing_ticks([row.stamp_ns for row in rows], grid)
     written = output_paths(options.output, options.mcap)
     try:
         options.output.parent.mkdir(parents=True, exist_ok=True)
-        write_csv(written[0], rows)
+        write_csv(written[0], rows, [f'mouse_record of {node.target_name}', *lacking.lines()])
         write_figure(written[1], rows, anchor=anchor, frame_id=frame_of(node.received) or '?')
         if options.mcap:
             write_mcap(written[2], node.received, topic_names=node.topic_names(),
@@ -188,6 +200,14 @@ def write_outputs(node: Recorder, options: argparse.Namespace, anchor: Vector3) 
         return 1
     logger.info(f'{len(rows)} ticks, {rows[-1].time:.2f} s: wrote '
                 + ', '.join(str(path) for path in written))
+    if lacking.missing:
+        logger.warning(
+            f'{lacking.missing} of {lacking.expected} ticks missing from the recording '
+            f'(longest gap {lacking.longest_gap:.6g} s at {lacking.gap_at:.6g} s, grid '
+            f'{lacking.grid}): the node dropped them or was paused, or this recorder did not '
+            f'keep up; the CSV header says so too')
+    else:
+        logger.info(f'no tick missing on the grid ({lacking.grid})')
     return 0
 
 

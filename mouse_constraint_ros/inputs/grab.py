@@ -25,6 +25,7 @@ nothing jumps. Plain floats; no ROS here.
 """
 
 import math
+import sys
 from typing import NamedTuple, Sequence
 
 from ..physics import BodyState
@@ -57,15 +58,26 @@ def box_distance(local: Sequence[float], box_size: Sequence[float]) -> float:
     return math.hypot(*excess)
 
 
+# The rounding of a world point into the body frame and onto the box, in units of the sizes
+# involved (|point| + |position| + the box's diagonal): a few float epsilons of them.
+ROUNDING = 8.0 * sys.float_info.epsilon
+
+
 class Grab(NamedTuple):
-    """What a grab gives: the body-frame point and its distance off the box (m, 0 on it)."""
+    """
+    What a grab gives: the body-frame point and its distance off the box (m, 0 on it).
+
+    ``rounding`` bounds the error of that distance (m): a point exactly on the box (its corner,
+    with margin 0) is a few 1e-17 m off once turned into the body frame, and is taken.
+    """
 
     anchor: Vector3
     distance: float
+    rounding: float = 0.0
 
     def taken(self, margin: float) -> bool:
-        """Return whether the point is within ``margin`` (m) of the box."""
-        return self.distance <= margin
+        """Return whether the point is within ``margin`` (m) of the box, up to rounding."""
+        return self.distance <= margin + self.rounding
 
 
 def grab(state: BodyState, box_size: Sequence[float], point: Sequence[float]) -> Grab:
@@ -77,4 +89,5 @@ def grab(state: BodyState, box_size: Sequence[float], point: Sequence[float]) ->
     :param point: the grabbed point in the world frame (m), finite.
     """
     local = to_body_frame(state, point)
-    return Grab(local, box_distance(local, box_size))
+    scale = math.hypot(*point) + math.hypot(*state.position) + math.hypot(*box_size)
+    return Grab(local, box_distance(local, box_size), ROUNDING * scale)

@@ -38,6 +38,16 @@ class Refusal(NamedTuple):
     reason: str
 
 
+def apart(value: float, bound: float) -> Tuple[str, str]:
+    """
+    Return ``value`` and the ``bound`` it passed as texts that differ: ``%g``, else every digit.
+
+    ``%g`` keeps six digits, so that 100.00000001 exceeding 100 would read "100 exceeds 100".
+    """
+    shown = (f'{value:g}', f'{bound:g}')
+    return shown if shown[0] != shown[1] else (repr(float(value)), repr(float(bound)))
+
+
 @dataclass(frozen=True)
 class TargetGate:
     """

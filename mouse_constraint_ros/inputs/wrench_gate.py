@@ -24,20 +24,38 @@ applied before goes on until its own timeout. Each refusal has a key ('wrench fr
 'wrench finite', 'wrench force', 'wrench torque') to throttle repeated ones under.
 
 ``HeldWrench`` applies the latest wrench taken until ``wrench_timeout`` passes without
-another (0 = hold it until one replaces it). Plain floats and strings only, so that the node
-and the command line tool apply the same policy.
+another (0 = hold it until one replaces it). A wrench takes effect from the tick stamped at or
+after its own stamp (``effective_time``): a push and the zero wrench that ends it, stamped
+with the push's start and end, then last their duration within a tick, whatever the latency
+and however late the node runs its ticks, save the ticks that ran before a message arrived. A
+stamp far from the node's time (another clock, or none) counts as the time it arrived. Plain
+floats and strings only, so that the node and the command line tool apply the same policy.
 """
 
+from collections import deque
 from dataclasses import dataclass
 import math
 from typing import NamedTuple, Optional, Sequence, Tuple
 
-from .target_gate import Refusal
+from .target_gate import apart, Refusal
 
 Vector3 = Tuple[float, float, float]
 ZERO: Vector3 = (0.0, 0.0, 0.0)
 # No wrench: what the simulation applies without one.
 NO_WRENCH: Tuple[Vector3, Vector3] = (ZERO, ZERO)
+# How far (ns) before the node's time a wrench's stamp may lie and still say when it applies:
+# farther, it is on another clock (or 0, unset) and the wrench applies from its arrival.
+STAMP_WINDOW_NS = 1_000_000_000
+
+
+def effective_time(stamp_ns: int, now_ns: int) -> int:
+    """
+    Return the node's time (ns) from which a wrench stamped ``stamp_ns`` applies.
+
+    Its stamp when that lies within ``STAMP_WINDOW_NS`` before ``now_ns`` (its arrival) or at
+    most as far after it; else ``now_ns``.
+    """
+    return stamp_ns if abs(now_ns - stamp_ns) <= STAMP_WINDOW_NS else now_ns
 
 
 @dataclass(frozen=True)
@@ -69,12 +87,14 @@ class WrenchGate:
             return Refusal('wrench finite', f'force {values[:3]} torque {values[3:]}: not finite')
         magnitude = math.hypot(*values[:3])
         if magnitude > self.max_force:
-            return Refusal('wrench force', f'force {values[:3]}: |force| {magnitude:g} N exceeds '
-                                           f'max_wrench_force {self.max_force:g} N')
+            value, bound = apart(magnitude, self.max_force)
+            return Refusal('wrench force', f'force {values[:3]}: |force| {value} N exceeds '
+                                           f'max_wrench_force {bound} N')
         magnitude = math.hypot(*values[3:])
         if magnitude > self.max_torque:
-            return Refusal('wrench torque', f'torque {values[3:]}: |torque| {magnitude:g} N m '
-                                            f'exceeds max_wrench_torque {self.max_torque:g} N m')
+            value, bound = apart(magnitude, self.max_torque)
+            return Refusal('wrench torque', f'torque {values[3:]}: |torque| {value} N m '
+                                            f'exceeds max_wrench_torque {bound} N m')
         return None
 
 
@@ -90,8 +110,30 @@ class HeldWrench:
     """The latest wrench taken, until ``timeout`` seconds pass without another (0 = never)."""
 
     def __init__(self) -> None:
-        """Hold no wrench."""
+        """Hold no wrench, none scheduled."""
         self.applied: Optional[AppliedWrench] = None
+        # Wrenches taken and not yet in effect: (from when, force, torque), in arrival order.
+        self._scheduled = deque()
+
+    def schedule(self, force: Sequence[float], torque: Sequence[float], at_ns: int) -> None:
+        """Apply ``force`` and ``torque`` from the tick stamped ``at_ns`` or later; zero ends."""
+        self._scheduled.append((at_ns, tuple(map(float, force)), tuple(map(float, torque))))
+
+    def advance(self, stamp_ns: int) -> bool:
+        """
+        Put in effect the wrenches scheduled up to ``stamp_ns`` (the tick's); return if any was.
+
+        A zero wrench clears the one held: nothing is left to time out.
+        """
+        scheduled, changed = self._scheduled, False
+        while scheduled and scheduled[0][0] <= stamp_ns:
+            at_ns, force, torque = scheduled.popleft()
+            if force == torque == ZERO:
+                self.applied = None
+            else:
+                self.applied = AppliedWrench(force, torque, at_ns)
+            changed = True
+        return changed
 
     def take(self, force: Sequence[float], torque: Sequence[float], now_ns: int) -> None:
         """Apply ``force`` and ``torque`` from now on, replacing the wrench held."""
@@ -99,8 +141,9 @@ class HeldWrench:
                                      now_ns)
 
     def clear(self) -> None:
-        """Hold no wrench."""
+        """Hold no wrench, and drop the scheduled ones."""
         self.applied = None
+        self._scheduled.clear()
 
     def expired(self, now_ns: int, timeout: float) -> bool:
         """Drop the wrench when it is older than ``timeout`` (s, > 0); return whether it was."""

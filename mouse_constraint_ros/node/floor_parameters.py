@@ -20,9 +20,9 @@ builds and validates the floor for ``parameters.node_config``, the collision box
 node's ``box_size``. The defaults are the core's (``physics.floor.Floor``): no floor.
 """
 
-import math
 from typing import Any, Mapping, Tuple
 
+from .timer_limits import FINITE_MAX
 from ..physics.algebra import Vector3
 from ..physics.floor import Floor
 from ..physics.limits import MAX_CONTACT_ITERATIONS, MAX_DISTANCE, MAX_FRICTION
@@ -46,7 +46,7 @@ FLOOR_PARAMETERS: Tuple[tuple, ...] = (
      'leaves at this times its speed; 0 = no bounce.', (0.0, 1.0)),
     ('restitution_threshold', CORE.restitution_threshold,
      'Speed of approach (m/s) below which a contact does not bounce, so a resting box is '
-     'still.', (0.0, math.inf)),
+     'still.', (0.0, FINITE_MAX)),
     ('contact_iterations', CORE.iterations,
      'Most sequential-impulse sweeps over the floor contacts per substep (they stop once '
      'converged).', (1, MAX_CONTACT_ITERATIONS)),

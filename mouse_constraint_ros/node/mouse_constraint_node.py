@@ -42,6 +42,7 @@ from rclpy.experimental import EventsExecutor
 from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
 from rclpy.parameter import Parameter
+from rclpy.service_introspection import ServiceIntrospectionState
 from rclpy.signals import SignalHandlerOptions
 from std_srvs.srv import Trigger
 
@@ -55,15 +56,19 @@ from .startup import (CLOCK_LOOP, clock_loop, describe, rcl_reason,  # noqa: F40
 from .tick_loop import TickLoop
 from ..inputs.grab import grab
 from ..inputs.input_timeouts import target_release_text, timed_out
-from ..inputs.target_gate import TargetGate
+from ..inputs.target_gate import apart, TargetGate
+from ..inputs.target_stamps import TargetStamps
 from ..inputs.throttle import Throttle
 from ..physics import MouseSimulation
 from ..physics.algebra import Vector3
+from ..physics.target_motion import STREAM_GAP
+from ..timing.guarded_time_source import guard_time_source
 from ..timing.spin import spin_until, StopRequest
 from ..timing.tick_budget import TickBudget
-from ..wire.interface import (GRAB_TOPIC, NODE_NAME, RELEASE_SERVICE, RESET_SERVICE, TARGET_QOS,
-                              TARGET_TOPIC)
-from ..wire.messages import point_from_message
+from ..timing.tick_grid import CoreClock
+from ..wire.interface import (GRAB_TOPIC, NODE_NAME, RELEASE_SERVICE, RESET_SERVICE,
+                              SERVICE_EVENT_QOS, TARGET_QOS, TARGET_TOPIC)
+from ..wire.messages import point_from_message, stamp_nanoseconds
 from ..wire.state_publishers import (BroadcasterFactory, DEFAULT_BROADCASTER, StatePublishers,
                                      TF_UNAVAILABLE)
 
@@ -105,6 +110,7 @@ class MouseConstraintNode(ParameterChanges, TickLoop, SimulatorControls, Monitor
             node is destroyed then.
         """
         super().__init__(NODE_NAME, **kwargs)
+        guard_time_source(self, lambda text: self._warn('clock ignored', lambda: text))
         try:
             for parameter in PARAMETERS:
                 self._declare(parameter)
@@ -119,11 +125,15 @@ class MouseConstraintNode(ParameterChanges, TickLoop, SimulatorControls, Monitor
         self._user_target = False
         self._last_target_ns: Optional[int] = None
         self._gate = TargetGate(self._config.frame_id, self._config.workspace_radius)
+        self._stamps, self._core_clock = TargetStamps(STREAM_GAP), CoreClock()
         # The anchor of the parameters (start or ros2 param set), which ~/reset restores.
         self._configured_anchor = self._config.settings.constraint.anchor
         # True while the node sets its own anchor parameter for a grab or a reset.
         self._setting_anchor = False
         self._throttle = Throttle(self.get_logger().warning, period=WARN_PERIOD)
+        # Through a function of its own: rclpy keys a log call's severity by its caller, and the
+        # warnings are logged from the same line of Throttle.
+        self._notes = Throttle(lambda text: self.get_logger().info(text), period=WARN_PERIOD)
         self._hold_initial_anchor()
         self.ticks_run = 0
         self.late_ticks = 0
@@ -153,8 +163,11 @@ class MouseConstraintNode(ParameterChanges, TickLoop, SimulatorControls, Monitor
         self._twist_publisher = self._state_publishers.twist_publisher
         self.create_subscription(PointStamped, TARGET_TOPIC, self._on_target, TARGET_QOS)
         self.create_subscription(PointStamped, GRAB_TOPIC, self._on_grab, TARGET_QOS)
-        self.create_service(Trigger, RESET_SERVICE, self._on_reset)
-        self.create_service(Trigger, RELEASE_SERVICE, self._on_release)
+        for name, callback in ((RESET_SERVICE, self._on_reset),
+                               (RELEASE_SERVICE, self._on_release)):
+            # Their calls set the target: published as service events (mouse_record follows).
+            self.create_service(Trigger, name, callback).configure_introspection(
+                self.get_clock(), SERVICE_EVENT_QOS, ServiceIntrospectionState.CONTENTS)
         self._timer = None
         self._start_timer()
         self._simulator_controls_setup()
@@ -200,9 +213,19 @@ class MouseConstraintNode(ParameterChanges, TickLoop, SimulatorControls, Monitor
         if refusal is not None:
             self._warn(refusal.key, lambda: f'ignoring target {refusal.reason}')
             return
-        self._simulation.set_target(point, time=self._simulation.time)
+        now, arrival = self._now_ns(), self._simulation.time
+        stamp = stamp_nanoseconds(message.header.stamp)
+        if self.ticks_run and self._stamps.refusal(stamp, now_ns=now, tick_s=self._dt) is None:
+            stamped, moved = self._core_clock.time_of(stamp, tick_stamp_ns=self._stamp_ns,
+                                                      tick_core_time=arrival, tick_s=self._dt)
+            if moved:
+                # Ticks were dropped (or paused) since the last stamp: a new stream.
+                self._simulation.target = point
+            self._simulation.set_target(point, time=stamped, stamped=True)
+        else:
+            self._simulation.set_target(point, time=arrival)
         self._user_target = True
-        self._last_target_ns = self._now_ns()
+        self._last_target_ns = now
 
     def _on_grab(self, message: PointStamped) -> None:
         """Make a point on the body the anchor and the target; ignore (and say) any other."""
@@ -214,9 +237,10 @@ class MouseConstraintNode(ParameterChanges, TickLoop, SimulatorControls, Monitor
         landed = grab(self._simulation.state, self._config.box_size, point)
         margin = self._config.grab_margin
         if not landed.taken(margin):
+            off, bound = apart(landed.distance, margin)
             self._warn('grab off body', lambda: (
-                f'ignoring grab {point}: {landed.distance:.6g} m off the body, farther than '
-                f'grab_margin {margin:g} m from its box'))
+                f'ignoring grab {point}: {off} m off the body, farther than '
+                f'grab_margin {bound} m from its box'))
             return
         reason = self._set_anchor(landed.anchor)
         if reason is not None:

@@ -30,6 +30,7 @@ from rclpy.parameter import Parameter
 from .parameters import node_config, PARAMETERS, ParameterSpec
 from .startup import clock_loop, refusal_reason
 from ..inputs.target_gate import TargetGate
+from ..physics.validation import shown
 from ..timing.publish_ticks import PublishTicks, ticks_per_callback
 
 
@@ -104,5 +105,11 @@ class ParameterChanges:
         if (config.marker_rate_hz, config.diagnostics_rate_hz) != (
                 previous.marker_rate_hz, previous.diagnostics_rate_hz):
             self._start_monitor_timers()
-        self.get_logger().info('parameters changed: ' + self._describe())
+        if self._setting_anchor:
+            # A grab or a reset: one short line, at most every WARN_PERIOD (grabs can flood).
+            anchor = config.settings.constraint.anchor
+            self._notes('anchor', lambda: f'anchor {shown(anchor)} m (body frame), set by the '
+                                          'node')
+        else:
+            self.get_logger().info('parameters changed: ' + self._describe())
         return SetParametersResult(successful=True)

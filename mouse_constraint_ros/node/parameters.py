@@ -16,9 +16,8 @@
 The node's parameters as plain data, and the core objects they make (no ROS here).
 
 ``PARAMETERS`` is the one table of names, defaults, units and ranges: the node declares it,
-``config/params.yaml`` lists it (a test checks they match), and ``node_config`` turns a
-set of values into validated core objects, raising ValueError with the reason otherwise: one
-line that names the parameter and shows values as plain numbers and lists.
+``config/params.yaml`` lists it (a test checks they match), and ``node_config`` turns values
+into validated core objects, or raises ValueError: one line naming the parameter.
 
 The ranges of the physical parameters are those of ``physics.limits``, where the step's float
 arithmetic stays finite and well conditioned at every step the node can take,
@@ -29,6 +28,7 @@ import math
 from typing import Any, Mapping, NamedTuple, Optional, Tuple
 
 from .floor_parameters import floor_from, FLOOR_PARAMETERS
+from .timer_limits import FINITE_MAX, MIN_REAL_TIME_FACTOR, MIN_TIMER_RATE, off_or_at_least
 from ..physics import BodyState, MouseConstraint, RigidBody, Settings
 from ..physics.algebra import Vector3
 from ..physics.limits import (MAX_ACCELERATION, MAX_CONDITION, MAX_DISTANCE, MAX_MASS, MAX_MOMENT,
@@ -64,7 +64,7 @@ PARAMETERS = (
     ParameterSpec('mass', 2.0,
                   f'Body mass (kg), {MIN_MASS:g} .. {MAX_MASS:g}: beyond, the effective mass '
                   '(1 / m) or the impulses and energies (m) of the step overflow.',
-                  (0.0, math.inf)),
+                  (0.0, FINITE_MAX)),
     ParameterSpec('box_size', [0.4, 0.2, 0.1],
                   f'Edge lengths of the body box (m), each in (0, {MAX_DISTANCE:g}]; gives the '
                   'inertia when inertia is all zeros, which must then be valid as below.'),
@@ -99,27 +99,27 @@ PARAMETERS = (
     ParameterSpec('damping_ratio', 1.0, 'Soft mode: damping ratio (1 = critical).', (0.0, 1e6)),
     ParameterSpec('max_force', math.inf, 'Bound on the constraint force (N); .inf = unlimited.',
                   (0.0, math.inf)),
-    ParameterSpec('linear_damping', 0.0, 'Linear velocity decay rate (1/s).', (0.0, math.inf)),
-    ParameterSpec('angular_damping', 0.0, 'Angular velocity decay rate (1/s).', (0.0, math.inf)),
+    ParameterSpec('linear_damping', 0.0, 'Linear velocity decay rate (1/s).', (0.0, FINITE_MAX)),
+    ParameterSpec('angular_damping', 0.0, 'Angular velocity decay rate (1/s).', (0.0, FINITE_MAX)),
     ParameterSpec('workspace_radius', 10000.0,
                   'Targets farther than this from the origin of frame_id are ignored, like '
                   'non-finite ones (m): beyond it a drag would wreck the precision of the state.',
                   (0.0, MAX_DISTANCE)),
     ParameterSpec('target_timeout', 0.0,
                   'Release the body when no target arrived for this long (s); 0 = hold forever.',
-                  (0.0, math.inf)),
+                  (0.0, FINITE_MAX)),
     ParameterSpec('marker_rate_hz', 30.0,
                   'Rate of the RViz markers on ~/markers (Hz), on their own timer; 0 = none.',
                   (0.0, 100.0)),
     ParameterSpec('diagnostics_rate_hz', 1.0,
                   'Rate of /diagnostics (Hz), on its own timer; the achieved tick rate is '
                   'measured '
-                  'over one period. 0 = none.', (0.0, 100.0)),
+                  f'over one period. 0 = none, else at least {MIN_TIMER_RATE:g}.', (0.0, 100.0)),
     ParameterSpec('diagnostics_anchor_warn', 0.05,
-                  'Anchor error (m) from which /diagnostics reports WARN.', (0.0, math.inf)),
+                  'Anchor error (m) from which /diagnostics reports WARN.', (0.0, FINITE_MAX)),
     ParameterSpec('diagnostics_anchor_error', 0.5,
                   'Anchor error (m) from which /diagnostics reports ERROR, >= '
-                  'diagnostics_anchor_warn.', (0.0, math.inf)),
+                  'diagnostics_anchor_warn.', (0.0, FINITE_MAX)),
     ParameterSpec('grab_margin', 0.01,
                   'A grab within this distance (m) of the body box (box_size at the pose) is '
                   'taken, for clicks on markers that trail the body; farther ones are ignored.',
@@ -146,17 +146,17 @@ PARAMETERS = (
                   'use_sim_time (a node cannot follow its own clock).'),
     ParameterSpec('real_time_factor', 1.0,
                   'With publish_clock: simulated seconds per wall second; 0 = as fast as the '
-                  'machine allows. A change goes on from the simulated time it finds.',
+                  f'machine allows, else >= {MIN_REAL_TIME_FACTOR:g}; a change goes on from now.',
                   (0.0, MAX_REAL_TIME_FACTOR)),
     ParameterSpec('wrench_timeout', 0.5,
                   'Stop applying the wrench when no new one came for this long (s, of the '
-                  "node's time); 0 = hold it until one replaces it.", (0.0, math.inf)),
+                  "node's time); 0 = hold it until one replaces it.", (0.0, FINITE_MAX)),
     ParameterSpec('max_wrench_force', 1000.0,
                   'Wrenches whose force exceeds this (N) are ignored, like non-finite ones.',
-                  (0.0, math.inf)),
+                  (0.0, FINITE_MAX)),
     ParameterSpec('max_wrench_torque', 100.0,
                   'Wrenches whose torque exceeds this (N m) are ignored, like non-finite ones.',
-                  (0.0, math.inf)),
+                  (0.0, FINITE_MAX)),
     ParameterSpec('max_force_per_weight', 20.0,
                   'Bound on the constraint force in body weights, mass |gravity| (standard '
                   'gravity when gravity is zero); .inf = none. Applies with max_force.',
@@ -164,7 +164,7 @@ PARAMETERS = (
     ParameterSpec('angular_friction', 0.25,
                   'Angular friction while a target is held: the spin is stopped by a torque of '
                   'at most this times mass |gravity| sqrt(I_mean / mass) (N m); 0 = none.',
-                  (0.0, math.inf)),
+                  (0.0, FINITE_MAX)),
     ParameterSpec('gravity_feed_forward', True,
                   'Soft mode: the joint carries the weight outright, so the spring does not sag '
                   'by |gravity| / (2 pi frequency_hz)^2.'),
@@ -281,9 +281,9 @@ def _configuration_from(values: Mapping[str, Any]) -> NodeConfig:
         workspace_radius=scalar('workspace_radius', values['workspace_radius'], above=0.0,
                                 at_most=MAX_DISTANCE),
         target_timeout=scalar('target_timeout', values['target_timeout'], at_least=0.0),
-        marker_rate_hz=scalar('marker_rate_hz', values['marker_rate_hz'], at_least=0.0),
-        diagnostics_rate_hz=scalar('diagnostics_rate_hz', values['diagnostics_rate_hz'],
-                                   at_least=0.0),
+        marker_rate_hz=_bounded('marker_rate_hz', values['marker_rate_hz'], MIN_TIMER_RATE),
+        diagnostics_rate_hz=_bounded('diagnostics_rate_hz', values['diagnostics_rate_hz'],
+                                     MIN_TIMER_RATE),
         diagnostics_anchor_warn=anchor_warn,
         diagnostics_anchor_error=anchor_error,
         grab_margin=scalar('grab_margin', values['grab_margin'], at_least=0.0,
@@ -323,7 +323,8 @@ def _simulator_controls(values: Mapping[str, Any]) -> dict:
         raise ValueError(f'publish_clock must be true or false, got {shown(publish_clock)}')
     return {
         'publish_clock': publish_clock,
-        'real_time_factor': _bounded('real_time_factor', values['real_time_factor']),
+        'real_time_factor': _bounded('real_time_factor', values['real_time_factor'],
+                                     MIN_REAL_TIME_FACTOR),
         'wrench_timeout': scalar('wrench_timeout', values['wrench_timeout'], at_least=0.0),
         'max_wrench_force': scalar('max_wrench_force', values['max_wrench_force'],
                                    at_least=0.0),
@@ -340,10 +341,10 @@ def _flag(values: Mapping[str, Any], name: str) -> bool:
     return value
 
 
-def _bounded(name: str, value: Any) -> float:
-    """Return ``value`` checked against the range of parameter ``name`` in PARAMETERS."""
+def _bounded(name: str, value: Any, off_below: float = 0.0) -> float:
+    """Return ``value`` checked against the range of ``name``: 0 or >= ``off_below`` too."""
     low, high = BOUNDS[name]
-    return scalar(name, value, at_least=low, at_most=high)
+    return off_or_at_least(name, scalar(name, value, at_least=low, at_most=high), off_below)
 
 
 BOUNDS = {p.name: p.bounds for p in PARAMETERS if p.bounds is not None}

@@ -27,12 +27,13 @@ from std_srvs.srv import SetBool, Trigger
 
 from .service_replies import (pause_reply, release_reply, reset_refusal, reset_reply, step_refusal,
                               step_reply)
-from ..inputs.wrench_gate import HeldWrench, NO_WRENCH, WrenchGate
+from ..inputs.wrench_gate import effective_time, HeldWrench, NO_WRENCH, WrenchGate
 from ..monitoring.diagnostics import TickWindow
 from ..timing.sim_clock import ClockPacer, PacingMeter, SimulatedClock
 from ..timing.tick_grid import MAX_CATCH_UP_SECONDS, TickGrid
 from ..wire.interface import (CLOCK_QOS, CLOCK_TOPIC, PAUSE_SERVICE, STEP_SERVICE, WRENCH_QOS,
                               WRENCH_TOPIC)
+from ..wire.messages import stamp_nanoseconds
 
 
 class SimulatorControls:
@@ -156,11 +157,9 @@ class SimulatorControls:
         if refusal is not None:
             self._warn(refusal.key, lambda: f'ignoring wrench {refusal.reason}')
             return
-        if force == torque == (0.0, 0.0, 0.0):
-            self._held_wrench.clear()  # a zero wrench ends a push: nothing left to time out
-        else:
-            self._held_wrench.take(force, torque, self._now_ns())
-        self._simulation.wrench = self._held_wrench.wrench
+        # In effect from the tick stamped at its stamp (its end, for the zero wrench of a push).
+        self._held_wrench.schedule(force, torque, effective_time(
+            stamp_nanoseconds(message.header.stamp), self._now_ns()))
 
     def _on_reset(self, _request: Trigger.Request, response: Trigger.Response):
         configured = self._configured_anchor

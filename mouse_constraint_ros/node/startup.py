@@ -149,7 +149,9 @@ def refusal_reason(declaration: ParameterSpec, error: object,
         return reason + (f': write {hint}' if hint else '')
     if declaration.bounds is not None:
         low, high = declaration.bounds
-        bounds = f'its range [{yaml_text(low)}, {yaml_text(high)}]'
+        # The largest float as the top: every finite value from low, not .inf.
+        top = 'finite' if high == math.nextafter(math.inf, 0.0) else yaml_text(high)
+        bounds = f'its range [{yaml_text(low)}, {top}]'
         if isinstance(value, float) and math.isnan(value):
             return f'{name}: .nan is not a number, so not within {bounds}'
         return f'{name}: {yaml_text(value)} is outside {bounds}'

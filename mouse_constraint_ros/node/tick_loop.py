@@ -91,8 +91,10 @@ class TickLoop:
         :param tick: the tick's number on its grid, for ``PublishTicks``; None publishes (a
             single step asked for by ``~/step``).
         """
-        if self._held_wrench.applied is not None and self._held_wrench.expired(
-                stamp, self._config.wrench_timeout):
+        held = self._held_wrench
+        if held.advance(stamp):
+            self._simulation.wrench = held.wrench
+        if held.applied is not None and held.expired(stamp, self._config.wrench_timeout):
             self._simulation.wrench = NO_WRENCH
             self.get_logger().info(wrench_removal_text(self._config.wrench_timeout))
         state = self._simulation.step(self._dt)

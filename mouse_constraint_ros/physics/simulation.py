@@ -141,24 +141,24 @@ class MouseSimulation:
     def target(self, target: Optional[Vector3]) -> None:
         self.set_target(target)
 
-    def set_target(self, target: Optional[Vector3], *, time: Optional[float] = None) -> None:
+    def set_target(self, target: Optional[Vector3], *, time: Optional[float] = None,
+                   stamped: bool = False) -> None:
         """
-        Set the target, which arrived at ``time`` (s of simulated time, see ``time``).
+        Set the target at ``time`` (s of simulated time): its arrival, or its stamp if stamped.
 
         Timed targets form a stream whose velocity the joint follows with
         ``TargetMotion.feed_forward``; a target without a time (as ``target = point`` sets)
-        is a jump. None frees the body.
+        is a jump. None frees the body. A stamped target arrived now (``TargetStream``).
         """
         if target is None:
-            self._target = None
+            self._target = self._guide = None
             self._stream.clear()
-            self._guide = None
             return
         target = finite_vector('target', target)
-        if time is not None:
-            time = scalar('time', time)
+        time = None if time is None else scalar('time', time)
         self._target = target
-        self._stream.add(target, time, self._settings.target_motion.max_speed)
+        self._stream.add(target, time, self._settings.target_motion.max_speed,
+                         self._time if stamped else None)
 
     @property
     def time(self) -> float:

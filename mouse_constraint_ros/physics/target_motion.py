@@ -18,16 +18,29 @@ How the mouse target moves: its velocity estimated from a stream, and a bounded-
 A mouse sends positions, not motions: a drag is a stream of points some 20 ms apart, a click a
 single point that may land anywhere. Two pieces turn that into what the joint follows:
 
-- ``TargetStream`` estimates the target's velocity from the points and their arrival times (in
-  the core's time, seconds of simulated time). The estimate is a least-squares fit over the
-  last ``STREAM_SAMPLES`` points (a parabola from ``QUADRATIC_SAMPLES`` on), which averages the
-  jitter of irregular arrival times instead of dividing by one noisy interval. A point is part
-  of the stream only if it arrived within ``STREAM_GAP`` of the previous one and implies a
-  speed no greater than the guide may move (``TargetMotion.max_speed``); any other point (a
-  click, a jump, a point after a pause, a point without a time) starts a new stream of
-  velocity zero, so a jump is never mistaken for a huge velocity. Between points the target is
-  extrapolated along the fit for at most 1.5 of the stream's mean interval; after that the
-  target is the last point again, at rest (a drag that stops ends where it was last sent).
+- ``TargetStream`` fits the stream's last points as a polynomial in time (the core's time,
+  seconds of simulated time) and extrapolates it. How closely depends on what the times are:
+
+  - *Arrival times* (the time a point reached the node, late by a varying delay): a
+    least-squares fit over the last ``STREAM_SAMPLES`` points (a parabola from
+    ``QUADRATIC_SAMPLES`` on), which averages the jitter of the arrival times instead of
+    dividing by one noisy interval.
+  - *Stamps* (the time the pointer was at the point, with the arrival time beside it): the
+    times are exact, so the fit follows the curve instead of averaging: a polynomial of degree
+    up to ``STAMPED_DEGREE`` over the points of the last ``STAMPED_WINDOW`` seconds (at most
+    ``STAMPED_SAMPLES``), two points more than its coefficients. A parabola over 0.4 s of a
+    circle turning 4 rad/s takes it for a flatter curve and extrapolates it outwards; a
+    quartic does not (bench/stream_timing.py, docs/dragging.md).
+
+  A point is part of the stream only if it comes within ``STREAM_GAP`` of the previous one,
+  after it, timed the same way (stamps or arrivals), and implies a speed no greater than the
+  guide may move (``TargetMotion.max_speed``); any other point (a click, a jump, a point after
+  a pause, a point without a time) starts a new stream of velocity zero, so a jump is never
+  mistaken for a huge velocity. The target is extrapolated along the fit until
+  ``EXTRAPOLATION_INTERVALS`` of the stream's mean interval after the latest point arrived
+  (``STAMPED_EXTRAPOLATION_INTERVALS`` for stamps, extrapolated from the stamp, over the
+  point's delay too); after that the target is the last point again, at rest (a drag that
+  stops ends where it was last sent).
 - ``Guide`` is the point the joint actually pulls the anchor to: it follows the extrapolated
   target with its speed bounded by ``max_speed`` and its acceleration by ``max_acceleration``
   (time-optimal approach, exact in discrete time: it stops on the target without overshoot or
@@ -35,7 +48,8 @@ single point that may land anywhere. Two pieces turn that into what the joint fo
   at a bounded speed and acceleration, whatever the joint's stiffness. Its velocity is known
   exactly, so a joint that feeds the target's velocity forward follows it without lag.
 
-Both are plain float arithmetic, deterministic for the same inputs.
+Both are plain float arithmetic (one small numpy least-squares solve per point), deterministic
+for the same inputs.
 """
 
 from collections import deque
@@ -46,19 +60,34 @@ from typing import Deque, Optional, Tuple
 import numpy as np
 
 from .algebra import multiply, rotation_matrix, Vector3
+from .polynomial import Curve, evaluate, polynomial
 from .validation import scalar
 
 # Points further apart in time than this (s) are not one stream: a pause ends a drag.
 STREAM_GAP = 0.25
-# The velocity is the least-squares slope over at most this many of the stream's last points.
+# Arrival-timed streams: the velocity is the least-squares slope over at most this many of the
+# stream's last points.
 STREAM_SAMPLES = 8
 # From this many points on, the fit is a parabola: a curved drag is extrapolated along its curve
 # (bench/mouse_feel.py: a circle at 1 m/s, 50 Hz, soft 7.5 Hz joint: 5 mm RMS error, against
 # 19 mm with a line over as many points); eight points keep the parabola's slope as steady under
 # arrival jitter as a two-point difference is not (3 times less error, test_mouse_feel).
 QUADRATIC_SAMPLES = 4
-# Extrapolation runs on for at most this many of the stream's mean intervals after a point.
+# Stamped streams: a polynomial of at most this degree over the points of the last
+# STAMPED_WINDOW seconds, at most STAMPED_SAMPLES of them (a browser's 20 Hz drag round a 1 m/s
+# circle of radius 0.25 m: anchor 0.9 mm and speed 1.1 % RMS off, against 23 mm and 17 % with a
+# parabola on the same stamps; ``python -m bench.stream_timing --estimators``). At most 4:
+# ``polynomial`` lays it out as a quartic.
+STAMPED_DEGREE = 4
+STAMPED_WINDOW = 0.4
+STAMPED_SAMPLES = 32
+# Extrapolation runs on for at most this many of the stream's mean intervals after a point
+# arrived; a stamped stream's arrivals jitter by the spread of their delays as well.
 EXTRAPOLATION_INTERVALS = 1.5
+STAMPED_EXTRAPOLATION_INTERVALS = 2.0
+# A stamped stream's extrapolation goes over from the previous fit to the new one in this many
+# mean intervals after a point arrived (``TargetStream.predict``).
+BLEND_INTERVALS = 1.0
 ZERO: Vector3 = (0.0, 0.0, 0.0)
 
 
@@ -94,90 +123,131 @@ class TargetMotion:
 
 
 class TargetStream:
-    """The last points of the target with their times; its velocity and extrapolation."""
+    """The last points of the target with their times; the fit and extrapolation of them."""
 
     def __init__(self) -> None:
         """Start empty."""
-        self._points: Deque[Tuple[float, Vector3]] = deque(maxlen=STREAM_SAMPLES)
-        self._velocity: Vector3 = ZERO
-        self._acceleration: Vector3 = ZERO
+        self._points: Deque[Tuple[float, Vector3]] = deque(maxlen=STAMPED_SAMPLES)
+        # The fit about the latest point (``evaluate``); None for none (no point, or one).
+        self._curve: Optional[Curve] = None
         self._horizon = 0.0
+        # (time, point) of the latest point; its arrival time; whether times are stamps.
         self._latest: Optional[Tuple[float, Vector3]] = None
+        self._arrival = 0.0
+        self._stamped = False
+        # A stamped stream's previous fit, blended into the new one from the new point's
+        # arrival over ``_blend_length`` (s); None when not blending.
+        self._previous: Optional[Curve] = None
+        self._blend_length = 0.0
 
     @property
     def velocity(self) -> Vector3:
-        """Return the estimated velocity of the stream (m/s), zero for a lone point."""
-        return self._velocity
+        """Return the estimated velocity of the stream at its latest point (m/s), zero alone."""
+        return ZERO if self._curve is None else self._curve[2][0]
 
     def clear(self) -> None:
         """Forget every point."""
         self._points.clear()
-        self._velocity = ZERO
-        self._acceleration = ZERO
+        self._curve = self._previous = None
         self._horizon = 0.0
         self._latest = None
 
-    def add(self, point: Vector3, time: Optional[float], max_speed: float) -> bool:
+    def add(self, point: Vector3, time: Optional[float], max_speed: float,
+            arrival: Optional[float] = None) -> bool:
         """
-        Take ``point`` that arrived at ``time`` (s; None: not part of any stream).
+        Take ``point`` at ``time`` (s; None: not part of any stream).
 
+        :param arrival: None if ``time`` is when the point arrived; else ``time`` is its stamp
+            (when the pointer was there) and ``arrival`` when it arrived (s).
         :returns: True if it continues the stream, False if it starts a new one (a jump).
         """
         latest = self._latest
+        stamped = arrival is not None
         continues = False
-        if time is not None and latest is not None:
+        if time is not None and latest is not None and stamped == self._stamped:
             interval = time - latest[0]
             if 0.0 < interval <= STREAM_GAP:
                 step = math.dist(point, latest[1])
                 continues = step <= max_speed * interval
+        previous = self._curve if continues and stamped else None
         if not continues:
             self._points.clear()
         if time is None:
-            self._latest = None
-            self._velocity = self._acceleration = ZERO
+            self._latest = self._curve = self._previous = None
             self._horizon = 0.0
             return False
         self._points.append((time, point))
         self._latest = (time, point)
-        self._velocity, self._acceleration, self._horizon = self._fit()
+        self._arrival = arrival if stamped else time
+        self._stamped = stamped
+        self._curve, interval = self._fit()
+        self._horizon = interval * (STAMPED_EXTRAPOLATION_INTERVALS if stamped
+                                    else EXTRAPOLATION_INTERVALS)
+        self._previous = previous if self._curve is not None and BLEND_INTERVALS else None
+        self._blend_length = BLEND_INTERVALS * interval
         return continues
 
-    def _fit(self) -> Tuple[Vector3, Vector3, float]:
+    def _fit(self) -> Tuple[Optional[Curve], float]:
         """
-        Return the stream's velocity and acceleration at its latest point, and the horizon.
+        Return the stream's polynomial about its latest point, and its mean interval (s).
 
-        Least squares over the points held: a line through two or three, a parabola through
-        more, both in time relative to the latest point (so the slope is the velocity there).
+        Least squares in time relative to the latest point (so the linear coefficient is the
+        velocity there): for arrival times a line through two or three of the last
+        ``STREAM_SAMPLES`` points, a parabola through more; for stamps a polynomial of degree
+        ``count - 2`` (at least 1, at most ``STAMPED_DEGREE``) through the ``count`` points of
+        the last ``STAMPED_WINDOW``.
         """
-        points = self._points
+        points = list(self._points)
+        t_last, latest = points[-1]
+        if self._stamped:
+            points = [p for p in points if t_last - p[0] <= STAMPED_WINDOW]
+            degree = min(STAMPED_DEGREE, max(1, len(points) - 2))
+        else:
+            points = points[-STREAM_SAMPLES:]
+            degree = 2 if len(points) >= QUADRATIC_SAMPLES else 1
         count = len(points)
         if count < 2:
-            return ZERO, ZERO, 0.0
-        t_last = points[-1][0]
+            return None, 0.0
         times = np.array([t - t_last for t, _ in points])
-        degree = 2 if count >= QUADRATIC_SAMPLES else 1
-        design = np.vander(times, degree + 1, increasing=True)
         # Offsets from the latest point: a still stream fits to exactly zero, and far
-        # coordinates lose no digits.
-        latest = points[-1][1]
+        # coordinates lose no digits. The extrapolation starts from the latest point itself.
         values = np.array([[p[i] - latest[i] for i in range(3)] for _, p in points])
-        coefficients = np.linalg.lstsq(design, values, rcond=None)[0]
-        velocity = tuple(float(c) for c in coefficients[1])
-        acceleration = (tuple(float(2.0 * c) for c in coefficients[2]) if degree == 2 else ZERO)
-        interval = -times[0] / (count - 1)
-        return velocity, acceleration, EXTRAPOLATION_INTERVALS * float(interval)
+        design = np.vander(times, degree + 1, increasing=True)
+        solution = np.linalg.lstsq(design, values, rcond=None)[0]
+        coefficients = tuple(tuple(float(c) for c in row) for row in solution[1:])
+        return polynomial(t_last, latest, coefficients), float(-times[0] / (count - 1))
 
     def predict(self, time: float) -> Tuple[Vector3, Vector3]:
-        """Return where the target is at ``time`` and its velocity, extrapolated (s)."""
-        t0, p = self._latest
-        ahead = max(time - t0, 0.0)
-        if ahead > self._horizon:
-            # The stream stopped: the target is where it was last sent.
-            return p, ZERO
-        v, acc = self._velocity, self._acceleration
-        half = 0.5 * ahead * ahead
-        return (tuple(p[i] + v[i] * ahead + acc[i] * half for i in range(3)),
-                tuple(v[i] + acc[i] * ahead for i in range(3)))
+        """
+        Return where the target is at ``time`` and its velocity, extrapolated (s).
+
+        A stamped stream goes over from its previous fit to the new one in the
+        ``BLEND_INTERVALS`` after a point arrived, with the smoothstep weight
+        w = 3 s^2 - 2 s^3 of the fraction s of that time: position and velocity stay
+        continuous where switching fits would jump (projective velocity blending, as in
+        C. Murphy, "Believable Dead Reckoning for Networked Games", Game Engine Gems 2).
+        """
+        curve = self._curve
+        if curve is None or time - self._arrival > self._horizon:
+            # The stream stopped (or is a lone point): the target is where it was last sent.
+            return self._latest[1], ZERO
+        position, velocity = evaluate(curve, time)
+        previous = self._previous
+        if previous is None:
+            return position, velocity
+        fraction = (time - self._arrival) / self._blend_length
+        if fraction >= 1.0:
+            self._previous = None
+            return position, velocity
+        fraction = max(fraction, 0.0)
+        weight = fraction * fraction * (3.0 - 2.0 * fraction)
+        rate = 6.0 * fraction * (1.0 - fraction) / self._blend_length
+        (ox, oy, oz), (ux, uy, uz) = evaluate(previous, time)
+        (nx, ny, nz), (vx, vy, vz) = position, velocity
+        return ((ox + (nx - ox) * weight, oy + (ny - oy) * weight, oz + (nz - oz) * weight),
+                (ux + (vx - ux) * weight + (nx - ox) * rate,
+                 uy + (vy - uy) * weight + (ny - oy) * rate,
+                 uz + (vz - uz) * weight + (nz - oz) * rate))
 
     def has_points(self) -> bool:
         """Return True while a timed point is held (predict needs one)."""

@@ -17,10 +17,12 @@ The recording itself: a node that keeps every message of the recorded topics, an
 
 ``Recorder`` subscribes to ``TOPICS`` with deep RELIABLE queues and keeps each message serialized,
 as it arrived (``Received``), from the first message on; the recorded time starts at the first
-pose. It also keeps the recorded node's ``/parameter_events`` that change its ``anchor`` (a
-``grab`` makes the grabbed point the node's anchor), in the same stream, so that the rows follow
-the anchor from the moment it changed. ``fetch_anchor`` reads the body-frame anchor at the start
-from the recorded node's parameter service, ``wait_for_first_pose`` and ``capture`` spin it
+pose. It also keeps the recorded node's ``/parameter_events`` that change a parameter the rows
+follow (``received.NODE_PARAMETERS``: a ``grab`` makes the grabbed point the node's anchor) and
+the service events of its ``~/reset`` and ``~/release``, in the same stream, so that the rows
+follow the node's anchor and target from the moment they changed. ``fetch_start`` reads those
+parameters at the start from the recorded node's parameter service, ``wait_for_first_pose``
+and ``capture`` spin it
 (``spin.spin_until``) while ``Progress`` draws the progress line.
 """
 
@@ -29,18 +31,21 @@ import sys
 import time
 from typing import Dict, List, Optional, TextIO
 
-from rcl_interfaces.msg import ParameterEvent, ParameterType
-from rcl_interfaces.srv import GetParameters
+from rcl_interfaces.msg import ParameterEvent
 from rclpy.executors import Executor
 from rclpy.node import Node
 from rclpy.qos import HistoryPolicy, qos_profile_parameter_events, QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
+from service_msgs.msg import ServiceEventInfo
 
 from .mcap_file import offered_qos_yaml
-from .received import anchor_change, PARAMETER_EVENTS_TOPIC, Received, TOPICS
-from ..physics.algebra import Vector3
+from .received import (header_stamp, MESSAGE_TYPES, NODE_PARAMETERS, parameter_changes,
+                       PARAMETER_EVENTS_TOPIC, Received, service_event_topic, SERVICE_EVENTS,
+                       TOPICS)
+from ..timing.guarded_time_source import guard_time_source
 from ..timing.spin import spin_until, SpinEnd, StopRequest, wait_until
-from ..wire.interface import NODE_NAME, POSE_TOPIC
+from ..wire.interface import NODE_NAME, POSE_TOPIC, SERVICE_EVENT_QOS, TWIST_TOPIC
+from ..wire.remote_parameters import fetch_parameters
 
 # Deep RELIABLE queues: a burst of caught-up ticks must not overwrite unread messages.
 RECORD_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
@@ -52,19 +57,31 @@ class Recorder(Node):
     Subscribes to the recorded topics and keeps every message, serialized, as it arrives.
 
     :param target_node: the recorded node (resolved in this node's namespace), whose anchor
-        changes on ``/parameter_events`` are kept.
+        changes on ``/parameter_events`` and service events of ``~/reset`` and ``~/release`` are
+        kept.
     """
 
     def __init__(self, *, target_node: str = NODE_NAME, **kwargs) -> None:
         """Create the node ``mouse_record`` and its subscriptions."""
         super().__init__('mouse_record', **kwargs)
+        guard_time_source(self, lambda text: self.get_logger().warning(
+            text, throttle_duration_sec=2.0))
         self.target_name = self.resolve_topic_name(target_node)
-        self.anchor_changes = 0
+        self.parameter_changes = 0
         self.received: List[Received] = []
         self.counts = dict.fromkeys(TOPICS, 0)
         self.offered_qos: Dict[str, str] = {}
+        # The node's clock is the stamps: the first pose's, and the latest of pose and twist.
         self.first_pose_ns: Optional[int] = None
+        self.latest_ns = {POSE_TOPIC: None, TWIST_TOPIC: None}
+        # The recording keeps the ticks stamped up to this (ns), once the first pose came.
+        self.duration_ns: Optional[int] = None
+        # Whether a pose and a twist stamped after the recorded time came (not kept).
+        self.beyond = {POSE_TOPIC: False, TWIST_TOPIC: False}
+        # time.monotonic() of the latest pose.
+        self.pose_seen_at = time.monotonic()
         self.recording = True
+        self._clock = self.get_clock()
         self.subscriptions_by_topic = {
             key: self.create_subscription(message_type, key, self._receiver(key), RECORD_QOS,
                                           raw=True)
@@ -72,6 +89,10 @@ class Recorder(Node):
         self.subscriptions_by_topic[PARAMETER_EVENTS_TOPIC] = self.create_subscription(
             ParameterEvent, PARAMETER_EVENTS_TOPIC, self._on_parameter_event,
             qos_profile_parameter_events, raw=True)
+        for key in SERVICE_EVENTS:
+            self.subscriptions_by_topic[key] = self.create_subscription(
+                MESSAGE_TYPES[key], service_event_topic(self.target_name, key),
+                self._service_receiver(key), SERVICE_EVENT_QOS, raw=True)
 
     def topic_name(self, key: str) -> str:
         """Return the resolved (namespaced, remapped) name of a recorded topic."""
@@ -82,15 +103,15 @@ class Recorder(Node):
         return {key: self.topic_name(key) for key in self.subscriptions_by_topic}
 
     def _on_parameter_event(self, data: bytes) -> None:
-        """Keep the events of the recorded node that change its anchor."""
+        """Keep the events of the recorded node that change a parameter the rows follow."""
         if not self.recording:
             return
         event = deserialize_message(data, ParameterEvent)
-        if event.node != self.target_name or anchor_change(event) is None:
+        if event.node != self.target_name or not parameter_changes(event):
             return
         self.received.append(Received(PARAMETER_EVENTS_TOPIC, self.get_clock().now().nanoseconds,
                                       data))
-        self.anchor_changes += 1
+        self.parameter_changes += 1
         self._note_qos(PARAMETER_EVENTS_TOPIC)
 
     def _note_qos(self, key: str) -> None:
@@ -102,49 +123,70 @@ class Recorder(Node):
     def _receiver(self, key: str):
         # Serialized messages (raw=True) and no message info: the EventsExecutor of this rclpy
         # (7.1.6) fails on callbacks that take one.
+        received, counts, clock, latest = self.received, self.counts, self._clock, self.latest_ns
+        counted, state = key in counts, key in latest
+
         def receive(data: bytes) -> None:
             if not self.recording:
                 return
-            now = self.get_clock().now().nanoseconds
-            self.received.append(Received(key, now, data))
-            self.counts[key] += 1
-            # With use_sim_time the clock reads 0 until /clock arrives: start once it runs.
-            if key == POSE_TOPIC and self.first_pose_ns is None and now > 0:
-                self.first_pose_ns = now
-            self._note_qos(key)
+            if state:
+                stamp = header_stamp(data)
+                if stamp is None:
+                    return
+                if key == POSE_TOPIC:
+                    self.pose_seen_at = time.monotonic()
+                    if self.first_pose_ns is None:
+                        self.first_pose_ns = stamp
+                if self.duration_ns is not None and stamp > self.first_pose_ns + \
+                        self.duration_ns:
+                    self.beyond[key] = True
+                    return
+                if latest[key] is None or stamp > latest[key]:
+                    latest[key] = stamp
+            received.append(Received(key, clock.now().nanoseconds, data))
+            if counted:
+                counts[key] += 1
+            if key not in self.offered_qos:
+                self._note_qos(key)
         return receive
 
+    def _service_receiver(self, key: str):
+        receive = self._receiver(key)
+
+        def receive_response(data: bytes) -> None:
+            # The responses say what the call did; the requests carry nothing more.
+            event = deserialize_message(data, MESSAGE_TYPES[key])
+            if event.info.event_type == ServiceEventInfo.RESPONSE_SENT:
+                receive(data)
+        return receive_response
+
+    def complete(self) -> bool:
+        """Return whether the recorded time is over: pose and twist came stamped after it."""
+        return all(self.beyond.values())
+
     def elapsed(self) -> float:
-        """Return the seconds recorded since the first pose (0 before it)."""
-        if self.first_pose_ns is None:
+        """Return the seconds of stamps recorded since the first pose's, pose and twist both."""
+        first, pose, twist = self.first_pose_ns, *self.latest_ns.values()
+        if first is None or pose is None or twist is None:
             return 0.0
-        return max(0.0, (self.get_clock().now().nanoseconds - self.first_pose_ns) * 1e-9)
+        return max(0.0, (min(pose, twist) - first) * 1e-9)
 
 
-def fetch_anchor(node: Node, executor: Executor, stop: StopRequest, *, target_node: str,
-                 timeout: float) -> Vector3:
+def fetch_start(node: Node, executor: Executor, stop: StopRequest, *, target_node: str,
+                timeout: float) -> Dict[str, object]:
     """
-    Return ``target_node``'s ``anchor`` parameter (body frame, m).
+    Return ``target_node``'s parameters of ``NODE_PARAMETERS`` (the anchor in the body frame, m).
+
+    Only ``anchor`` must be there; without the others a reset's target and the grid are not
+    known (``rows.NodeView``, ``missing_ticks``).
 
     :param timeout: seconds to wait for the parameter service, then as long for its answer.
-    :raises RuntimeError: saying why it could not be read.
+    :raises RuntimeError: saying why they could not be read.
     :raises Interrupted: when ``stop`` is requested meanwhile.
     """
-    client = node.create_client(GetParameters, f'{target_node}/get_parameters')
-    try:
-        if not wait_until(executor, stop, client.service_is_ready,
-                          deadline=time.monotonic() + timeout):
-            raise RuntimeError(f'no parameter service {client.srv_name} after {timeout:g} s')
-        future = client.call_async(GetParameters.Request(names=['anchor']))
-        if not wait_until(executor, stop, future.done, deadline=time.monotonic() + timeout):
-            raise RuntimeError(f'{client.srv_name} did not answer in {timeout:g} s')
-        values = future.result().values
-        if len(values) != 1 or values[0].type != ParameterType.PARAMETER_DOUBLE_ARRAY \
-                or len(values[0].double_array_value) != 3:
-            raise RuntimeError(f'{target_node} has no anchor parameter of 3 numbers')
-        return tuple(float(v) for v in values[0].double_array_value)
-    finally:
-        node.destroy_client(client)
+    return fetch_parameters(node, executor, stop, target_node=target_node,
+                            types=NODE_PARAMETERS, timeout=timeout,
+                            optional=set(NODE_PARAMETERS) - {'anchor'})
 
 
 def wait_for_first_pose(node: Recorder, executor: Executor, stop: StopRequest, *,
@@ -181,35 +223,44 @@ class Progress:
 
     def update(self, elapsed: float, counts: Dict[str, int], final: bool = False) -> None:
         """Redraw for ``elapsed`` seconds (at most 10 times a second on a terminal)."""
-        line = progress_bar(elapsed, self._duration, counts)
+        # Called on every turn of the recording's spin loop: decide before building the line.
         if self._terminal:
             now = time.monotonic()
             if final or now - self._drawn_at >= 0.1:
+                line = progress_bar(elapsed, self._duration, counts)
                 self._stream.write('\r' + line + ('\n' if final else ''))
                 self._stream.flush()
                 self._drawn_at = now
         else:
             tenth = int(10.0 * min(1.0, elapsed / self._duration))
             if final or tenth > self._tenth:
-                self._stream.write(line + '\n')
+                self._stream.write(progress_bar(elapsed, self._duration, counts) + '\n')
                 self._stream.flush()
                 self._tenth = tenth
 
 
 def capture(node: Recorder, executor: Executor, stop: StopRequest, *, duration: float,
-            progress: Progress) -> SpinEnd:
+            idle_timeout: float, progress: Progress) -> SpinEnd:
     """
-    Record until ``duration`` seconds of the node's clock since the first pose, or a stop.
+    Record ``duration`` seconds of the node's clock (the stamps) from the first pose, or less.
 
-    Then the node stops keeping messages and the progress line is drawn a last time.
+    It ends when pose and twist stamped ``duration`` after the first pose have come (later ones
+    are not kept), on a stop, or when no pose came for ``idle_timeout`` seconds (wall time: the
+    node paused or gone). Then the node stops keeping messages and the progress line is drawn
+    a last time. Timed by the stamps, the recording needs no ``use_sim_time``.
 
-    :returns: why it ended: ``CONDITION`` (the duration), ``STOPPED`` or ``SHUTDOWN``.
+    :returns: why it ended: ``CONDITION`` (the duration), ``STOPPED``, ``DEADLINE`` (no pose
+        for ``idle_timeout``) or ``SHUTDOWN``.
     """
+    node.duration_ns = round(duration * 1e9)
+
     def done() -> bool:
         progress.update(node.elapsed(), node.counts)
-        return node.elapsed() >= duration
+        return node.complete() or time.monotonic() - node.pose_seen_at > idle_timeout
 
     end = spin_until(executor, stop, condition=done)
     node.recording = False
-    progress.update(min(node.elapsed(), duration), node.counts, final=True)
+    progress.update(duration if node.complete() else node.elapsed(), node.counts, final=True)
+    if end is SpinEnd.CONDITION and not node.complete():
+        return SpinEnd.DEADLINE
     return end

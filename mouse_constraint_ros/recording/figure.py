@@ -15,7 +15,10 @@
 """
 The figure of a recording: anchor and target paths, anchor error, speed and angular speed.
 
-matplotlib is imported when a figure is drawn, with its Agg canvas: no display is needed.
+matplotlib is imported when a figure is drawn, with its Agg canvas: no display is needed. Axes
+show plain numbers (no offset such as ``1e-9+1``, which a body at rest would otherwise get), a
+panel with nothing to draw says so, and text the font cannot draw (an emoji frame id) is shown
+as its escapes rather than as missing glyphs.
 """
 
 from pathlib import Path
@@ -31,16 +34,28 @@ FIGURE_INCHES = (15.0, 10.0)
 FIGURE_DPI = 100
 # Anchor errors below this are drawn at it on the logarithmic axis (m).
 ERROR_FLOOR = 1e-9
+# Headroom of the speed axes: a body at rest draws its zero speed inside the axes (m/s, rad/s).
+SPEED_HEADROOM = 0.05
 
 
-def write_figure(path: Path, rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
-                 title: str = 'mouse_constraint') -> None:
+def drawable(text: str) -> str:
+    """Return ``text`` with each character that matplotlib's font lacks as its escape."""
+    from matplotlib.font_manager import FontProperties, findfont, get_font
+
+    font = get_font(findfont(FontProperties()))
+    return ''.join(c if c.isprintable() and font.get_char_index(ord(c)) else
+                   c.encode('unicode_escape').decode('ascii') for c in text)
+
+
+def draw_figure(rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
+                title: str = 'mouse_constraint'):
     """
-    Draw the recording into a PNG of ``FIGURE_INCHES`` at ``FIGURE_DPI`` (Agg, no display).
+    Return the recording's figure (a matplotlib ``Figure`` on the Agg canvas, not shown).
 
     Top left the paths seen from above (x, y), top right from the side (x, z); bottom left the
     anchor error on a log scale, bottom right speed and angular speed. Each grab is marked: a
-    black cross at the grabbed point on the paths, a dotted vertical line at its time below.
+    cross at the grabbed point on the paths (black when the node took it, grey when it ignored
+    it), a dotted vertical line at its time below.
 
     :param rows: the ticks, at least one.
     :param anchor: the anchor in the body frame (m) at the start, named in the title (with the
@@ -52,6 +67,7 @@ def write_figure(path: Path, rows: Sequence[Row], *, anchor: Vector3, frame_id: 
 
     if not rows:
         raise ValueError('no ticks to draw')
+    frame_id = drawable(frame_id)
     t = np.array([row.time for row in rows])
     anchors = np.array([row.anchor for row in rows])
     targets = np.array([row.target if row.target is not None else (np.nan,) * 3
@@ -59,7 +75,6 @@ def write_figure(path: Path, rows: Sequence[Row], *, anchor: Vector3, frame_id: 
     errors = np.array([np.nan if row.anchor_error is None else row.anchor_error
                        for row in rows])
     grabbed = [row for row in rows if row.grab is not None]
-    grabs = np.array([row.grab for row in grabbed]).reshape(-1, 3)
     figure = Figure(figsize=FIGURE_INCHES, dpi=FIGURE_DPI, layout='constrained')
     (top, side), (error_axes, speed_axes) = figure.subplots(2, 2)
     for axes, (i, j), view in ((top, (0, 1), 'top view'), (side, (0, 2), 'side view')):
@@ -69,39 +84,31 @@ def write_figure(path: Path, rows: Sequence[Row], *, anchor: Vector3, frame_id: 
                   linewidth=1.0, label='target')
         axes.plot(anchors[0, i], anchors[0, j], 'o', color='tab:orange', label='anchor start')
         axes.plot(anchors[-1, i], anchors[-1, j], 's', color='tab:orange', label='anchor end')
-        if grabbed:
-            axes.plot(grabs[:, i], grabs[:, j], 'x', color='black', markersize=9,
-                      markeredgewidth=2, label='grab')
+        for taken, color, label in ((True, 'black', 'grab'), (False, 'grey', 'grab ignored')):
+            points = np.array([row.grab for row in grabbed if row.grab_taken is taken])
+            if len(points):
+                axes.plot(points[:, i], points[:, j], 'x', color=color, markersize=9,
+                          markeredgewidth=2, label=label)
         axes.set_aspect('equal', adjustable='datalim')
         axes.set_xlabel(f'{"xyz"[i]} (m, {frame_id})')
         axes.set_ylabel(f'{"xyz"[j]} (m, {frame_id})')
         axes.set_title(f'Anchor and target paths, {view}')
         axes.grid(True, alpha=0.3)
         axes.legend(loc='best', fontsize='small')
-    error_axes.semilogy(t, np.maximum(errors, ERROR_FLOOR), color='tab:red', linewidth=0.8)
-    error_axes.set_xlim(0.0, max(t[-1], 1e-3))
-    error_axes.set_xlabel('time (s)')
-    error_axes.set_ylabel('anchor error |anchor - target| (m)')
-    error_axes.set_title('Anchor error')
-    error_axes.grid(True, which='both', alpha=0.3)
-    speed_axes.plot(t, [row.speed for row in rows], color='tab:blue', label='speed |v| (m/s)')
-    speed_axes.set_xlim(0.0, max(t[-1], 1e-3))
-    speed_axes.set_xlabel('time (s)')
-    speed_axes.set_ylabel('speed of the COM (m/s)', color='tab:blue')
-    spin_axes = speed_axes.twinx()
-    spin_axes.plot(t, [row.angular_speed for row in rows], color='tab:green', linewidth=1.0,
-                   label='angular speed |w| (rad/s)')
-    spin_axes.set_ylabel('angular speed (rad/s)', color='tab:green')
-    speed_axes.set_title('Speed and angular speed')
+    _draw_error(error_axes, t, errors)
+    spin_axes = _draw_speeds(speed_axes, t, rows)
     for axes in (error_axes, speed_axes):
         for index, row in enumerate(grabbed):
-            axes.axvline(row.time, color='black', linestyle=':', linewidth=1.0,
+            axes.axvline(row.time, color='black' if row.grab_taken else 'grey', linestyle=':',
+                         linewidth=1.0,
                          label='grab' if index == 0 and axes is speed_axes else None)
-    speed_axes.grid(True, alpha=0.3)
     lines = [line for line in speed_axes.get_lines() + spin_axes.get_lines()
              if not line.get_label().startswith('_')]
     speed_axes.legend(lines, [line.get_label() for line in lines], loc='upper right',
                       fontsize='small')
+    for axes in (top, side, speed_axes, spin_axes):
+        axes.ticklabel_format(useOffset=False)
+    error_axes.xaxis.get_major_formatter().set_useOffset(False)
 
     def point(vector) -> str:
         # To the nanometre: a grab where the anchor is gives it back up to rounding.
@@ -110,6 +117,48 @@ def write_figure(path: Path, rows: Sequence[Row], *, anchor: Vector3, frame_id: 
     last = point(rows[-1].body_anchor)
     changed = '' if last == point(anchor) else f', {last} at the end'
     grab_note = f', {len(grabbed)} grab{"s" if len(grabbed) != 1 else ""}' if grabbed else ''
-    figure.suptitle(f'{title}: {t[-1]:.1f} s, {len(rows)} ticks, anchor {point(anchor)}'
-                    f'{changed} m in the body frame{grab_note}')
-    figure.savefig(path, dpi=FIGURE_DPI)
+    figure.suptitle(f'{drawable(title)}: {t[-1]:.1f} s, {len(rows)} ticks, anchor '
+                    f'{point(anchor)}{changed} m in the body frame{grab_note}')
+    return figure
+
+
+def _draw_error(axes, t, errors) -> None:
+    axes.set_xlim(0.0, max(t[-1], 1e-3))
+    axes.set_xlabel('time (s)')
+    axes.set_ylabel('anchor error |anchor - target| (m)')
+    axes.set_title('Anchor error')
+    if np.all(np.isnan(errors)):
+        axes.text(0.5, 0.5, 'no target: the node held none while recorded', ha='center',
+                  va='center', transform=axes.transAxes)
+        axes.set_yticks([])
+        return
+    axes.semilogy(t, np.maximum(errors, ERROR_FLOOR), color='tab:red', linewidth=0.8)
+    axes.grid(True, which='both', alpha=0.3)
+
+
+def _draw_speeds(axes, t, rows):
+    """Draw speed and angular speed on ``axes`` and a twin; return the twin."""
+    speeds = np.array([row.speed for row in rows])
+    spins = np.array([row.angular_speed for row in rows])
+    axes.plot(t, speeds, color='tab:blue', linewidth=1.5, label='speed |v| (m/s)')
+    axes.set_xlim(0.0, max(t[-1], 1e-3))
+    axes.set_xlabel('time (s)')
+    axes.set_ylabel('speed of the COM (m/s)', color='tab:blue')
+    spin_axes = axes.twinx()
+    # Dashed over the solid speed line: where both are zero (at rest), both show.
+    spin_axes.plot(t, spins, color='tab:green', linewidth=1.0, linestyle='--',
+                   label='angular speed |w| (rad/s)')
+    spin_axes.set_ylabel('angular speed (rad/s)', color='tab:green')
+    for twin, values in ((axes, speeds), (spin_axes, spins)):
+        top = max(float(np.max(values)), SPEED_HEADROOM)
+        twin.set_ylim(-0.05 * top, 1.05 * top)
+    axes.set_title('Speed and angular speed')
+    axes.grid(True, alpha=0.3)
+    return spin_axes
+
+
+def write_figure(path: Path, rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
+                 title: str = 'mouse_constraint') -> None:
+    """Draw the recording (``draw_figure``) into a PNG of ``FIGURE_INCHES`` at ``FIGURE_DPI``."""
+    draw_figure(rows, anchor=anchor, frame_id=frame_id, title=title).savefig(
+        path, dpi=FIGURE_DPI)

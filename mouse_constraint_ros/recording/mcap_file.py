@@ -16,7 +16,8 @@
 The MCAP file of a recording: the messages as received (CDR) on ``ros2msg`` schemas.
 
 Foxglove and ``ros2 bag info/play`` open it: the ``ros2`` profile, one channel per recorded topic
-(target, pose, twist, grab, and ``/parameter_events`` with the recorded node's anchor changes)
+(target, pose, twist, grab, ``/parameter_events`` with the recorded node's changes, and the
+service events of its ``~/reset`` and ``~/release``)
 with the publishers' QoS as rosbag2 writes it (``offered_qos_profiles``), and schemas generated
 from the message classes (``message_definition``), so that no ``.msg`` files are needed.
 """
@@ -33,8 +34,29 @@ from .received import MESSAGE_TYPES, Received
 
 
 def schema_name(message_type) -> str:
-    """Return the ROS 2 type name of a message class, e.g. ``geometry_msgs/msg/PointStamped``."""
-    return f'{message_type.__module__.split(".")[0]}/msg/{message_type.__name__}'
+    """
+    Return the ROS 2 type name of a message class, e.g. ``geometry_msgs/msg/PointStamped``.
+
+    A service event is named after its service: ``std_srvs/srv/Trigger_Event``.
+    """
+    package, kind = message_type.__module__.split('.')[:2]
+    return f'{package}/{kind}/{message_type.__name__}'
+
+
+def _message_class(name: str):
+    """Return the class of a nested type ``package/Name``: a message, or a service's part."""
+    package, type_name = name.split('/')
+    for kind in ('msg', 'srv'):
+        try:
+            module = importlib.import_module(f'{package}.{kind}')
+        except ImportError:
+            continue
+        if hasattr(module, type_name):
+            return getattr(module, type_name)
+        service, _, part = type_name.rpartition('_')
+        if kind == 'srv' and hasattr(module, service):
+            return getattr(getattr(module, service), part)
+    raise ImportError(f'no message type {name}')
 
 
 _BASIC_TYPES = {'double': 'float64', 'float': 'float32', 'boolean': 'bool', 'octet': 'byte'}
@@ -72,8 +94,7 @@ def message_definition(message_type) -> str:
             if name in done:
                 continue
             done.add(name)
-            package, type_name = name.split('/')
-            current = getattr(importlib.import_module(f'{package}.msg'), type_name)
+            current = _message_class(name)
         nested: List[str] = []
         lines = [f'{_field_type(kind, nested)} {field}'
                  for field, kind in current.get_fields_and_field_types().items()]

@@ -12,24 +12,49 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""What a recording keeps: the recorded topics and each message as it arrived, serialized."""
+"""
+What a recording keeps: the recorded topics and each message as it arrived, serialized.
 
-from typing import NamedTuple, Optional
+Besides the four topics it keeps what changes the recorded node's target and anchor without
+passing through them: the node's ``/parameter_events`` that change a parameter of
+``NODE_PARAMETERS`` (a grab sets ``anchor``), and the service events of its ``~/reset`` and
+``~/release`` (``<node>/reset/_service_event``, published by the node's service introspection).
+"""
+
+import struct
+from typing import Dict, NamedTuple, Optional
 
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
 from rcl_interfaces.msg import ParameterEvent, ParameterType
+from std_srvs.srv import Trigger
 
-from ..physics.algebra import Vector3
 from ..wire.interface import GRAB_TOPIC, POSE_TOPIC, TARGET_TOPIC, TWIST_TOPIC
 
 # The recorded topics (relative: namespaces and remaps apply) and their types, in CSV order.
 TOPICS = {TARGET_TOPIC: PointStamped, POSE_TOPIC: PoseStamped, TWIST_TOPIC: TwistStamped,
           GRAB_TOPIC: PointStamped}
-# The recorded node's parameter events that change its anchor (a grab sets it): kept too, so
-# that each row uses the anchor in effect when its pose came.
+# The recorded node's parameter events that change a parameter of NODE_PARAMETERS: kept too,
+# so that each row uses the anchor in effect when its pose came.
 PARAMETER_EVENTS_TOPIC = '/parameter_events'
+# The recorded node's services whose calls set its target, by key: the service events
+# (``<node>/<name>/_service_event``) are kept.
+RESET_EVENTS = 'reset'
+RELEASE_EVENTS = 'release'
+SERVICE_EVENTS = (RESET_EVENTS, RELEASE_EVENTS)
 # Every type a recording keeps, by key.
-MESSAGE_TYPES = {**TOPICS, PARAMETER_EVENTS_TOPIC: ParameterEvent}
+MESSAGE_TYPES = {**TOPICS, PARAMETER_EVENTS_TOPIC: ParameterEvent,
+                 RESET_EVENTS: Trigger.Event, RELEASE_EVENTS: Trigger.Event}
+# The recorded node's parameters that the rows follow, and their types: the anchor, what
+# ~/reset makes the target (the initial anchor's world position, when held), and the rates of
+# the grid the stamps lie on.
+NODE_PARAMETERS = {'anchor': ParameterType.PARAMETER_DOUBLE_ARRAY,
+                   'hold_initial_anchor': ParameterType.PARAMETER_BOOL,
+                   'initial_position': ParameterType.PARAMETER_DOUBLE_ARRAY,
+                   'initial_orientation': ParameterType.PARAMETER_DOUBLE_ARRAY,
+                   'rate_hz': ParameterType.PARAMETER_DOUBLE,
+                   'publish_rate_hz': ParameterType.PARAMETER_DOUBLE}
+# The length of each array parameter of NODE_PARAMETERS.
+_LENGTHS = {'anchor': 3, 'initial_position': 3, 'initial_orientation': 4}
 
 
 class Received(NamedTuple):
@@ -40,11 +65,42 @@ class Received(NamedTuple):
     data: bytes
 
 
-def anchor_change(event: ParameterEvent) -> Optional[Vector3]:
-    """Return the ``anchor`` (body frame, m) a parameter event sets, or None if it sets none."""
+def service_event_topic(node_name: str, key: str) -> str:
+    """Return the topic of the service events of ``node_name``'s service ``key``."""
+    return f'{node_name}/{key}/_service_event'
+
+
+def parameter_changes(event: ParameterEvent) -> Dict[str, object]:
+    """
+    Return the parameters of NODE_PARAMETERS that ``event`` sets, by name, as Python values.
+
+    A value of another type, or an array of another length, is left out.
+    """
+    changes: Dict[str, object] = {}
     for parameter in (*event.new_parameters, *event.changed_parameters):
-        value = parameter.value
-        if (parameter.name == 'anchor' and value.type == ParameterType.PARAMETER_DOUBLE_ARRAY
-                and len(value.double_array_value) == 3):
-            return tuple(float(c) for c in value.double_array_value)
-    return None
+        value, wanted = parameter.value, NODE_PARAMETERS.get(parameter.name)
+        if wanted is None or value.type != wanted:
+            continue
+        if wanted == ParameterType.PARAMETER_BOOL:
+            changes[parameter.name] = value.bool_value
+        elif wanted == ParameterType.PARAMETER_DOUBLE:
+            changes[parameter.name] = value.double_value
+        elif len(value.double_array_value) == _LENGTHS[parameter.name]:
+            changes[parameter.name] = tuple(float(c) for c in value.double_array_value)
+    return changes
+
+
+_STAMP = {0: struct.Struct('>iI'), 1: struct.Struct('<iI')}
+
+
+def header_stamp(data: bytes) -> Optional[int]:
+    """
+    Return the header stamp (ns) of a serialized stamped message, or None if it has none.
+
+    The stamp is the first field: after the 4-byte CDR encapsulation header (whose second byte
+    is 1 for little endian, 0 for big endian), an int32 sec and a uint32 nanosec.
+    """
+    if len(data) < 12 or data[0] != 0 or data[1] not in _STAMP:
+        return None
+    sec, nanosec = _STAMP[data[1]].unpack_from(data, 4)
+    return sec * 1_000_000_000 + nanosec

@@ -61,5 +61,10 @@ STEP_SERVICE = '~/step'
 CLOCK_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
                        reliability=ReliabilityPolicy.RELIABLE)
 WRENCH_QOS = TARGET_QOS
+# Service events of ~/reset and ~/release (``<service>/_service_event``, service
+# introspection with contents): what the node did, for ``ros2 service echo`` and mouse_record,
+# which follows the node's target through them. RELIABLE, and deep enough for a burst of calls.
+SERVICE_EVENT_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
+                               reliability=ReliabilityPolicy.RELIABLE)
 # The browser view of the node (``mouse_view``), in the node's namespace.
 VIEW_NODE_NAME = 'mouse_view'

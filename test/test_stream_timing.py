@@ -1,0 +1,194 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+A browser's drag timed by its stamps: the stream follows the curve (core and through ROS).
+
+The scenario and metrics are ``test_support.stream_timing``'s (docs/dragging.md); the figures
+through ROS are ``python -m bench.stream_timing``'s, not asserted here.
+"""
+
+import math
+
+from geometry_msgs.msg import PointStamped
+import numpy as np
+import pytest
+from rclpy.parameter import Parameter
+
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
+from mouse_constraint_ros.physics.target_motion import BLEND_INTERVALS, STAMPED_WINDOW
+from mouse_constraint_ros.physics.target_motion import TargetStream
+from mouse_constraint_ros.wire.messages import point_message
+from test_support.mouse_feel import shipped_parameters
+from test_support.ros_harness import SimClock
+from test_support.stream_timing import circle, replay, SPEED
+
+
+def exactly(value: float):
+    """Return ``value`` to compare to rounding."""
+    return pytest.approx(value, abs=1e-9)
+
+
+def _circle_points(rate_hz: float, count: int):
+    path = circle((0.0, 0.0, 1.0))
+    return [(k / rate_hz, tuple(path(k / rate_hz))) for k in range(count)]
+
+
+def test_a_stamped_circle_is_not_flattened():
+    """20 Hz stamps of a circle: the velocity is the tangent at 1 m/s, within 1 %."""
+    stamped, arrival = TargetStream(), TargetStream()
+    errors = {id(stamped): [], id(arrival): []}
+    path = circle((0.0, 0.0, 1.0))
+    for t, point in _circle_points(20.0, 40):
+        stamped.add(point, t, 2.0, t + 0.03)
+        arrival.add(point, t, 2.0)
+        if t >= STAMPED_WINDOW:
+            truth = (path(t + 1e-6) - path(t - 1e-6)) / 2e-6
+            for stream in (stamped, arrival):
+                errors[id(stream)].append(np.linalg.norm(np.subtract(stream.velocity, truth)))
+    assert max(errors[id(stamped)]) <= 0.01 * SPEED
+    # The arrival-timed parabola over as many points takes the circle for a flatter curve.
+    assert min(errors[id(arrival)]) >= 5.0 * max(errors[id(stamped)])
+
+
+def test_a_stamped_point_is_extrapolated_from_its_stamp_until_two_intervals_after_arrival():
+    """A line at 1 m/s stamped 30 ms before arrival: the target is where the line is now."""
+    stream = TargetStream()
+    for k in range(10):
+        t = 0.05 * k
+        stream.add((t, 0.0, 0.0), t, 2.0, t + 0.03)
+    arrived = 0.45 + 0.03
+    position, velocity = stream.predict(arrived + 0.05)
+    assert position == (exactly(0.45 + 0.08), 0.0, 0.0)
+    assert velocity[0] == exactly(1.0)
+    # Two mean intervals after the arrival the stream has stopped: the last point, at rest.
+    assert stream.predict(arrived + 0.1 + 1e-6) == ((0.45, 0.0, 0.0), (0.0, 0.0, 0.0))
+    assert stream.predict(arrived + 0.1 - 1e-6)[1][0] == exactly(1.0)
+
+
+def test_a_new_stamped_fit_is_blended_in_without_a_jump():
+    """At a point's arrival the target goes on from where it was; an interval on, the new fit."""
+    stream = TargetStream()
+    points = _circle_points(20.0, 12)
+    for t, point in points[:-1]:
+        stream.add(point, t, 2.0, t + 0.02)
+    t_new, new = points[-1]
+    arrival = t_new + 0.02
+    before = stream.predict(arrival)
+    stream.add(new, t_new, 2.0, arrival)
+    after = stream.predict(arrival)
+    assert np.allclose(after[0], before[0], atol=1e-12)
+    assert np.allclose(after[1], before[1], atol=1e-9)
+    # The old fit's extrapolation over 70 ms is off the new point's fit; a blend has ended.
+    done = arrival + BLEND_INTERVALS * 0.05
+    settled = stream.predict(done + 1e-6)
+    fresh = TargetStream()
+    for t, point in points:
+        fresh.add(point, t, 2.0, t + 0.02)
+    assert np.allclose(settled[0], fresh.predict(done + 1e-6)[0], atol=1e-12)
+
+
+def test_a_change_between_stamps_and_arrival_times_starts_a_new_stream():
+    """Times on two clocks are not one stream: the velocity starts from zero again."""
+    stream = TargetStream()
+    for k in range(5):
+        stream.add((0.02 * k, 0.0, 0.0), 0.02 * k, 2.0, 0.02 * k + 0.01)
+    assert stream.velocity[0] == exactly(1.0)
+    assert not stream.add((0.1, 0.0, 0.0), 0.11, 2.0)
+    assert stream.velocity == (0.0, 0.0, 0.0)
+    assert stream.add((0.12, 0.0, 0.0), 0.13, 2.0)
+    assert not stream.add((0.14, 0.0, 0.0), 0.14, 2.0, 0.15)
+
+
+def test_stamps_through_the_nodes_timing_path_follow_a_20_hz_circle():
+    """The drag replayed on the core as the node times it: the targets of docs/dragging.md."""
+    stamped = replay(20.0, True, 4.0)
+    arrival = replay(20.0, False, 4.0)
+    assert stamped.error <= 0.003 and stamped.speed_deviation <= 0.03
+    assert stamped.error * 5.0 <= arrival.error
+    fast = replay(60.0, True, 3.0)
+    assert fast.error <= 0.001 and fast.speed_deviation <= 0.02
+
+
+def test_with_dropped_ticks_a_stamped_drag_still_beats_one_timed_by_arrival():
+    """Spells of 30-100 ms without ticks (a loaded machine): the stamped stream starts again."""
+    drops = [(1.5, 0.03), (2.5, 0.06), (3.5, 0.1)]
+    stamped = replay(20.0, True, 4.5, drops=drops)
+    arrival = replay(20.0, False, 4.5, drops=drops)
+    assert stamped.error < arrival.error
+    assert stamped.speed_deviation < arrival.speed_deviation
+
+
+def test_the_node_times_targets_by_their_stamps(ros):
+    """
+    Arrivals delayed by 0-40 ms, stamps exact: the node's velocity estimate is the line's.
+
+    A line at 1 m/s, one point every 50 ms, each published a random 0-40 ms (of the node's
+    clock, a /clock driven in 5 ms steps) after the time it is stamped with and placed at.
+    Timed by arrival the estimate would wander by tens of percent (the same arrivals fed to
+    an arrival-timed stream say how much); timed by the stamps it is the line's velocity (to
+    rounding; 0.1 % allowed). On /clock no tick is dropped, however loaded the machine.
+    """
+    parameters = shipped_parameters()
+    node = ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
+        Parameter('use_sim_time', value=True),
+        *(Parameter(name, value=value) for name, value in parameters.items())]))
+    publisher = ros.probe.create_publisher(PointStamped, 'target', 10)
+    clock = SimClock(ros, node)
+    step = 5_000_000
+    now = 100 * 1_000_000_000
+    clock.advance_to(now)
+    assert ros.spin_until(lambda: publisher.get_subscription_count() > 0 and node.ticks_run)
+    start = np.array(node.simulation.anchor_position())
+    random = np.random.default_rng(5)
+    by_arrival = TargetStream()
+    estimates, arrival_estimates = [], []
+    began = now + step
+    for k in range(16):
+        event = began + k * 50_000_000
+        send = event + step * int(random.integers(0, 9))
+        while now < send:
+            now += step
+            clock.advance_to(now)
+        point = tuple(start + ((event - began) * 1e-9 * SPEED, 0.0, 0.0))
+        publisher.publish(point_message(point, parameters['frame_id'], event))
+        assert ros.spin_until(lambda: node.simulation.target == point, timeout=5.0)
+        by_arrival.add(point, now * 1e-9, math.inf)
+        if k >= 3:
+            estimates.append(node.simulation.target_velocity)
+            arrival_estimates.append(by_arrival.velocity)
+    stamped_error = max(abs(v[0] - SPEED) + abs(v[1]) + abs(v[2]) for v in estimates)
+    arrival_error = max(abs(v[0] - SPEED) for v in arrival_estimates)
+    # The delays were irregular enough to tell the two apart: timed by arrival, off by > 2 %.
+    assert arrival_error > 0.02
+    assert stamped_error < 1e-3
+
+
+@pytest.mark.parametrize('degree', [1, 2, 3, 4])
+def test_stamped_motion_of_degree_up_to_four_is_extrapolated_exactly(degree):
+    """Points on a polynomial of degree <= 4 in time: position and velocity ahead, exact."""
+    def motion(t: float):
+        return (0.3 * t ** degree + 0.1 * t, -0.2 * t ** degree, 1.0)
+
+    def rate(t: float):
+        return (0.3 * degree * t ** (degree - 1) + 0.1, -0.2 * degree * t ** (degree - 1), 0.0)
+
+    stream = TargetStream()
+    for k in range(12):
+        t = 0.5 + 0.03 * k
+        stream.add(motion(t), t, math.inf, t + 0.01)
+    later = 0.5 + 0.03 * 11 + 0.04
+    position, velocity = stream.predict(later)
+    assert position == pytest.approx(motion(later), abs=1e-9)
+    assert velocity == pytest.approx(rate(later), abs=1e-7)
