@@ -176,8 +176,8 @@ PARAMETERS = (
     ParameterSpec('max_target_acceleration', 20.0,
                   'Acceleration bound of that point (m/s^2); .inf = none.', (0.0, math.inf)),
     ParameterSpec('target_feed_forward', True,
-                  'Estimate the velocity of streamed targets (a drag) from their stamps or arrival '
-                  'times and let the joint follow it, so a drag does not lag.'),
+                  'Estimate the velocity of a stream of targets (a drag) from their stamps or '
+                  'arrival times and let the joint follow it, so a drag does not lag.'),
 ) + tuple(ParameterSpec(*spec) for spec in FLOOR_PARAMETERS)
 
 DEFAULTS = {p.name: p.default for p in PARAMETERS}
