@@ -250,7 +250,10 @@ def test_pause_without_publish_clock_holds_the_physics_and_restarts_the_grid(ros
     after = np.array([stamp_ns(p.header.stamp) for p in poses[held:]])
     assert after[0] - paused_at > 0.5 * S
     np.testing.assert_array_equal(np.diff(after), round(1e9 / rate))
-    assert len(after) == pytest.approx(wall * rate, abs=0.1 * rate)
+    # Ticks go on (a loaded machine may run fewer of them) and none catches up the paused time:
+    # the stamps after the resume span no more than the wall time since it.
+    assert len(after) > 0.1 * wall * rate
+    assert after[-1] - after[0] <= wall * S
 
 
 def test_publish_clock_with_use_sim_time_is_refused(ros):
