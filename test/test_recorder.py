@@ -566,6 +566,14 @@ def test_check_writable_leaves_nothing_behind(tmp_path):
         'run.csv', 'run.png', 'run.mcap']
 
 
+def damped_node(ros, namespace: str) -> MouseConstraintNode:
+    """Return a node in ``namespace`` at RATE with ANCHOR, damped, without monitors."""
+    return MouseConstraintNode(context=ros.context, namespace=namespace, parameter_overrides=[
+        Parameter('rate_hz', value=RATE), Parameter('anchor', value=list(ANCHOR)),
+        Parameter('marker_rate_hz', value=0.0), Parameter('diagnostics_rate_hz', value=0.0),
+        Parameter('linear_damping', value=2.0), Parameter('angular_damping', value=2.0)])
+
+
 def test_recording_follows_a_grab(tmp_path):
     """
     A grab during the recording: the rows use the grabbed anchor from then on, the grab is marked.
@@ -576,12 +584,7 @@ def test_recording_follows_a_grab(tmp_path):
     """
     ros = RosHarness()
     try:
-        overrides = [
-            Parameter('rate_hz', value=RATE), Parameter('anchor', value=list(ANCHOR)),
-            Parameter('marker_rate_hz', value=0.0), Parameter('diagnostics_rate_hz', value=0.0),
-            Parameter('linear_damping', value=2.0), Parameter('angular_damping', value=2.0)]
-        node = ros.add(MouseConstraintNode(context=ros.context, namespace='grabbed',
-                                           parameter_overrides=overrides))
+        node = ros.add(damped_node(ros, 'grabbed'))
         poses = ros.collect(PoseStamped, 'grabbed/pose', depth=100000)
         grabs = ros.probe.create_publisher(PointStamped, 'grabbed/grab', 10)
         assert ros.spin_until(lambda: grabs.get_subscription_count() > 0 and poses)
@@ -765,12 +768,7 @@ def test_recording_follows_a_reset(tmp_path):
     """
     ros = RosHarness()
     try:
-        overrides = [
-            Parameter('rate_hz', value=RATE), Parameter('anchor', value=list(ANCHOR)),
-            Parameter('marker_rate_hz', value=0.0), Parameter('diagnostics_rate_hz', value=0.0),
-            Parameter('linear_damping', value=2.0), Parameter('angular_damping', value=2.0)]
-        node = ros.add(MouseConstraintNode(context=ros.context, namespace='resetting',
-                                           parameter_overrides=overrides))
+        node = ros.add(damped_node(ros, 'resetting'))
         held = node.simulation.target
         targets = ros.probe.create_publisher(PointStamped, 'resetting/target', 10)
         reset = ros.probe.create_client(Trigger, 'resetting/mouse_constraint/reset')

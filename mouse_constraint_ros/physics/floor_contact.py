@@ -246,7 +246,9 @@ def _sweeps(rows: Rows, velocities: Tuple[float, ...], im: float, friction: floa
                 if change > largest:
                     largest = change
                 pt, pb = at, ab
-            # Normal: u_n >= goal with an accumulated impulse >= 0.
+            # Normal: u_n >= goal with an accumulated impulse >= 0. Written out here and in
+            # floor_energy.bounce (its twin, the hot loop's cost); test_floor_contact's energy
+            # and rebound tests hold both to the same row.
             un = vz + wx * ry - wy * rx
             total = pn + (goal - un) * mn
             if total < 0.0:

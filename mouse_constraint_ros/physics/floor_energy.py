@@ -77,6 +77,7 @@ def bounce(rows: List[list], before: Tuple[Vector3, Vector3], after: Tuple[float
         for row, goal in zip(rows, goals):
             rx, ry, nx, ny, nz, kn, mn, pn = row[1], row[2], row[5], row[6], row[7], \
                 row[14], row[15], row[19]
+            # The normal row of floor_contact._sweeps (its twin), written out in the loop.
             un = vz + wx * ry - wy * rx
             total = pn + (goal - un) * mn
             if total < 0.0:
