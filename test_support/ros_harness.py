@@ -23,6 +23,8 @@ from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
 
+from mouse_constraint_ros.wire.messages import stamp_nanoseconds
+
 
 class RosHarness:
     """
@@ -85,8 +87,7 @@ class RosHarness:
 
 def stamp_of(message) -> int:
     """Return a message's header stamp in nanoseconds."""
-    stamp = message.header.stamp
-    return stamp.sec * 1_000_000_000 + stamp.nanosec
+    return stamp_nanoseconds(message.header.stamp)
 
 
 class SimClock:
