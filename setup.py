@@ -54,5 +54,9 @@ setup(
             'mouse_wrench = mouse_constraint_ros.cli.wrench:main',
             'mouse_view = mouse_constraint_ros.view.command:main',
         ],
+        # The fixtures of mouse_constraint_ros.testing, for any package that installs this one.
+        'pytest11': [
+            'mouse_constraint_ros = mouse_constraint_ros.testing.pytest_plugin',
+        ],
     },
 )

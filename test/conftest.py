@@ -33,21 +33,23 @@ SYSTEM_MODULES = {'test_cli_refusals', 'test_hardening', 'test_launch', 'test_pr
 
 
 TIERS = ('unit', 'ros', 'system')
+# Fixtures that run nodes in-process: the ros tier.
+IN_PROCESS = {'ros', 'simulated_body', 'simulated_body_factory'}
 
 
 def pytest_collection_modifyitems(items) -> None:
     """
     Mark each test with its tier.
 
-    system: its module starts processes; ros: it takes the ``ros`` fixture (a node
-    in-process); unit: everything else (pure code).
+    system: its module starts processes; ros: it takes the ``ros`` fixture or a simulated body
+    (a node in-process); unit: everything else (pure code).
     """
     for item in items:
         if any(item.get_closest_marker(tier) for tier in TIERS):
             continue  # marked by the test itself (a process test in a mostly in-process module)
         if item.module.__name__.rpartition('.')[2] in SYSTEM_MODULES:
             item.add_marker(pytest.mark.system)
-        elif 'ros' in getattr(item, 'fixturenames', ()):
+        elif IN_PROCESS & set(getattr(item, 'fixturenames', ())):
             item.add_marker(pytest.mark.ros)
         else:
             item.add_marker(pytest.mark.unit)

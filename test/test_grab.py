@@ -15,28 +15,26 @@
 """
 Grabbing the body where it is clicked: the pure box test, and the node's ``grab`` topic.
 
-The node's callbacks are called directly where the test needs the body's pose exactly (no tick
-runs between building a message and its use); the topic, parameter service and markers are
-checked with the node spinning on a body at rest (no gravity, nothing held).
+The node is stepped in lockstep (``mouse_constraint_ros.testing``): a grab sent before the first
+tick meets the body exactly at its initial pose. The parameter service and markers are checked
+on a body at rest (no gravity, nothing held).
 """
 
 import itertools
 import math
 
-from geometry_msgs.msg import PointStamped
 import numpy as np
 import pytest
 from rcl_interfaces.srv import GetParameters
-from rclpy.parameter import Parameter
+from rclpy.node import Node
 from scipy.spatial.transform import Rotation
-from std_srvs.srv import Trigger
 from visualization_msgs.msg import MarkerArray
 
 from mouse_constraint_ros.inputs.grab import box_distance, grab, to_body_frame
-from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
+from mouse_constraint_ros.inputs.target_gate import TargetGate
 from mouse_constraint_ros.node.parameters import DEFAULTS
 from mouse_constraint_ros.physics import BodyState
-from mouse_constraint_ros.wire.messages import point_message
+from mouse_constraint_ros.testing import InputRefused
 
 BOX = (0.4, 0.2, 0.1)
 HALF = np.array(BOX) / 2.0
@@ -72,29 +70,16 @@ def expected_distance(local) -> float:
     return float(np.linalg.norm(np.maximum(np.abs(local) - HALF, 0.0)))
 
 
-def grab_message(point, frame_id='world') -> PointStamped:
-    """Return a grab message for ``point``."""
-    return point_message(point, frame_id, 0)
-
-
-def start_node(ros, **overrides) -> MouseConstraintNode:
-    """Start the node with the box posed at STATE, anchor CONFIGURED, monitors off."""
+def make_body(factory, **overrides):
+    """Return a simulated body with the box posed at STATE, anchor CONFIGURED, monitors off."""
     values = {'box_size': list(BOX), 'anchor': CONFIGURED, 'initial_position': list(POSITION),
               'initial_orientation': list(ORIENTATION), 'marker_rate_hz': 0.0,
               'diagnostics_rate_hz': 0.0, 'rate_hz': 100.0}
     values.update(overrides)
-    return ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
-        Parameter(name, value=value) for name, value in values.items()]))
+    return factory(**values)
 
 
-def warnings_of(node: MouseConstraintNode) -> list:
-    """Replace the node's throttled warnings by a list of (reason, text); return the list."""
-    warnings = []
-    node._warn = lambda reason, message: warnings.append((reason, message()))
-    return warnings
-
-
-def anchor_parameter(node: MouseConstraintNode) -> list:
+def anchor_parameter(node) -> list:
     """Return the node's anchor parameter as a list of floats."""
     return list(node.get_parameter('anchor').value)
 
@@ -128,38 +113,41 @@ def test_grab_is_taken_exactly_within_the_margin():
         assert landed.taken(landed.distance)
 
 
-# The node.
+# The node, stepped in lockstep: it has not ticked when a grab comes, so the body is at STATE.
 
 @pytest.mark.parametrize('local', ON_BODY)
-def test_a_point_on_the_body_becomes_the_anchor_and_the_target(ros, local):
+def test_a_point_on_the_body_becomes_the_anchor_and_the_target(simulated_body_factory, local):
     """Anchor (parameter and settings) = the point in the body frame; the target is the point."""
-    node = start_node(ros)
-    warnings = warnings_of(node)
+    body = make_body(simulated_body_factory)
+    node = body.node
     point = world(local)
-    node._on_grab(grab_message(point))
-    assert warnings == []
-    np.testing.assert_allclose(anchor_parameter(node), local, rtol=0.0, atol=1e-9)
-    assert node.simulation.settings.constraint.anchor == tuple(anchor_parameter(node))
+    anchor = body.grab(point)
+    np.testing.assert_allclose(anchor, local, rtol=0.0, atol=1e-9)
+    assert anchor_parameter(node) == list(anchor)
+    assert node.simulation.settings.constraint.anchor == anchor
     assert node.simulation.target == point
     # Nothing jumps: the anchor is where the target is.
     assert np.linalg.norm(node.simulation.anchor_error()) < 1e-12
+    assert node.refusals == (0, None)
 
 
 @pytest.mark.parametrize('local', OFF_BODY)
-def test_a_point_off_the_body_changes_nothing_and_says_how_far_off(ros, local):
-    """Settings, target, state and parameter are the very same; one warning with the distance."""
-    node = start_node(ros)
-    warnings = warnings_of(node)
+def test_a_point_off_the_body_changes_nothing_and_says_how_far_off(simulated_body_factory,
+                                                                   local):
+    """Settings, target, state and parameter are the very same; the refusal gives the distance."""
+    body = make_body(simulated_body_factory)
+    node = body.node
     before = (node.simulation.settings, node.simulation.target, node.simulation.state,
-              anchor_parameter(node), node._config)
-    node._on_grab(grab_message(world(local)))
+              anchor_parameter(node))
+    with pytest.raises(InputRefused) as refused:
+        body.grab(world(local))
     after = (node.simulation.settings, node.simulation.target, node.simulation.state,
-             anchor_parameter(node), node._config)
-    assert after == before and after[0] is before[0] and after[4] is before[4]
-    [(reason, text)] = warnings
-    assert reason == 'grab off body'
-    assert f'{expected_distance(local):.6g} m off the body' in text
-    assert f'grab_margin {MARGIN:g} m' in text
+             anchor_parameter(node))
+    assert after == before and after[0] is before[0]
+    assert refused.value.key == 'grab off body'
+    assert f'{expected_distance(local):.6g} m off the body' in str(refused.value)
+    assert f'grab_margin {MARGIN:g} m' in str(refused.value)
+    assert node.refusals[0] == 1
 
 
 @pytest.mark.parametrize('point, frame, key', [
@@ -168,178 +156,185 @@ def test_a_point_off_the_body_changes_nothing_and_says_how_far_off(ros, local):
     ((0.3, math.inf, 1.1), '', 'finite'),
     ((1e9, 0.0, 0.0), 'world', 'workspace'),
 ])
-def test_grabs_the_target_gate_refuses_change_nothing(ros, point, frame, key):
+def test_grabs_the_target_gate_refuses_change_nothing(simulated_body_factory, point, frame, key):
     """Frame, finiteness and workspace as for targets, under the gate's key after 'grab '."""
-    node = start_node(ros)
-    warnings = warnings_of(node)
+    body = make_body(simulated_body_factory)
+    node = body.node
     before = (node.simulation.settings, node.simulation.target, anchor_parameter(node))
-    node._on_grab(grab_message(point, frame))
+    with pytest.raises(InputRefused) as refused:
+        body.grab(point, frame_id=frame)
     assert (node.simulation.settings, node.simulation.target, anchor_parameter(node)) == before
-    [(reason, text)] = warnings
-    refusal = node._gate.refusal(frame, point)
-    assert reason == 'grab ' + key == 'grab ' + refusal.key
-    assert text == f'ignoring grab {refusal.reason}'
+    refusal = TargetGate('world', DEFAULTS['workspace_radius']).refusal(frame, point)
+    assert refused.value.key == 'grab ' + key == 'grab ' + refusal.key
+    assert str(refused.value) == refusal.reason
 
 
-def test_an_anchor_the_configuration_refuses_is_not_grabbed(ros):
+def test_an_anchor_the_configuration_refuses_is_not_grabbed(simulated_body_factory):
     """A corner too far out for a body of tiny inertia: the reason of node_config, no change."""
-    node = start_node(ros, anchor=[0.0, 0.0, 0.0], inertia=[1e-13, 0.0, 0.0, 1e-13, 0.0, 1e-13])
-    warnings = warnings_of(node)
+    body = make_body(simulated_body_factory, anchor=[0.0, 0.0, 0.0],
+                     inertia=[1e-13, 0.0, 0.0, 1e-13, 0.0, 1e-13])
+    node = body.node
     before = (node.simulation.settings, node.simulation.target, anchor_parameter(node))
-    node._on_grab(grab_message(world(CORNERS[0])))
+    with pytest.raises(InputRefused, match='too ill-conditioned') as refused:
+        body.grab(world(CORNERS[0]))
+    assert refused.value.key == 'grab anchor'
     assert (node.simulation.settings, node.simulation.target, anchor_parameter(node)) == before
-    [(reason, text)] = warnings
-    assert reason == 'grab anchor' and 'too ill-conditioned' in text
     # A face centre nearer the COM is within reach.
-    node._on_grab(grab_message(world(FACES[4])))
+    body.grab(world(FACES[4]))
     np.testing.assert_allclose(anchor_parameter(node), FACES[4], atol=1e-9)
 
 
-def test_the_grab_margin_is_a_run_time_parameter(ros):
+def test_the_grab_margin_is_a_run_time_parameter(simulated_body_factory):
     """A point refused at the default margin is taken once grab_margin covers it."""
-    node = start_node(ros)
-    warnings = warnings_of(node)
+    body = make_body(simulated_body_factory)
     local = OFF_BODY[0]
-    node._on_grab(grab_message(world(local)))
-    assert len(warnings) == 1
-    assert node.set_parameters([Parameter('grab_margin', value=4.0 * MARGIN)])[0].successful
-    node._on_grab(grab_message(world(local)))
-    np.testing.assert_allclose(anchor_parameter(node), local, atol=1e-9)
-    [result] = node.set_parameters([Parameter('grab_margin', value=-1.0)])
-    assert not result.successful and 'grab_margin' in result.reason
+    with pytest.raises(InputRefused):
+        body.grab(world(local))
+    body.set_parameters(grab_margin=4.0 * MARGIN)
+    body.grab(world(local))
+    np.testing.assert_allclose(anchor_parameter(body.node), local, atol=1e-9)
+    with pytest.raises(ValueError, match='grab_margin'):
+        body.set_parameters(grab_margin=-1.0)
 
 
-def test_the_gate_follows_frame_id_and_workspace_radius(ros):
+def test_the_gate_follows_frame_id_and_workspace_radius(simulated_body_factory):
     """Changed at run time, both gate targets and grabs at once."""
-    node = start_node(ros)
-    warnings = warnings_of(node)
+    body = make_body(simulated_body_factory)
     point = world(FACES[0])
-    assert node.set_parameters([Parameter('frame_id', value='odom')])[0].successful
-    node._on_target(grab_message((0.0, 0.0, 1.0), 'world'))
-    node._on_grab(grab_message(point, 'world'))
-    assert [reason for reason, _ in warnings] == ['frame', 'grab frame']
-    node._on_grab(grab_message(point, 'odom'))
-    assert node.simulation.target == point
-    assert node.set_parameters([Parameter('workspace_radius', value=0.5)])[0].successful
-    node._on_target(grab_message((0.0, 0.0, 1.0), 'odom'))
-    assert warnings[-1][0] == 'workspace' and node.simulation.target == point
+    body.set_parameters(frame_id='odom')
+    keys = []
+    for send in (lambda: body.target((0.0, 0.0, 1.0), frame_id='world'),
+                 lambda: body.grab(point, frame_id='world')):
+        with pytest.raises(InputRefused) as refused:
+            send()
+        keys.append(refused.value.key)
+    assert keys == ['frame', 'grab frame']
+    body.grab(point, frame_id='odom')
+    assert body.node.simulation.target == point
+    body.set_parameters(workspace_radius=0.5)
+    with pytest.raises(InputRefused) as refused:
+        body.target((0.0, 0.0, 1.0), frame_id='odom')
+    assert refused.value.key == 'workspace' and body.node.simulation.target == point
 
 
-def test_other_parameter_changes_keep_the_grabbed_anchor(ros):
+def test_other_parameter_changes_keep_the_grabbed_anchor(simulated_body_factory):
     """The configuration is rebuilt from the parameters, which hold the grabbed point."""
-    node = start_node(ros)
-    node._on_grab(grab_message(world(CORNERS[0])))
-    grabbed = anchor_parameter(node)
-    assert node.set_parameters([Parameter('mass', value=3.0)])[0].successful
-    assert node.simulation.settings.body.mass == 3.0
-    assert node.simulation.settings.constraint.anchor == tuple(grabbed)
+    body = make_body(simulated_body_factory)
+    grabbed = body.grab(world(CORNERS[0]))
+    body.set_parameters(mass=3.0)
+    assert body.node.simulation.settings.body.mass == 3.0
+    assert body.node.simulation.settings.constraint.anchor == grabbed
 
 
-def test_reset_restores_the_configured_anchor_and_release_keeps_the_grabbed_one(ros):
+def test_reset_restores_the_configured_anchor_and_release_keeps_the_grabbed_one(
+        simulated_body_factory):
     """~/release lets go (the grabbed point stays the anchor); ~/reset restores the start's."""
-    node = start_node(ros, gravity=[0.0, 0.0, 0.0], hold_initial_anchor=True)
+    body = make_body(simulated_body_factory, gravity=[0.0, 0.0, 0.0], hold_initial_anchor=True)
+    node = body.node
     local = EDGES[1]
-    node._on_grab(grab_message(world(local)))
-    response = ros.call(Trigger, '/mouse_constraint/release', Trigger.Request())
-    assert response.success and response.message == 'released'
+    body.grab(world(local))
+    assert body.release() == 'released'
     assert node.simulation.target is None
     np.testing.assert_allclose(anchor_parameter(node), local, atol=1e-9)
     # A target after the release drags the grabbed point again.
-    node._on_target(grab_message((0.5, 0.0, 1.0)))
+    body.target((0.5, 0.0, 1.0))
     assert node.simulation.target == (0.5, 0.0, 1.0)
-    response = ros.call(Trigger, '/mouse_constraint/reset', Trigger.Request())
-    assert response.success
+    body.step(10)
+    body.reset()
     assert anchor_parameter(node) == CONFIGURED
     assert node.simulation.settings.constraint.anchor == tuple(CONFIGURED)
-    assert node.simulation.state.position == pytest.approx(POSITION, abs=1e-3)
+    assert node.simulation.state == STATE.validated()
     np.testing.assert_allclose(node.simulation.target, world(CONFIGURED), atol=1e-12)
 
 
-def test_an_anchor_set_through_the_parameters_is_the_one_reset_restores(ros):
+def test_an_anchor_set_through_the_parameters_is_the_one_reset_restores(simulated_body_factory):
     """ros2 param set anchor configures it; a grab afterwards does not; reset gives it back."""
-    node = start_node(ros)
+    body = make_body(simulated_body_factory)
     configured = [-0.1, 0.05, 0.0]
-    assert node.set_parameters([Parameter('anchor', value=configured)])[0].successful
-    node._on_grab(grab_message(world(CORNERS[3])))
-    assert anchor_parameter(node) != configured
-    node._on_reset(Trigger.Request(), Trigger.Response())
-    assert anchor_parameter(node) == configured
+    body.set_parameters(anchor=configured)
+    body.grab(world(CORNERS[3]))
+    assert anchor_parameter(body.node) != configured
+    body.reset()
+    assert anchor_parameter(body.node) == configured
 
 
-def test_reset_says_when_the_configured_anchor_no_longer_fits(ros):
+def test_reset_says_when_the_configured_anchor_no_longer_fits(simulated_body_factory):
     """Inertia made tiny while a near point is grabbed: the start's corner is refused."""
-    node = start_node(ros)
-    node._on_grab(grab_message(world(INSIDE[0])))
-    assert node.set_parameters([Parameter(
-        'inertia', value=[1e-13, 0.0, 0.0, 1e-13, 0.0, 1e-13])])[0].successful
+    body = make_body(simulated_body_factory)
+    node = body.node
+    body.grab(world(INSIDE[0]))
+    body.set_parameters(inertia=[1e-13, 0.0, 0.0, 1e-13, 0.0, 1e-13])
     state, target = node.simulation.state, node.simulation.target
-    response = node._on_reset(Trigger.Request(), Trigger.Response())
-    assert not response.success
-    assert 'cannot restore the configured anchor' in response.message
-    assert 'too ill-conditioned' in response.message
+    with pytest.raises(RuntimeError, match='cannot restore the configured anchor') as refused:
+        body.reset()
+    assert 'too ill-conditioned' in str(refused.value)
     assert node.simulation.state is state and node.simulation.target == target
 
 
-def test_grab_topic_parameter_service_and_markers_show_the_grabbed_point(ros):
+def test_grab_topic_parameter_service_and_markers_show_the_grabbed_point(simulated_body_factory):
     """
     Through the topic: ros2 param get shows the point, the markers' anchor is it, targets drag it.
 
     The body rests at STATE (no gravity, free): the point is on the body when it arrives.
     """
-    node = start_node(ros, gravity=[0.0, 0.0, 0.0], hold_initial_anchor=False,
-                      marker_rate_hz=50.0, linear_damping=5.0, angular_damping=5.0)
-    arrays = ros.collect(MarkerArray, '/mouse_constraint/markers')
-    publisher = ros.probe.create_publisher(PointStamped, 'grab', 10)
-    assert ros.spin_until(lambda: publisher.get_subscription_count() > 0)
+    body = make_body(simulated_body_factory, gravity=[0.0, 0.0, 0.0], hold_initial_anchor=False,
+                     marker_rate_hz=50.0, linear_damping=5.0, angular_damping=5.0)
+    node = body.node
+    viewer = body.add_node(Node('viewer', context=body.context))
+    arrays = []
+    viewer.create_subscription(MarkerArray, '/mouse_constraint/markers', arrays.append, 10)
+    parameters = viewer.create_client(GetParameters, '/mouse_constraint/get_parameters')
+    body.step()
     local = EDGES[0]
     point = world(local)
-    publisher.publish(grab_message(point, ''))
-    assert ros.spin_until(lambda: node.simulation.target == point)
-    response = ros.call(GetParameters, '/mouse_constraint/get_parameters',
-                        GetParameters.Request(names=['anchor']))
-    np.testing.assert_allclose(response.values[0].double_array_value, local, atol=1e-9)
+    body.grab(point)
+    assert node.simulation.target == point
+    future = parameters.call_async(GetParameters.Request(names=['anchor']))
+    body.drain()
+    np.testing.assert_allclose(future.result().values[0].double_array_value, local, atol=1e-9)
+    # Markers come on their own timer (wall time): step until two more have come.
     count = len(arrays)
-    assert ros.spin_until(lambda: len(arrays) > count + 2)
+    body.step_until(lambda: len(arrays) > count + 2, max_ticks=100_000)
     markers = {m.ns: m for m in arrays[-1].markers}
-    body = markers['body'].pose
-    state = BodyState((body.position.x, body.position.y, body.position.z),
-                      (body.orientation.x, body.orientation.y, body.orientation.z,
-                       body.orientation.w))
+    pose = markers['body'].pose
+    state = BodyState((pose.position.x, pose.position.y, pose.position.z),
+                      (pose.orientation.x, pose.orientation.y, pose.orientation.z,
+                       pose.orientation.w))
     sphere = markers['anchor'].pose.position
     np.testing.assert_allclose((sphere.x, sphere.y, sphere.z), world(local, state), atol=1e-9)
     np.testing.assert_allclose((sphere.x, sphere.y, sphere.z), point, atol=1e-9)
     # A later target drags the grabbed point there (the damping stops the swing it starts).
     target = (point[0] + 0.1, point[1], point[2] + 0.05)
-    targets = ros.probe.create_publisher(PointStamped, 'target', 10)
-    assert ros.spin_until(lambda: targets.get_subscription_count() > 0)
-    targets.publish(grab_message(target))
-    assert ros.spin_until(lambda: node.simulation.target == target)
-    assert ros.spin_until(lambda: np.linalg.norm(node.simulation.anchor_error()) < 1e-4)
+    body.target(target)
+    assert node.simulation.target == target
+    body.step_until(lambda: np.linalg.norm(node.simulation.anchor_error()) < 1e-4,
+                    max_ticks=1000)
     np.testing.assert_allclose(anchor_parameter(node), local, atol=1e-9)
 
 
-def test_a_flood_of_grabs_logs_short_throttled_lines(ros, capfd):
+def test_a_flood_of_grabs_logs_short_throttled_lines(simulated_body_factory, capfd):
     """
     500 grabs in a burst: each one is taken, and the log has at most a short line per period.
 
     A grab sets the node's own anchor parameter; that change used to log the whole summary
     (some 450 characters) every time.
     """
-    node = start_node(ros)
+    body = make_body(simulated_body_factory)
     # A throttled warning first: the notes must not share its call site (rclpy refuses one
     # call site at two severities).
-    node._on_grab(grab_message((50.0, 50.0, 50.0)))
+    with pytest.raises(InputRefused):
+        body.grab((50.0, 50.0, 50.0))
     capfd.readouterr()
     local = ON_BODY[0]
     for _ in range(500):
-        node._on_grab(grab_message(world(local)))
-    np.testing.assert_allclose(anchor_parameter(node), local, rtol=0.0, atol=1e-9)
+        body.grab(world(local))
+    np.testing.assert_allclose(anchor_parameter(body.node), local, rtol=0.0, atol=1e-9)
     lines = [line for line in capfd.readouterr().err.splitlines() if line.strip()]
     assert 'parameters changed' not in ''.join(lines)
     assert 1 <= len(lines) <= 2 and all(len(line) < 160 for line in lines), lines
     assert 'set by the node' in lines[0]
     # A change through the parameters still logs the summary.
-    assert node.set_parameters([Parameter('mass', value=3.0)])[0].successful
+    body.set_parameters(mass=3.0)
     assert 'parameters changed' in capfd.readouterr().err
 
 
@@ -361,7 +356,7 @@ def test_a_corner_exactly_on_the_box_is_taken_at_margin_zero():
             assert not grab(state, BOX, state.world_point(out)).taken(0.0)
 
 
-def test_a_refusal_shows_the_digits_that_tell_value_and_bound_apart(ros):
+def test_a_refusal_shows_the_digits_that_tell_value_and_bound_apart(simulated_body_factory):
     """|torque| just over 100 is not '100 exceeds 100'; a grab just beyond the margin neither."""
     from mouse_constraint_ros.inputs.target_gate import apart
     from mouse_constraint_ros.inputs.wrench_gate import WrenchGate
@@ -371,9 +366,9 @@ def test_a_refusal_shows_the_digits_that_tell_value_and_bound_apart(ros):
     gate = WrenchGate('world', 1000.0, 100.0)
     refusal = gate.refusal('', (0.0, 0.0, 0.0), (100.00000000000001, 0.0, 0.0))
     assert '|torque| 100.00000000000001 N m exceeds max_wrench_torque 100.0 N m' in refusal.reason
-    node = start_node(ros, grab_margin=0.01)
-    warnings = warnings_of(node)
-    node._on_grab(grab_message(world((HALF[0] + 0.010000001, 0.0, 0.0))))
-    [(_, text)] = warnings
+    body = make_body(simulated_body_factory, grab_margin=0.01)
+    with pytest.raises(InputRefused) as refused:
+        body.grab(world((HALF[0] + 0.010000001, 0.0, 0.0)))
+    text = str(refused.value)
     assert 'm off the body, farther than grab_margin 0.01 m' in text
     assert ' 0.01 m off' not in text

@@ -32,6 +32,7 @@ ALLOWED = {
     'recording': {'recording', 'physics', 'timing', 'wire'},
     'cli': {'cli', 'physics', 'timing', 'inputs', 'wire', 'recording', 'node/parameters.py'},
     'view': {'view', 'physics', 'timing', 'wire', 'monitoring'},
+    'testing': {'testing', 'node', 'physics', 'timing', 'inputs', 'wire', 'monitoring'},
 }
 
 

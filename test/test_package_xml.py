@@ -34,8 +34,9 @@ PYTHON_KEYS = {'numpy': 'python3-numpy', 'yaml': 'python3-yaml', 'scipy': 'pytho
                'pytest': 'python3-pytest', 'PIL': 'python3-pil',
                'mcap': 'mcap-ros2-support', 'mcap_ros2': 'mcap-ros2-support'}
 # Imported by the package only for an option, and declared for the tests: mcap writes
-# ``mouse_record --mcap`` files (requirements/viz.txt), imported when that option is given.
-OPTIONAL = {'mcap'}
+# ``mouse_record --mcap`` files (requirements/viz.txt), imported when that option is given;
+# pytest by the package's pytest plugin (``testing/pytest_plugin.py``), which only pytest loads.
+OPTIONAL = {'mcap', 'pytest'}
 # No rosdep key: viser serves ``mouse_view`` alone (and the tests of the view skip without it);
 # package.xml names it in a comment and the ROS-native route installs it with pip
 # (requirements/view.txt).

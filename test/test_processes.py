@@ -29,12 +29,13 @@ import subprocess
 import sys
 import time
 
-from geometry_msgs.msg import PoseStamped
+from geometry_msgs.msg import PointStamped, PoseStamped
 import numpy as np
 import pytest
 from rosgraph_msgs.msg import Clock
 
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
+from mouse_constraint_ros.wire.messages import point_from_message
 
 ROOT = Path(__file__).resolve().parent.parent
 BIN = Path(sys.executable).parent
@@ -79,19 +80,13 @@ def test_one_shot_target_reaches_the_node(ros, remap):
 def test_circle_mode_moves_the_target_around_the_circle(ros):
     """`mouse_target --circle` streams targets on the circle until its duration ends."""
     node = start_node(ros)
-    seen = []
-    original = node._on_target
-
-    def record(message):
-        original(message)
-        seen.append(node.simulation.target)
-
-    node._subscriptions[0].callback = record
+    messages = ros.collect(PointStamped, 'target')
     command = [str(BIN / 'mouse_target'), '--circle', '--center', '0.0', '0.5', '1.0',
                '--radius', '0.3', '--period', '1.0', '--rate', '50', '--duration', '1.5']
     result = run_while_spinning(ros, command)
     assert result.returncode == 0, result.stderr
-    points = np.array(seen)
+    points = np.array([point_from_message(m) for m in messages])
+    assert node.simulation.target == point_from_message(messages[-1])
     assert len(points) > 40
     np.testing.assert_allclose(np.linalg.norm(points[:, :2] - [0.0, 0.5], axis=1), 0.3)
     np.testing.assert_allclose(points[:, 2], 1.0)

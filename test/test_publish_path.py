@@ -109,11 +109,11 @@ def test_a_callback_runs_one_publish_period_of_ticks_within_the_batch_bound(
 def test_the_node_timer_fires_once_per_batch_and_follows_the_publish_rate(ros):
     """100 Hz at 1 kHz: a 10 ms timer (10 ticks a call); back to every tick: 1 ms."""
     node = sim_node(ros, rate_hz=1000.0, publish_rate_hz=100.0)
-    assert node._timer.timer_period_ns == 10_000_000
+    assert node.tick_timer.timer_period_ns == 10_000_000
     assert node.set_parameters([Parameter('publish_rate_hz', value=0.0)])[0].successful
-    assert node._timer.timer_period_ns == 1_000_000
+    assert node.tick_timer.timer_period_ns == 1_000_000
     assert node.set_parameters([Parameter('publish_rate_hz', value=300.0)])[0].successful
-    assert node._timer.timer_period_ns == 3_000_000
+    assert node.tick_timer.timer_period_ns == 3_000_000
 
 
 @pytest.mark.parametrize('publish_rate_hz', [-1.0, 1000.5, math.nan])
@@ -279,10 +279,10 @@ def test_publish_rate_publishes_every_tenth_tick_on_the_grid(ros):
     clock.advance_to(START)
     for k in range(1, 31):
         clock.advance_to(START + k * period)
-    ros.spin_for(0.1)
     ticks_per_publish = int(rate / publish_rate)
     assert node.ticks_run == 30 * ticks_per_publish + 1
-    origin = node._grid.origin
+    # Tick 0 publishes: the first stamp is the grid's origin.
+    origin = stamp_of(poses[0])
     stamps = [stamp_of(m) for m in poses]
     assert stamps == [origin + k * period for k in range(31)]
     assert [stamp_of(m) for m in twists] == stamps
@@ -302,15 +302,13 @@ def test_publish_rate_changes_at_run_time_and_a_rate_that_does_not_divide(ros):
     clock.advance_to(START)
     for k in range(1, 11):
         clock.advance_to(START + k * tick_ns)
-    ros.spin_for(0.1)
-    origin = node._grid.origin
+    origin = stamp_of(poses[0])
     assert [stamp_of(m) for m in poses] == [origin + n * tick_ns for n in range(11)]
     # 300 Hz from tick 11 on.
     assert node.set_parameters([Parameter('publish_rate_hz', value=300.0)])[0].successful
     count = len(poses)
     for k in range(1, 61):
         clock.advance_to(START + (10 + 10 * k) * tick_ns)
-    ros.spin_for(0.1)
     expected = [n for n in range(11, 611) if PublishTicks(rate, 300.0).due(n)]
     assert [stamp_of(m) for m in poses[count:]] == [origin + n * tick_ns for n in expected]
     assert node.ticks_run == 611
@@ -320,6 +318,31 @@ def test_publish_rate_changes_at_run_time_and_a_rate_that_does_not_divide(ros):
     assert node.set_parameters([Parameter('publish_rate_hz', value=0.0)])[0].successful
     count = len(poses)
     clock.advance_to(START + 615 * tick_ns)
-    ros.spin_for(0.1)
     assert [stamp_of(m) for m in poses[count:]] == [origin + n * tick_ns
                                                     for n in range(611, 616)]
+
+
+def test_a_stepped_node_publishes_on_the_ticks_of_the_publish_rate(simulated_body_factory):
+    """
+    In lockstep at 1 kHz with 100 Hz publishing: every 10th tick publishes, at its own time.
+
+    The physics steps every tick; 300 Hz then gives the ticks ``PublishTicks`` picks.
+    """
+    body = simulated_body_factory(rate_hz=1000.0, publish_rate_hz=100.0)
+    stamps, last = [], [None]
+
+    def published(b) -> None:
+        message = b.pose and b.pose.message
+        if message is not None and message is not last[0]:
+            last[0] = message
+            stamps.append(stamp_of(message))
+
+    body.add_tick_callback(published)
+    body.step(100)
+    assert stamps == [n * 1_000_000 for n in range(10, 101, 10)]
+    assert body.node.ticks_run == 100
+    body.set_parameters(publish_rate_hz=300.0)
+    del stamps[:]
+    body.step(100)
+    expected = [n for n in range(101, 201) if PublishTicks(1000.0, 300.0).due(n)]
+    assert stamps == [n * 1_000_000 for n in expected]

@@ -15,23 +15,21 @@
 """
 ``TargetGate``: the node's target policy as plain data, and the same verdicts as the node.
 
-The node is asked directly: each target goes through its ``_on_target`` and the test sees
-whether the simulation took it and under which throttling key it was refused.
+The node is asked through its ``target`` topic, stepped in lockstep: the test sees whether the
+simulation took each target and, for a refused one, the node's refusal and its key.
 """
 
 import dataclasses
 import itertools
 import math
 
-from geometry_msgs.msg import PointStamped
 import numpy as np
 import pytest
-from rclpy.parameter import Parameter
 
 from mouse_constraint_ros.cli.target import circle_point
 from mouse_constraint_ros.inputs.target_gate import REASONS
 from mouse_constraint_ros.inputs.target_gate import TargetGate
-from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
+from mouse_constraint_ros.testing import InputRefused
 
 FRAME = 'odom'
 RADIUS = 5.0
@@ -43,28 +41,25 @@ POINTS = [(0.0, 0.0, 1.0), (3.0, 4.0, 0.0), (0.0, 0.0, -RADIUS), (BEYOND, 0.0, 0
 SENTINEL = (0.125, -0.25, 0.5)
 
 
-def node_verdict(node: MouseConstraintNode, frame: str, point) -> tuple:
-    """Return (taken, refusal keys) of the node's target callback for one target."""
-    keys = []
-    node._warn = lambda key, _message: keys.append(key)
-    node.simulation.target = SENTINEL
-    message = PointStamped()
-    message.header.frame_id = frame
-    message.point.x, message.point.y, message.point.z = point
-    node._on_target(message)
-    return node.simulation.target != SENTINEL, keys
+def node_verdict(body, frame: str, point) -> tuple:
+    """Return (taken, refusal keys) of the node for one target."""
+    body.node.simulation.target = SENTINEL
+    try:
+        body.target(point, frame_id=frame)
+    except InputRefused as refused:
+        return body.node.simulation.target != SENTINEL, [refused.key]
+    return body.node.simulation.target != SENTINEL, []
 
 
-def test_gate_gives_the_node_s_verdict_for_every_frame_and_point(ros):
+def test_gate_gives_the_node_s_verdict_for_every_frame_and_point(simulated_body_factory):
     """Taken by the node exactly when the gate returns None; else refused under the gate's key."""
-    node = ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
-        Parameter('frame_id', value=FRAME), Parameter('workspace_radius', value=RADIUS),
-        Parameter('marker_rate_hz', value=0.0), Parameter('diagnostics_rate_hz', value=0.0)]))
+    body = simulated_body_factory(frame_id=FRAME, workspace_radius=RADIUS, marker_rate_hz=0.0,
+                                  diagnostics_rate_hz=0.0)
     gate = TargetGate(FRAME, RADIUS)
     verdicts = set()
     for frame, point in itertools.product(FRAMES, POINTS):
         refusal = gate.refusal(frame, point)
-        taken, keys = node_verdict(node, frame, point)
+        taken, keys = node_verdict(body, frame, point)
         assert taken == (refusal is None), (frame, point)
         assert keys == ([] if refusal is None else [refusal.key]), (frame, point)
         verdicts.add(None if refusal is None else refusal.key)

@@ -23,6 +23,7 @@ from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
 
+from mouse_constraint_ros.testing.lockstep import drain
 from mouse_constraint_ros.wire.messages import stamp_nanoseconds
 
 
@@ -62,6 +63,10 @@ class RosHarness:
             self.executor.spin_once(timeout_sec=0.01)
         return True
 
+    def drain(self) -> None:
+        """Run every ready callback, and those they make ready, until none is."""
+        drain(self.executor, timeout=10.0)
+
     def call(self, service_type, name: str, request):
         """Call the service ``name`` from the probe; return the response."""
         client = self.probe.create_client(service_type, name)
@@ -99,11 +104,29 @@ class SimClock:
         self.publisher = ros.probe.create_publisher(Clock, '/clock', 10)
         assert ros.spin_until(lambda: self.publisher.get_subscription_count() > 0)
 
-    def advance_to(self, ns: int) -> None:
-        """Publish ``ns`` and spin until the node's clock reads it and its timer ran."""
+    def publish(self, sec: int, nanosec: int) -> None:
+        """Publish a /clock of ``sec`` s and ``nanosec`` ns as they are (even invalid ones)."""
         message = Clock()
-        message.clock.sec, message.clock.nanosec = divmod(ns, 1_000_000_000)
+        message.clock.sec, message.clock.nanosec = sec, nanosec
         self.publisher.publish(message)
-        assert self.ros.spin_until(lambda: self.node.get_clock().now().nanoseconds == ns,
-                                   timeout=5.0)
-        self.ros.spin_for(0.03)
+
+    def advance_to(self, ns: int) -> None:
+        """
+        Publish ``ns`` and spin until the node's clock reads it and its tick timer has run.
+
+        The timer has run for the time read when it is no longer due (its next call lies
+        ahead): no wall-time wait, whatever the machine's load.
+        """
+        self.publish(*divmod(ns, 1_000_000_000))
+        node = self.node
+        assert self.ros.spin_until(lambda: node.get_clock().now().nanoseconds == ns,
+                                   timeout=10.0)
+        assert self.ros.spin_until(lambda: ran_for_now(node), timeout=10.0)
+        # What the ticks published reaches the probe.
+        self.ros.drain()
+
+
+def ran_for_now(node) -> bool:
+    """Return whether the node's tick timer has run for its clock's reading (or is paused)."""
+    timer = node.tick_timer
+    return timer is None or timer.is_canceled() or timer.time_until_next_call() > 0

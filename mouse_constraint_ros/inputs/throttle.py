@@ -21,6 +21,10 @@ warning of a reason, then holds back the others of that reason for ``period`` se
 how many it held back in the next line it logs. The message is a callable, built only when it
 is logged. Pure Python: it takes the log function and the clock, so it runs without rclpy.
 
+``RefusalLog`` warns about each refused input through a throttle and keeps the count and the
+last refusal, for a caller in the same process that wants to know why an input changed nothing
+(``mouse_constraint_ros.testing`` raises with it).
+
 Throttled here rather than by rclpy's ``throttle_duration_sec``, which inspects the caller's
 frame on every call (some 100 us: a flood of bad targets then cost the node its rate) and
 shares one throttle between all the warnings of one call site.
@@ -28,7 +32,9 @@ shares one throttle between all the warnings of one call site.
 
 import math
 import time
-from typing import Callable, Dict, Tuple
+from typing import Callable, Dict, Optional, Tuple
+
+from .target_gate import Refusal
 
 
 class Throttle:
@@ -68,3 +74,23 @@ class Throttle:
         self._log(message() + more)
         self._last[reason] = (now, 0)
         return True
+
+
+class RefusalLog:
+    """
+    The inputs refused: how many, and the last one; each is warned about under its key.
+
+    :param warn: ``warn(key, message)`` with ``message()`` the line, e.g. a ``Throttle``.
+    """
+
+    def __init__(self, warn: Callable[[str, Callable[[], str]], object]) -> None:
+        """Start with none refused."""
+        self._warn = warn
+        self.count = 0
+        self.last: Optional[Refusal] = None
+
+    def __call__(self, refusal: Refusal, line: str) -> None:
+        """Count ``refusal`` and warn ``line`` (throttled under ``refusal.key``)."""
+        self.count += 1
+        self.last = refusal
+        self._warn(refusal.key, lambda: line)

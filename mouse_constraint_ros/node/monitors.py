@@ -16,79 +16,112 @@
 The node's monitors: markers and diagnostics on their own lower-rate timers.
 
 Nothing here is on the per-tick path. The messages are built by the ``markers`` and
-``diagnostics`` modules from the simulation's data; here are their timers and inputs.
+``diagnostics`` modules from the simulation's data; here are their timers and what they read.
 """
 
 import math
 import time
+from typing import Callable
 
 from diagnostic_msgs.msg import DiagnosticArray
+from rclpy.clock import Clock
+from rclpy.node import Node
 from visualization_msgs.msg import MarkerArray
 
-from ..inputs.input_timeouts import input_age
+from .clock_ticks import ClockTicks
+from .parameters import NodeConfig
+from .simulator_controls import SimulatorControls
+from .target_input import TargetInput
+from .tick_loop import NodeClockTicks
+from .tick_record import TickRecord
+from .wrench_input import WrenchInput
 from ..monitoring.diagnostics import (constraint_status, diagnostic_array, INITIAL_ANCHOR,
                                       NO_TARGET, Pacing, publishing_values, rate_status,
-                                      simulator_status, Thresholds, TickCounters, TickWindow,
-                                      USER_TARGET)
+                                      simulator_status, Thresholds, TickWindow, USER_TARGET)
 from ..monitoring.markers import marker_array, reference_force, wrench_reference
+from ..physics import MouseSimulation
 from ..physics.simulation import force_bound
 from ..wire.interface import DIAGNOSTICS_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH
+from ..wire.state_publishers import StatePublishers
 
 
 class Monitors:
-    """The marker and diagnostics timers of ``MouseConstraintNode``."""
+    """
+    The marker and diagnostics publishers and their timers.
 
-    def _setup_monitors(self) -> None:
-        self._marker_publisher = self.create_publisher(MarkerArray, MARKERS_TOPIC, MONITOR_DEPTH)
-        self._diagnostics_publisher = self.create_publisher(
+    :param node: the node that owns publishers and timers, and names the statuses.
+    :param config: the node's configuration (``configure`` replaces it).
+    :param steady_clock: the clock of the diagnostics timer.
+    :param now_ns: the node's time (ns).
+    :param simulation: the body shown and judged.
+    :param record: the ticks' record (counts, the latest stamp).
+    :param target: the target input (kind and age of the target).
+    :param wrench: the wrench input (the applied wrench's age).
+    :param controls: the simulator controls (paused, resumed).
+    :param node_clock_ticks: the node-clock driver (what its clock waits for).
+    :param clock_ticks: the simulated-clock driver (on, pacing achieved).
+    :param state_publishers: what is published (TF status, odometry topic).
+    """
+
+    def __init__(self, *, node: Node, config: NodeConfig, steady_clock: Clock,
+                 now_ns: Callable[[], int], simulation: MouseSimulation, record: TickRecord,
+                 target: TargetInput, wrench: WrenchInput, controls: SimulatorControls,
+                 node_clock_ticks: NodeClockTicks, clock_ticks: ClockTicks,
+                 state_publishers: StatePublishers) -> None:
+        """Create the publishers and start the timers at the configured rates."""
+        self._node = node
+        self._steady_clock = steady_clock
+        self._now_ns = now_ns
+        self._simulation = simulation
+        self._record = record
+        self._target = target
+        self._wrench = wrench
+        self._controls = controls
+        self._node_clock_ticks = node_clock_ticks
+        self._clock_ticks = clock_ticks
+        self._state_publishers = state_publishers
+        self._marker_publisher = node.create_publisher(MarkerArray, MARKERS_TOPIC, MONITOR_DEPTH)
+        self._diagnostics_publisher = node.create_publisher(
             DiagnosticArray, DIAGNOSTICS_TOPIC, MONITOR_DEPTH)
         # The first window opens at the first diagnostics call, once the node spins.
         self._tick_window = TickWindow()
-        self._window_sim_time = (self.get_clock().ros_time_is_active,
-                                 self._clock_publisher is not None)
-        self._monitor_timers = []
-        self._start_monitor_timers()
+        self._window_source = self._clock_source()
+        self._window_resumes = controls.resumes
+        self._timers = []
+        self._rates = None
+        self.configure(config)
 
-    def _start_monitor_timers(self) -> None:
+    def configure(self, config: NodeConfig) -> None:
         """
-        (Re)create the marker and diagnostics timers at their rates; 0 Hz means none.
+        Take a new configuration; (re)create the timers when a rate changed (0 Hz: none).
 
         Markers show the latest tick and follow the node's clock. Diagnostics run on the steady
         clock: they must still come when a simulated clock has not started or stands still,
         which is when they have something to say.
         """
-        for timer in self._monitor_timers:
-            self.destroy_timer(timer)
-        self._monitor_timers = [
-            self.create_timer(1.0 / rate, callback, clock=clock)
+        self._config = config
+        rates = (config.marker_rate_hz, config.diagnostics_rate_hz)
+        if rates == self._rates:
+            return
+        self._rates = rates
+        for timer in self._timers:
+            self._node.destroy_timer(timer)
+        self._timers = [
+            self._node.create_timer(1.0 / rate, callback, clock=clock)
             for rate, callback, clock in (
-                (self._config.marker_rate_hz, self._publish_markers, None),
-                (self._config.diagnostics_rate_hz, self._publish_diagnostics,
-                 self._steady_clock))
+                (config.marker_rate_hz, self.publish_markers, None),
+                (config.diagnostics_rate_hz, self.publish_diagnostics, self._steady_clock))
             if rate > 0.0]
 
-    def _tick_counters(self) -> TickCounters:
-        return TickCounters(self.ticks_run, self.late_ticks, self.dropped_ticks,
-                            self.clock_restarts)
+    def _clock_source(self):
+        return (self._node.get_clock().ros_time_is_active, self._clock_ticks.on)
 
-    def _simulator_status(self, name: str, hardware_id: str, now: int):
-        config = self._config
-        achieved, slipped = self._pacing.sample(time.monotonic_ns(), self._sim_clock)
-        publishing = self._clock_publisher is not None
-        applied = self._held_wrench.applied
-        force, torque = self._simulation.wrench
-        age = None if applied is None else input_age(applied.since_ns, now)
-        pacing = Pacing(publishing, self._paused, config.real_time_factor,
-                        achieved if publishing else None, slipped, now * 1e-9)
-        return simulator_status(name, hardware_id, pacing=pacing, force=force, torque=torque,
-                                wrench_age=age, wrench_timeout=config.wrench_timeout)
-
-    def _publish_markers(self) -> None:
+    def publish_markers(self) -> None:
         """Publish the markers of the latest tick, with its stamp."""
-        simulation = self._simulation
+        simulation, config = self._simulation, self._config
         self._marker_publisher.publish(marker_array(
-            frame_id=self._config.frame_id, stamp_ns=self._stamp_ns,
-            box_size=self._config.box_size, state=simulation.state,
+            frame_id=config.frame_id, stamp_ns=self._record.stamp_ns,
+            box_size=config.box_size, state=simulation.state,
             anchor=simulation.anchor_position(), target=simulation.target,
             force=simulation.constraint_force, reference=reference_force(simulation.settings),
             wrench_force=simulation.wrench[0],
@@ -96,7 +129,7 @@ class Monitors:
             floor=simulation.settings.floor,
             contacts=[point for point, _ in simulation.contacts]))
 
-    def _publish_diagnostics(self) -> None:
+    def publish_diagnostics(self) -> None:
         """
         Publish the rate status over the window since the last call and the constraint's.
 
@@ -104,29 +137,30 @@ class Monitors:
         The status names start with the fully qualified node name, unique in a ROS graph, as
         diagnostic_aggregator needs.
         """
-        clock = self.get_clock()
         now = self._now_ns()
-        config, simulation = self._config, self._simulation
-        counters = self._tick_counters()
-        source = (clock.ros_time_is_active, self._clock_publisher is not None)
-        if source != self._window_sim_time:
-            # Another clock: a window across the change would measure nothing real.
-            self._window_sim_time = source
+        config, simulation, controls = self._config, self._simulation, self._controls
+        counters = self._record.counters()
+        source = self._clock_source()
+        if source != self._window_source or controls.resumes != self._window_resumes:
+            # Another clock, or a pause in between: a window across it would measure nothing.
+            self._window_source, self._window_resumes = source, controls.resumes
             self._tick_window = TickWindow()
         # Paused, the ticks stop on purpose: no rate to judge (the window restarts on resume).
-        window = (None if self._paused else
+        window = (None if controls.paused else
                   self._tick_window.sample(now, counters, config.rate_hz))
         thresholds = Thresholds(anchor_warn=config.diagnostics_anchor_warn,
                                 anchor_error=config.diagnostics_anchor_error)
         error = simulation.anchor_error()
-        if self._user_target:
-            kind, age = USER_TARGET, input_age(self._last_target_ns, now)
+        target = self._target
+        if target.user_target:
+            kind = USER_TARGET
         else:
-            kind, age = (NO_TARGET if simulation.target is None else INITIAL_ANCHOR), None
-        name = hardware_id = self.get_fully_qualified_name()
+            kind = NO_TARGET if simulation.target is None else INITIAL_ANCHOR
+        name = hardware_id = self._node.get_fully_qualified_name()
+        waiting = None if self._clock_ticks.on else self._node_clock_ticks.waiting_for_clock()
         rate = rate_status(f'{name}: rate', hardware_id, rate_hz=config.rate_hz, window=window,
-                           totals=counters, thresholds=thresholds, drop_cause=self.drop_cause,
-                           waiting_for=self.waiting_for_clock())
+                           totals=counters, thresholds=thresholds,
+                           drop_cause=self._record.drop_cause, waiting_for=waiting)
         publishers = self._state_publishers
         rate.values.extend(publishing_values(
             config.publish_rate_hz, publishers.tf_status,
@@ -139,9 +173,20 @@ class Monitors:
                               anchor_error=None if error is None else math.hypot(*error),
                               force=simulation.constraint_force,
                               force_bound=force_bound(config.settings),
-                              target_age=age, target_timeout=config.target_timeout,
+                              target_age=target.age(now), target_timeout=config.target_timeout,
                               thresholds=thresholds,
                               floor_contacts=(simulation.contact_count
                                               if config.settings.floor.enabled else None)),
             self._simulator_status(f'{name}: simulator', hardware_id, now),
         ]))
+
+    def _simulator_status(self, name: str, hardware_id: str, now: int):
+        config, clock_ticks = self._config, self._clock_ticks
+        achieved, slipped = clock_ticks.pacing.sample(time.monotonic_ns(), clock_ticks.sim_clock)
+        publishing = clock_ticks.on
+        force, torque = self._simulation.wrench
+        pacing = Pacing(publishing, self._controls.paused, config.real_time_factor,
+                        achieved if publishing else None, slipped, now * 1e-9)
+        return simulator_status(name, hardware_id, pacing=pacing, force=force, torque=torque,
+                                wrench_age=self._wrench.age(now),
+                                wrench_timeout=config.wrench_timeout)

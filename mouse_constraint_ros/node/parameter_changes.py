@@ -13,103 +13,72 @@
 # limitations under the License.
 
 """
-The node's parameters: their declaration with ranges, and the changes ``ros2 param set`` makes.
+The node's parameters in rclpy: their declaration with ranges, and what a change touches.
 
-``parameters`` validates a whole configuration; here each change is applied to the parts it
-concerns (the gate, the state publishers, the tick timer, the simulated clock, the monitor
-timers), and a change that ``node_config`` or ``clock_loop`` refuses changes nothing.
+``parameters`` validates a whole configuration; here each parameter is declared with its
+description and range (``declare``), and ``changed`` says which parts of the node a new
+configuration concerns, so that the node reconfigures only those.
 """
 
-from typing import List
+from typing import Iterable, NamedTuple
 
-from rcl_interfaces.msg import (FloatingPointRange, IntegerRange, ParameterDescriptor,
-                                SetParametersResult)
+from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.exceptions import ParameterException
-from rclpy.parameter import Parameter
+from rclpy.node import Node
 
-from .parameters import node_config, PARAMETERS, ParameterSpec
-from .startup import clock_loop, refusal_reason
-from ..inputs.target_gate import TargetGate
-from ..physics.validation import shown
-from ..timing.publish_ticks import PublishTicks, ticks_per_callback
+from .parameters import NodeConfig, ParameterSpec
+from .startup import refusal_reason
 
 
-def _descriptor(parameter) -> ParameterDescriptor:
-    descriptor = ParameterDescriptor(description=parameter.description)
+def descriptor(parameter: ParameterSpec) -> ParameterDescriptor:
+    """Return the descriptor of ``parameter``: its description and range, if any."""
+    result = ParameterDescriptor(description=parameter.description)
     if parameter.bounds is not None:
         low, high = parameter.bounds
         if isinstance(parameter.default, int) and not isinstance(parameter.default, bool):
-            descriptor.integer_range = [IntegerRange(from_value=low, to_value=high, step=0)]
+            result.integer_range = [IntegerRange(from_value=low, to_value=high, step=0)]
         else:
-            descriptor.floating_point_range = [
+            result.floating_point_range = [
                 FloatingPointRange(from_value=float(low), to_value=float(high), step=0.0)]
-    return descriptor
+    return result
 
 
-class ParameterChanges:
-    """The parameter declaration and change handling of ``MouseConstraintNode``."""
+def declare(node: Node, parameters: Iterable[ParameterSpec]) -> None:
+    """
+    Declare ``parameters`` on ``node``.
 
-    def _declare(self, parameter: ParameterSpec) -> None:
+    :raises ValueError: one line naming the parameter whose given value rclpy refuses.
+    """
+    for parameter in parameters:
         try:
-            self.declare_parameter(parameter.name, parameter.default, _descriptor(parameter))
+            node.declare_parameter(parameter.name, parameter.default, descriptor(parameter))
         except ParameterException as error:
-            given = self._parameter_overrides.get(parameter.name)
+            # rclpy keeps the given values there; it has no public getter for them.
+            given = node._parameter_overrides.get(parameter.name)
             raise ValueError(refusal_reason(parameter, error, None if given is None else (
                 given.value, given.type_.name))) from None
 
-    def _parameter_values(self, changes: List[Parameter] = ()) -> dict:
-        values = {p.name: self.get_parameter(p.name).value for p in PARAMETERS}
-        values.update((p.name, p.value) for p in changes)
-        return values
 
-    @staticmethod
-    def _publishing(config) -> dict:
-        return {'frame_id': config.frame_id, 'body_frame_id': config.body_frame_id,
-                'publish_tf': config.publish_tf, 'publish_odometry': config.publish_odometry}
+def publishing(config: NodeConfig) -> dict:
+    """Return what the state publishers are configured with."""
+    return {'frame_id': config.frame_id, 'body_frame_id': config.body_frame_id,
+            'publish_tf': config.publish_tf, 'publish_odometry': config.publish_odometry}
 
-    def _on_set_parameters(self, changes: List[Parameter]) -> SetParametersResult:
-        try:
-            config = node_config(self._parameter_values(changes))
-        except ValueError as error:
-            return SetParametersResult(successful=False, reason=str(error))
-        use_sim_time = next((p.value for p in changes if p.name == 'use_sim_time'),
-                            self.get_parameter('use_sim_time').value)
-        loop = clock_loop(config.publish_clock, use_sim_time)
-        if loop is not None:
-            return SetParametersResult(successful=False, reason=loop)
-        previous, self._config = self._config, config
-        if not self._setting_anchor and any(p.name == 'anchor' for p in changes):
-            self._configured_anchor = config.settings.constraint.anchor
-        self._simulation.configure(config.settings, config.initial_state)
-        if (config.frame_id, config.workspace_radius) != (
-                previous.frame_id, previous.workspace_radius):
-            self._gate = TargetGate(config.frame_id, config.workspace_radius)
-        if self._publishing(config) != self._publishing(previous):
-            tf_status = self._state_publishers.tf_status
-            self._state_publishers.configure(**self._publishing(config))
-            if self._state_publishers.tf_status != tf_status:
-                self.get_logger().info(f'TF {self._state_publishers.tf_status}')
-        if (config.rate_hz, config.publish_clock) != (previous.rate_hz, previous.publish_clock):
-            self._switch_clock(previous)
-        elif config.real_time_factor != previous.real_time_factor:
-            self._sim_clock.set_real_time_factor(config.real_time_factor)
-            self._retime_clock_timer()
-        if config.rate_hz == previous.rate_hz and \
-                config.publish_rate_hz != previous.publish_rate_hz:
-            self._publish_ticks = PublishTicks(config.rate_hz, config.publish_rate_hz)
-            if not config.publish_clock:
-                # The same grid on a timer of the new batch: no restart, no tick lost.
-                self.destroy_timer(self._timer)
-                batch = ticks_per_callback(config.rate_hz, config.publish_rate_hz)
-                self._timer = self.create_timer(batch * self._dt, self._on_timer)
-        if (config.marker_rate_hz, config.diagnostics_rate_hz) != (
-                previous.marker_rate_hz, previous.diagnostics_rate_hz):
-            self._start_monitor_timers()
-        if self._setting_anchor:
-            # A grab or a reset: one short line, at most every WARN_PERIOD (grabs can flood).
-            anchor = config.settings.constraint.anchor
-            self._notes('anchor', lambda: f'anchor {shown(anchor)} m (body frame), set by the '
-                                          'node')
-        else:
-            self.get_logger().info('parameters changed: ' + self._describe())
-        return SetParametersResult(successful=True)
+
+class Changed(NamedTuple):
+    """Which parts of the node a new configuration concerns."""
+
+    publishing: bool
+    clock: bool
+    real_time_factor: bool
+    publish_rate: bool
+
+
+def changed(previous: NodeConfig, config: NodeConfig) -> Changed:
+    """Return which parts of the node differ between ``previous`` and ``config``."""
+    clock = (config.rate_hz, config.publish_clock) != (previous.rate_hz, previous.publish_clock)
+    return Changed(
+        publishing=publishing(config) != publishing(previous),
+        clock=clock,
+        real_time_factor=not clock and config.real_time_factor != previous.real_time_factor,
+        publish_rate=not clock and config.publish_rate_hz != previous.publish_rate_hz)

@@ -13,98 +13,84 @@
 # limitations under the License.
 
 """
-The node's tick loop on its own clock: the timer, the due ticks, one tick's step and publish.
+The driver of the tick on the node's own clock: a timer, the due ticks, the budget.
 
-``TickGrid`` says which ticks are due on the node's clock, ``TickBudget`` which of them one
-callback runs, ``PublishTicks`` which of them publish; ``StatePublishers`` sends the state. With
-``publish_clock`` the simulator controls pace the ticks instead and call the same ``_tick``.
+``TickGrid`` says which ticks are due on the node's clock (system time, or ``/clock`` with
+``use_sim_time``), ``TickBudget`` which of them one callback runs, and ``ticks_per_callback``
+how many ticks one timer period holds at the publish rate; each runs ``Tick.run``. With
+``publish_clock`` the node is the clock and ``clock_ticks.ClockTicks`` drives instead.
 """
 
-from typing import Optional
+from typing import Callable, Optional
 
-from ..inputs.input_timeouts import wrench_removal_text
-from ..inputs.wrench_gate import NO_WRENCH
-from ..timing.publish_ticks import PublishTicks, ticks_per_callback
+from rclpy.node import Node
+
+from .tick import Tick
+from .tick_record import TickRecord
+from ..timing.publish_ticks import ticks_per_callback
+from ..timing.tick_budget import TickBudget
 from ..timing.tick_grid import (CATCH_UP_CAUSE, clock_change_text, clock_jump_text, drop_text,
                                 scheduled_origin, TickGrid)
-from ..wire.messages import set_stamp
 
 
-class TickLoop:
-    """The tick timer and the tick of ``MouseConstraintNode``."""
+class NodeClockTicks:
+    """
+    Runs ``tick`` on the grid of the node's clock, from a timer of the node.
 
-    def _start_timer(self) -> None:
-        if self._timer is not None:
-            self.destroy_timer(self._timer)
-        rate = self._config.rate_hz
-        self._grid = TickGrid.for_rate(rate)
-        self._publish_ticks = PublishTicks(rate, self._config.publish_rate_hz)
-        self._dt = 1.0 / rate
-        if self._config.publish_clock:
-            self._timer = self._start_clock_timer()
-        else:
-            batch = ticks_per_callback(rate, self._config.publish_rate_hz)
-            self._timer = self.create_timer(batch * self._dt, self._on_timer)
+    :param node: the node whose clock and timers are used.
+    :param tick: the tick to run.
+    :param record: the ticks' record: late and dropped ticks and clock restarts are counted.
+    :param paused: returns whether the physics is paused (the timer then runs no tick).
+    :param substeps: returns the substeps per tick (named in the budget's drop cause).
+    :param warn: ``warn(key, message())``, throttled per key.
+    """
 
-    def _on_timer(self) -> None:
-        if self._paused:
-            return
-        clock = self.get_clock()
-        now = clock.now().nanoseconds
-        if clock.ros_time_is_active != self._grid_sim_time:
-            # use_sim_time flipped: a new clock, not lost time. Restart the grid on it.
-            self._grid_sim_time = clock.ros_time_is_active
-            self._grid.restart(now)
-            self.clock_restarts += 1
-            self.get_logger().info(clock_change_text(self._grid_sim_time, now))
-        elif not self._grid.started:
-            self._grid.restart(scheduled_origin(now, self._timer.time_until_next_call(),
-                                                self._timer.timer_period_ns))
-        due = self._grid.due(now)
-        if due.restarted:
-            self.clock_restarts += 1
-            self.get_logger().warning(clock_jump_text(now))
-        first, count = due.first, due.count
-        if due.dropped:
-            self._drop(due.dropped, CATCH_UP_CAUSE)
-        self._release_if_timed_out(now)
-        if count:
-            budget = self._budget
-            ran = budget.run(self._tick, self._grid.stamp, first, count)
-            if ran < count:
-                self._drop(count - ran, budget.cause(self._config.settings.substeps))
-            if ran > 1:
-                self.late_ticks += ran - 1
-            self.ticks_run += ran
+    def __init__(self, node: Node, tick: Tick, record: TickRecord, *,
+                 paused: Callable[[], bool], substeps: Callable[[], int],
+                 warn: Callable[[str, Callable[[], str]], None]) -> None:
+        """Create no timer until ``start``."""
+        self._node = node
+        self._tick = tick
+        self._record = record
+        self._paused = paused
+        self._substeps = substeps
+        self._warn = warn
+        self._budget = TickBudget()
+        self._timer = None
+        self._rate_hz = 0.0
+        self.grid: Optional[TickGrid] = None
+        # Which clock the grid runs on: simulated (True) or system time.
+        self._grid_sim_time = node.get_clock().ros_time_is_active
 
-    def _drop(self, count: int, cause: str) -> None:
-        self.dropped_ticks += count
-        self.drop_cause = cause
-        self._warn('rate', lambda: drop_text(self._config.rate_hz, count, self.dropped_ticks,
-                                             cause))
+    @property
+    def timer(self):
+        """Return the tick timer, or None while stopped."""
+        return self._timer
 
-    def _tick(self, stamp: int, tick: Optional[int] = None) -> None:
-        """
-        Step once; publish /clock (if published) and, on a publishing tick, the state.
+    def start(self, rate_hz: float, publish_rate_hz: float) -> None:
+        """Start a new grid at ``rate_hz`` on a timer of one batch of ticks."""
+        self._rate_hz = rate_hz
+        self.grid = TickGrid.for_rate(rate_hz)
+        self.retime(publish_rate_hz)
 
-        :param stamp: the tick's time (ns): the stamp of /clock and of the state.
-        :param tick: the tick's number on its grid, for ``PublishTicks``; None publishes (a
-            single step asked for by ``~/step``).
-        """
-        held = self._held_wrench
-        if held.advance(stamp):
-            self._simulation.wrench = held.wrench
-        if held.applied is not None and held.expired(stamp, self._config.wrench_timeout):
-            self._simulation.wrench = NO_WRENCH
-            self.get_logger().info(wrench_removal_text(self._config.wrench_timeout))
-        state = self._simulation.step(self._dt)
-        if self._clock_publisher is not None:
-            set_stamp(self._clock_message.clock, stamp)
-            self._clock_publisher.publish(self._clock_message)
-        self._stamp_ns = stamp
-        publish_ticks = self._publish_ticks
-        if tick is None or publish_ticks.every_tick or publish_ticks.due(tick):
-            self._state_publishers.publish(stamp, state)
+    def retime(self, publish_rate_hz: float) -> None:
+        """Go on with the same grid on a timer of the batch ``publish_rate_hz`` gives."""
+        self._destroy_timer()
+        batch = ticks_per_callback(self._rate_hz, publish_rate_hz)
+        self._timer = self._node.create_timer(batch / self._rate_hz, self._on_timer)
+
+    def stop(self) -> None:
+        """Destroy the timer: no tick runs until ``start``."""
+        self._destroy_timer()
+
+    def resume(self) -> None:
+        """Run again from a new grid at the next timer call: the paused time is not caught up."""
+        if self.grid is not None:
+            self.grid = TickGrid.for_rate(self._rate_hz)
+
+    def step_stamp(self) -> int:
+        """Return the stamp of a single step asked for now: the node's clock."""
+        return self._node.get_clock().now().nanoseconds
 
     def waiting_for_clock(self) -> Optional[str]:
         """
@@ -112,15 +98,47 @@ class TickLoop:
 
         The node's clock reads zero until then and no timer on it fires: no tick, no pose.
         """
-        clock = self.get_clock()
-        if self._clock_publisher is None and clock.ros_time_is_active and \
-                clock.now().nanoseconds == 0:
-            return f'/clock on {self.resolve_topic_name("/clock")}'
+        clock = self._node.get_clock()
+        if clock.ros_time_is_active and clock.now().nanoseconds == 0:
+            return f'/clock on {self._node.resolve_topic_name("/clock")}'
         return None
 
-    def _watch_clock(self) -> None:
-        waiting = self.waiting_for_clock()
-        if waiting is not None:
-            self._warn('clock', lambda: (
-                f'waiting for {waiting}: use_sim_time is true and no clock message has come; '
-                'no tick runs until one does'))
+    def _destroy_timer(self) -> None:
+        if self._timer is not None:
+            self._node.destroy_timer(self._timer)
+            self._timer = None
+
+    def _on_timer(self) -> None:
+        if self._paused():
+            return
+        node, record, grid = self._node, self._record, self.grid
+        clock = node.get_clock()
+        now = clock.now().nanoseconds
+        if clock.ros_time_is_active != self._grid_sim_time:
+            # use_sim_time flipped: a new clock, not lost time. Restart the grid on it.
+            self._grid_sim_time = clock.ros_time_is_active
+            grid.restart(now)
+            record.clock_restarts += 1
+            node.get_logger().info(clock_change_text(self._grid_sim_time, now))
+        elif not grid.started:
+            grid.restart(scheduled_origin(now, self._timer.time_until_next_call(),
+                                          self._timer.timer_period_ns))
+        due = grid.due(now)
+        if due.restarted:
+            record.clock_restarts += 1
+            node.get_logger().warning(clock_jump_text(now))
+        first, count = due.first, due.count
+        if due.dropped:
+            self._drop(due.dropped, CATCH_UP_CAUSE)
+        if count:
+            budget = self._budget
+            ran = budget.run(self._tick.run, grid.stamp, first, count)
+            if ran < count:
+                self._drop(count - ran, budget.cause(self._substeps()))
+            if ran > 1:
+                record.late_ticks += ran - 1
+
+    def _drop(self, count: int, cause: str) -> None:
+        record = self._record
+        record.drop(count, cause)
+        self._warn('rate', lambda: drop_text(self._rate_hz, count, record.dropped_ticks, cause))

@@ -1,0 +1,170 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The node's target and grab input: what it takes, how a stamp times it, when it times out.
+
+A target is taken when ``TargetGate`` takes it (frame, finite, workspace). Its header stamp
+times it when ``TargetStamps`` finds the stamp usable and the node has ticked: ``CoreClock``
+maps the stamp onto the core's time through the latest tick (``TickRecord``), and when that
+mapping moved (ticks dropped, a pause) the point starts a new stream. Any other target is timed
+by its arrival, the simulation's time. A grab takes the same gate, then ``grab`` says where on
+the box it lands; the node's own ``anchor`` parameter is set to that point (``set_anchor``,
+validated as any parameter change) and the point becomes the target, untimed.
+
+A user target older than ``target_timeout`` is let go at the first tick after (``expire``).
+Every refusal goes to the node's ``RefusalLog``: a throttled warning, counted.
+"""
+
+from typing import Callable, Optional
+
+from geometry_msgs.msg import PointStamped
+
+from .parameters import NodeConfig
+from .tick_record import TickRecord
+from ..inputs.grab import grab
+from ..inputs.input_timeouts import input_age, target_release_text, timed_out
+from ..inputs.target_gate import apart, Refusal, TargetGate
+from ..inputs.target_stamps import TargetStamps
+from ..inputs.throttle import RefusalLog
+from ..physics import MouseSimulation
+from ..physics.algebra import Vector3
+from ..physics.target_motion import STREAM_GAP
+from ..timing.tick_grid import CoreClock
+from ..wire.messages import point_from_message, stamp_nanoseconds
+
+
+class TargetInput:
+    """
+    The ``target`` and ``grab`` callbacks, the user target's age, ``~/release``'s effect.
+
+    :param simulation: the body whose target is set.
+    :param config: the node's configuration (``configure`` replaces it).
+    :param record: the ticks' record: the latest stamp, tick length and count.
+    :param now_ns: the node's time (ns).
+    :param set_anchor: sets the node's ``anchor`` parameter; returns None or why it could not.
+    :param refuse: counts and warns about a refused target or grab.
+    :param log: logs a line at INFO.
+    """
+
+    def __init__(self, *, simulation: MouseSimulation, config: NodeConfig, record: TickRecord,
+                 now_ns: Callable[[], int], set_anchor: Callable[[Vector3], Optional[str]],
+                 refuse: RefusalLog, log: Callable[[str], None]) -> None:
+        """Hold the initial anchor when configured to; no user target yet."""
+        self._simulation = simulation
+        self._record = record
+        self._now_ns = now_ns
+        self._set_anchor = set_anchor
+        self._refuse = refuse
+        self._log = log
+        self._stamps, self._core_clock = TargetStamps(STREAM_GAP), CoreClock()
+        # Whether the target is one a user gave (not the held initial anchor), and when (ns).
+        self.user_target = False
+        self.last_target_ns = 0
+        self.configure(config)
+        self.hold_initial_anchor()
+
+    def configure(self, config: NodeConfig) -> None:
+        """Take a new configuration: the gate, the grab's box and margin, the timeout."""
+        self._config = config
+        gate = getattr(self, '_gate', None)
+        if gate is None or (gate.frame_id, gate.workspace_radius) != (
+                config.frame_id, config.workspace_radius):
+            self._gate = TargetGate(config.frame_id, config.workspace_radius)
+        self._timeout = config.target_timeout
+
+    @property
+    def gate(self) -> TargetGate:
+        """Return the gate targets and grabs pass."""
+        return self._gate
+
+    def hold_initial_anchor(self) -> None:
+        """Hold the anchor where it starts, or free the body, as configured; no user target."""
+        config = self._config
+        self.user_target = False
+        self._simulation.target = (config.initial_anchor() if config.hold_initial_anchor
+                                   else None)
+
+    def release(self) -> bool:
+        """Let go of the target: the body flies free; return whether there was one."""
+        had_target = self._simulation.target is not None
+        self._simulation.target = None
+        self.user_target = False
+        return had_target
+
+    def expire(self, now_ns: int) -> None:
+        """Let go of a user target older than ``target_timeout`` at ``now_ns``."""
+        if self.user_target and timed_out(self.last_target_ns, now_ns, self._timeout):
+            self.release()
+            self._log(target_release_text(self._timeout))
+
+    def age(self, now_ns: int) -> Optional[float]:
+        """Return how old the user target is (s), or None without one."""
+        return input_age(self.last_target_ns, now_ns) if self.user_target else None
+
+    def restart_age(self, now_ns: int) -> None:
+        """Count the user target's age from ``now_ns`` (the node's time changed base)."""
+        if self.user_target:
+            self.last_target_ns = now_ns
+
+    def on_target(self, message: PointStamped) -> None:
+        """Take a target: timed by its stamp where usable, else by its arrival."""
+        point = point_from_message(message)
+        refusal = self._gate.refusal(message.header.frame_id, point)
+        if refusal is not None:
+            self._refuse(refusal, f'ignoring target {refusal.reason}')
+            return
+        simulation, record = self._simulation, self._record
+        now, arrival = self._now_ns(), simulation.time
+        stamp = stamp_nanoseconds(message.header.stamp)
+        if record.ticks_run and self._stamps.refusal(stamp, now_ns=now,
+                                                     tick_s=record.dt) is None:
+            stamped, moved = self._core_clock.time_of(
+                stamp, tick_stamp_ns=record.stamp_ns, tick_core_time=arrival, tick_s=record.dt)
+            if moved:
+                # Ticks were dropped (or paused) since the last stamp: a new stream.
+                simulation.target = point
+            simulation.set_target(point, time=stamped, stamped=True)
+        else:
+            simulation.set_target(point, time=arrival)
+        self.user_target = True
+        self.last_target_ns = now
+
+    def on_grab(self, message: PointStamped) -> None:
+        """Make a point on the body the anchor and the target; ignore (and say) any other."""
+        point = point_from_message(message)
+        refusal = self._gate.refusal(message.header.frame_id, point)
+        if refusal is not None:
+            self._refuse(refusal._replace(key='grab ' + refusal.key),
+                         f'ignoring grab {refusal.reason}')
+            return
+        config = self._config
+        landed = grab(self._simulation.state, config.box_size, point)
+        margin = config.grab_margin
+        if not landed.taken(margin):
+            off, bound = apart(landed.distance, margin)
+            reason = (f'{point}: {off} m off the body, farther than grab_margin {bound} m from '
+                      'its box')
+            self._refuse(Refusal('grab off body', reason), f'ignoring grab {reason}')
+            return
+        failure = self._set_anchor(landed.anchor)
+        if failure is not None:
+            self._refuse(Refusal('grab anchor', f'{point}: {failure}'),
+                         f'ignoring grab {point}: {failure}')
+            return
+        # Untimed: a grab starts a new stream of targets (nothing moves: the target is where
+        # the anchor is).
+        self._simulation.target = point
+        self.user_target = True
+        self.last_target_ns = self._now_ns()

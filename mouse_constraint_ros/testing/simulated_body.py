@@ -1,0 +1,432 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+``SimulatedBody``: the ``mouse_constraint`` node in-process, stepped in lockstep on simulated time.
+
+The node runs with ``publish_clock`` and no timer of its own (``stepped``): ``step`` runs its
+ticks. One tick: the input that arrived is applied, the physics steps, ``/clock``, ``pose``
+and ``twist`` (TF and odometry when on) go out stamped with the tick's simulated time, then the
+executor is drained until no callback is ready (``lockstep.drain``). A node added with
+``add_node`` and ``use_sim_time`` thus sees every tick, its ROS-time timers fire at exact
+simulated times, and what it publishes in response to tick k is taken before tick k + 1, from
+which it acts. Nothing waits on wall time but the watchdogs, which fail loudly.
+
+Inputs go out as a user's would, as messages and service calls from a probe node of the
+harness (``simulated_body``); the node's own validation judges them, and an input it refuses
+raises ``InputRefused`` with the node's reason. ``pose`` and ``twist`` are the latest the node
+published, as numpy arrays and as the messages themselves.
+"""
+
+import inspect
+import math
+from typing import Any, Callable, List, NamedTuple, Optional, Sequence
+
+from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped, WrenchStamped
+import numpy as np
+from rclpy.executors import Executor, SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from std_srvs.srv import Trigger
+
+from .lockstep import drain, isolated_context, wait_matched
+from ..node.mouse_constraint_node import MouseConstraintNode
+from ..node.parameters import DEFAULTS, PARAMETERS
+from ..node.startup import unknown_parameter_warnings
+from ..wire.interface import (GRAB_TOPIC, POSE_TOPIC, STATE_QOS, TARGET_QOS, TARGET_TOPIC,
+                              TWIST_TOPIC, WRENCH_QOS, WRENCH_TOPIC)
+from ..wire.messages import point_message, set_stamp, stamp_nanoseconds
+
+# Wall seconds a drain may keep finding work, and endpoints may take to match, before failing.
+DRAIN_TIMEOUT = 10.0
+MATCH_TIMEOUT = 5.0
+# The name of the harness's own node, which sends the inputs and reads pose and twist.
+PROBE_NAME = 'simulated_body'
+# ``transform_broadcaster`` not given: the node's own default.
+NODE_DEFAULT = object()
+# The harness is the node's clock: these values would take that from it.
+HARNESS_OWNS = {'publish_clock': False, 'use_sim_time': True}
+
+
+class BodyPose(NamedTuple):
+    """The latest ``pose``: COM (m), orientation (x, y, z, w), stamp (s), and the message."""
+
+    position: np.ndarray
+    orientation: np.ndarray
+    time: float
+    message: PoseStamped
+
+
+class BodyTwist(NamedTuple):
+    """The latest ``twist``: COM velocity (m/s), angular velocity (rad/s), stamp, message."""
+
+    linear: np.ndarray
+    angular: np.ndarray
+    time: float
+    message: TwistStamped
+
+
+class InputRefused(ValueError):
+    """
+    The node refused an input the harness sent; ``key`` and ``reason`` are the node's.
+
+    :param key: the refusal's key ('frame', 'workspace', 'grab off body', 'wrench force' ...).
+    :param reason: the node's reason, as it logs it after 'ignoring ...'.
+    """
+
+    def __init__(self, key: str, reason: str) -> None:
+        """Keep the key beside the reason."""
+        super().__init__(reason)
+        self.key = key
+
+
+class NeverHeld(AssertionError):
+    """``step_until``'s predicate did not hold within its ticks."""
+
+
+def parameter_value(name: str, value: Any) -> Any:
+    """
+    Return ``value`` as the node's parameter ``name`` takes it: ints as floats for doubles.
+
+    Python writes ``2`` where YAML must write ``2.0``; here the intent is plain. Sequences
+    (tuples, numpy arrays) become lists.
+
+    :raises TypeError: ``name`` is none of the node's parameters (with the nearest one).
+    """
+    if name not in DEFAULTS:
+        [warning] = unknown_parameter_warnings([name], [], [p.name for p in PARAMETERS])
+        raise TypeError(warning.replace('ignoring unknown', 'unknown'))
+    default = DEFAULTS[name]
+
+    def number(item: Any) -> Any:
+        if isinstance(item, (bool, np.bool_)):
+            return bool(item)
+        if isinstance(item, (int, float, np.integer, np.floating)):
+            return float(item)
+        return item
+
+    if isinstance(default, float):
+        return number(value)
+    if isinstance(default, list) and isinstance(value, (list, tuple, np.ndarray)):
+        return [number(item) for item in value]
+    if isinstance(default, int) and not isinstance(default, bool) and isinstance(
+            value, np.integer):
+        return int(value)
+    return value
+
+
+def _predicate_text(predicate: Callable) -> str:
+    try:
+        text = ' '.join(inspect.getsource(predicate).split())
+    except (OSError, TypeError):
+        text = getattr(predicate, '__qualname__', repr(predicate))
+    return text if len(text) <= 120 else text[:117] + '...'
+
+
+class SimulatedBody:
+    """
+    The ``mouse_constraint`` node stepped in lockstep with the nodes added to it.
+
+    :param context: an initialized rclpy context to run in; by default one of its own with
+        discovery off (``isolated_context``), shut down by ``close``.
+    :param executor: the executor to spin on; by default a ``SingleThreadedExecutor`` of its own.
+    :param namespace: the node's namespace ('' or '/name').
+    :param on_tick: called with the harness after every tick (after the drain).
+    :param transform_broadcaster: as ``MouseConstraintNode`` takes it; by default the node's
+        (tf2_ros's, where importable).
+    :param drain_timeout: wall seconds a drain may keep finding work before it fails.
+    :param match_timeout: wall seconds endpoints may take to match before ``add_node`` fails.
+    :param parameters: any of the node's parameters, as keywords (``mass=2.0``, ``floor=True``);
+        the node refuses an invalid one as it would at start (``StartupRefusal``).
+    :raises TypeError: an unknown parameter name.
+    :raises ValueError: ``publish_clock=False`` or ``use_sim_time=True``: the harness is the
+        clock.
+    """
+
+    def __init__(self, *, context=None, executor: Optional[Executor] = None,
+                 namespace: str = '', on_tick: Optional[Callable[['SimulatedBody'], Any]] = None,
+                 transform_broadcaster: Any = NODE_DEFAULT, drain_timeout: float = DRAIN_TIMEOUT,
+                 match_timeout: float = MATCH_TIMEOUT, **parameters: Any) -> None:
+        """Start the node and the probe; wait until the probe matches the node."""
+        values = self._checked(parameters)
+        values['publish_clock'] = True
+        self.drain_timeout = drain_timeout
+        self.match_timeout = match_timeout
+        self._own_context = context is None
+        self._own_executor = executor is None
+        self.context = isolated_context() if context is None else context
+        self.executor: Executor = None
+        self.node: MouseConstraintNode = None
+        self._probe: Node = None
+        self._added: List[Node] = []
+        self._tick_callbacks: List[Callable] = [] if on_tick is None else [on_tick]
+        self._pose: Optional[PoseStamped] = None
+        self._twist: Optional[TwistStamped] = None
+        try:
+            self.executor = (SingleThreadedExecutor(context=self.context) if executor is None
+                             else executor)
+            broadcaster = ({} if transform_broadcaster is NODE_DEFAULT
+                           else {'transform_broadcaster': transform_broadcaster})
+            self.node = MouseConstraintNode(
+                context=self.context, namespace=namespace, stepped=True,
+                parameter_overrides=[Parameter(name, value=value)
+                                     for name, value in values.items()], **broadcaster)
+            self._probe = Node(PROBE_NAME, namespace=namespace, context=self.context,
+                               start_parameter_services=False)
+            self._start_probe()
+            self.executor.add_node(self.node)
+            self.executor.add_node(self._probe)
+            wait_matched(self.executor, self._probe, self.node, timeout=match_timeout,
+                         drain_timeout=drain_timeout)
+        except BaseException:
+            self.close()
+            raise
+
+    @staticmethod
+    def _checked(parameters: dict) -> dict:
+        values = {name: parameter_value(name, value) for name, value in parameters.items()}
+        for name, taken in HARNESS_OWNS.items():
+            if name in values and values[name] == taken:
+                raise ValueError(f'{name}: {values[name]} would take the clock from the '
+                                 'harness, which steps the node on its simulated time')
+        return values
+
+    def _start_probe(self) -> None:
+        probe = self._probe
+        probe.create_subscription(PoseStamped, POSE_TOPIC, self._on_pose, STATE_QOS)
+        probe.create_subscription(TwistStamped, TWIST_TOPIC, self._on_twist, STATE_QOS)
+        self._target_publisher = probe.create_publisher(PointStamped, TARGET_TOPIC, TARGET_QOS)
+        self._grab_publisher = probe.create_publisher(PointStamped, GRAB_TOPIC, TARGET_QOS)
+        self._wrench_publisher = probe.create_publisher(WrenchStamped, WRENCH_TOPIC, WRENCH_QOS)
+        name = self.node.get_fully_qualified_name()
+        self._reset_client = probe.create_client(Trigger, f'{name}/reset')
+        self._release_client = probe.create_client(Trigger, f'{name}/release')
+
+    def _on_pose(self, message: PoseStamped) -> None:
+        self._pose = message
+
+    def _on_twist(self, message: TwistStamped) -> None:
+        self._twist = message
+
+    def __enter__(self) -> 'SimulatedBody':
+        """Return the harness."""
+        return self
+
+    def __exit__(self, *_exception) -> None:
+        """Close the harness."""
+        self.close()
+
+    def close(self) -> None:
+        """Destroy the node and the probe; shut down the executor and context it made."""
+        executor = self.executor
+        for node in self._added:
+            if executor is not None:
+                executor.remove_node(node)
+        self._added = []
+        for node in (self._probe, self.node):
+            if node is not None:
+                if executor is not None:
+                    executor.remove_node(node)
+                node.destroy_node()
+        self._probe = self.node = None
+        if executor is not None and self._own_executor:
+            executor.shutdown()
+        self.executor = None
+        if self._own_context and self.context is not None:
+            self.context.try_shutdown()
+
+    # --- what the node published -------------------------------------------------------------
+
+    @property
+    def time(self) -> float:
+        """Return the latest tick's simulated time in seconds: 0 before the first."""
+        return self.node.time_ns * 1e-9
+
+    @property
+    def pose(self) -> Optional[BodyPose]:
+        """Return the latest ``pose`` the node published, or None before the first tick."""
+        message = self._pose
+        if message is None:
+            return None
+        p, q = message.pose.position, message.pose.orientation
+        return BodyPose(np.array([p.x, p.y, p.z]), np.array([q.x, q.y, q.z, q.w]),
+                        stamp_nanoseconds(message.header.stamp) * 1e-9, message)
+
+    @property
+    def twist(self) -> Optional[BodyTwist]:
+        """Return the latest ``twist`` the node published, or None before the first tick."""
+        message = self._twist
+        if message is None:
+            return None
+        v, w = message.twist.linear, message.twist.angular
+        return BodyTwist(np.array([v.x, v.y, v.z]), np.array([w.x, w.y, w.z]),
+                         stamp_nanoseconds(message.header.stamp) * 1e-9, message)
+
+    # --- nodes under test ---------------------------------------------------------------------
+
+    def add_node(self, node: Node) -> Node:
+        """
+        Spin ``node`` with the body, in lockstep; return it.
+
+        Waits (at most ``match_timeout`` wall seconds) until its publishers and subscriptions
+        on the body's topics, and its clients of the body's services, have matched.
+
+        :raises ValueError: ``node`` is in another context.
+        :raises MatchTimeout: naming each endpoint that did not match, and why where its QoS
+            says.
+        """
+        if node.context is not self.context:
+            raise ValueError(f'{node.get_fully_qualified_name()} is in another context: create '
+                             'it with context=body.context')
+        self.executor.add_node(node)
+        self._added.append(node)
+        wait_matched(self.executor, node, self.node, timeout=self.match_timeout,
+                     drain_timeout=self.drain_timeout)
+        return node
+
+    def add_tick_callback(self, callback: Callable[['SimulatedBody'], Any]) -> None:
+        """Call ``callback(body)`` after every tick, once the executor is drained."""
+        self._tick_callbacks.append(callback)
+
+    # --- stepping -----------------------------------------------------------------------------
+
+    def drain(self) -> int:
+        """Run every callback that is ready until none is; return how many ran."""
+        return drain(self.executor, timeout=self.drain_timeout)
+
+    def step(self, ticks: int = 1) -> None:
+        """
+        Run ``ticks`` ticks, draining the executor after each (and before the first).
+
+        While the node is paused (``~/pause``) a tick runs no physics and the simulated time
+        stands still; the executor is drained all the same.
+        """
+        node, callbacks = self.node, self._tick_callbacks
+        self.drain()
+        for _ in range(int(ticks)):
+            node.step()
+            self.drain()
+            for callback in callbacks:
+                callback(self)
+
+    def step_until(self, predicate: Callable[[], bool], max_ticks: int) -> int:
+        """
+        Step until ``predicate()`` holds; return the ticks it took (0 if it held at once).
+
+        :raises NeverHeld: it did not hold within ``max_ticks``, with the time reached.
+        """
+        if predicate():
+            return 0
+        for ticks in range(1, int(max_ticks) + 1):
+            self.step()
+            if predicate():
+                return ticks
+        paused = ' (the node is paused)' if self.node.paused else ''
+        raise NeverHeld(f'{_predicate_text(predicate)} did not hold within {max_ticks} ticks: '
+                        f'simulated time {self.time:.6f} s{paused}')
+
+    # --- inputs -------------------------------------------------------------------------------
+
+    def _send(self, publisher, message) -> None:
+        """Publish ``message``, let the node take it, and raise if it refused an input."""
+        before = self.node.refusals[0]
+        publisher.publish(message)
+        self.drain()
+        count, refusal = self.node.refusals
+        if count > before:
+            raise InputRefused(refusal.key, refusal.reason)
+
+    @staticmethod
+    def _stamp_ns(stamp: Optional[float]) -> int:
+        if stamp is None:
+            return 0
+        if not math.isfinite(stamp) or stamp < 0.0:
+            raise ValueError(f'stamp must be a finite time >= 0 s, got {stamp!r}')
+        return round(stamp * 1e9)
+
+    def grab(self, point: Sequence[float], *, frame_id: str = '') -> tuple:
+        """
+        Grab the body at the world ``point``: it becomes the anchor and the target.
+
+        :returns: the anchor the node set (body frame, m).
+        :raises InputRefused: the node refused it (off the body, another frame ...).
+        """
+        self._send(self._grab_publisher, point_message(point, frame_id, 0))
+        return tuple(self.node.get_parameter('anchor').value)
+
+    def target(self, point: Sequence[float], *, stamp: Optional[float] = None,
+               frame_id: str = '') -> None:
+        """
+        Send a target: the anchor is dragged to ``point`` (m, world frame).
+
+        :param stamp: the time the pointer was there (simulated s): a stream of stamped
+            targets is timed by its stamps; None sends a zero stamp (timed by its arrival).
+        :raises InputRefused: the node refused it (not finite, outside the workspace ...).
+        """
+        self._send(self._target_publisher, point_message(point, frame_id, self._stamp_ns(stamp)))
+
+    def wrench(self, force: Sequence[float], torque: Sequence[float] = (0.0, 0.0, 0.0), *,
+               stamp: Optional[float] = None, frame_id: str = '') -> None:
+        """
+        Push the body: ``force`` (N) through the COM and ``torque`` (N m), world frame.
+
+        Applied from the tick at ``stamp`` (simulated s; None: the next tick) until
+        ``wrench_timeout`` passes without another; a zero wrench ends it.
+
+        :raises InputRefused: the node refused it (beyond its bounds, not finite ...).
+        """
+        message = WrenchStamped()
+        message.header.frame_id = frame_id
+        set_stamp(message.header.stamp, self._stamp_ns(stamp))
+        f, t = message.wrench.force, message.wrench.torque
+        f.x, f.y, f.z = (float(c) for c in force)
+        t.x, t.y, t.z = (float(c) for c in torque)
+        self._send(self._wrench_publisher, message)
+
+    def _call(self, client) -> Trigger.Response:
+        future = client.call_async(Trigger.Request())
+        self.drain()
+        if not future.done():
+            raise AssertionError(f'{client.srv_name} did not answer within a drain')
+        return future.result()
+
+    def release(self) -> str:
+        """Call ``~/release``: the body flies free; return the node's reply."""
+        return self._call(self._release_client).message
+
+    def reset(self) -> str:
+        """
+        Call ``~/reset``: the initial state, the configured anchor; return the node's reply.
+
+        :raises RuntimeError: the node could not reset (its reply says why).
+        """
+        response = self._call(self._reset_client)
+        if not response.success:
+            raise RuntimeError(response.message)
+        return response.message
+
+    def set_parameters(self, **values: Any) -> None:
+        """
+        Change parameters of the node between steps, all or none (``set_parameters_atomically``).
+
+        :raises TypeError: an unknown parameter name.
+        :raises ValueError: the node refused the change, with its reason; or the change would
+            take the clock from the harness.
+        """
+        checked = self._checked(values)
+        result = self.node.set_parameters_atomically(
+            [Parameter(name, value=value) for name, value in checked.items()])
+        if not result.successful:
+            raise ValueError(result.reason)
+        self.drain()
