@@ -419,24 +419,24 @@ def test_a_singular_gyroscopic_jacobian_keeps_the_angular_velocity():
     ('initial_orientation', array('d', [0.0, 0.0, 0.0, 2.0])),
     ('frame_id', '/world'),
 ])
-def test_the_node_refuses_them_at_run_time_and_keeps_stepping(ros, name, value):
+def test_the_node_refuses_them_at_run_time_and_keeps_stepping(simulated_body_factory, name,
+                                                              value):
     """
     ``ros2 param set`` of each: refused with a one-line reason naming it; the node runs on.
 
     Double arrays are given as rclpy hands them to the callback from the service, array.array.
     """
-    from geometry_msgs.msg import PoseStamped
     from rclpy.parameter import Parameter
 
-    from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
-    node = ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
-        Parameter('rate_hz', value=200.0)]))
-    poses = ros.collect(PoseStamped, 'pose')
+    body = simulated_body_factory(rate_hz=200.0)
+    node = body.node
     before = node.simulation.settings
     [result] = node.set_parameters([Parameter(name, value=value)])
     assert not result.successful
     assert name in result.reason and '\n' not in result.reason, result.reason
     assert 'array(' not in result.reason, result.reason
     assert node.simulation.settings is before
-    assert ros.spin_until(lambda: len(poses) >= 20)
-    assert all(math.isfinite(p.pose.position.z) for p in poses)
+    heights = []
+    body.add_tick_callback(lambda b: heights.append(b.pose.position[2]))
+    body.step(20)
+    assert len(heights) == 20 and all(math.isfinite(z) for z in heights)

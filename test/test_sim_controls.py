@@ -214,7 +214,7 @@ def test_pause_stops_clock_and_poses_step_runs_one_tick_resume_does_not_burst(ro
     response = ros.call(Trigger, '/mouse_constraint/step', Trigger.Request())
     assert not response.success and 'pause it first' in response.message
     assert ros.call(SetBool, '/mouse_constraint/pause', SetBool.Request(data=True)).success
-    ros.spin_for(0.1)
+    ros.drain()
     held = (len(clocks), len(poses))
     ros.spin_for(0.5)
     assert (len(clocks), len(poses)) == held
@@ -229,10 +229,13 @@ def test_pause_stops_clock_and_poses_step_runs_one_tick_resume_does_not_burst(ro
     resumed, started = len(poses), time.monotonic()
     ros.spin_for(0.5)
     wall = time.monotonic() - started
-    # No catch-up of the 0.6 s paused: the rate of ticks, not a burst of 120 more.
-    assert len(poses) - resumed == pytest.approx(wall * rate, abs=0.1 * rate)
+    # No catch-up of the 0.6 s paused: the stamps after the resume go on from the step's, one
+    # period apart, and span no more simulated time than the wall time since (factor 1), where
+    # a burst would have added the 0.6 s paused (120 ticks) at once.
     stamps = np.array([stamp_ns(p.header.stamp) for p in poses[held[1]:]])
     np.testing.assert_array_equal(np.diff(stamps), period)
+    assert len(poses) > resumed
+    assert (stamps[-1] - stamps[1]) * 1e-9 <= wall + 2.0 / rate
 
 
 def test_pause_without_publish_clock_holds_the_physics_and_restarts_the_grid(ros):
@@ -258,6 +261,37 @@ def test_pause_without_publish_clock_holds_the_physics_and_restarts_the_grid(ros
     # the stamps after the resume span no more than the wall time since it.
     assert len(after) > 0.1 * wall * rate
     assert after[-1] - after[0] <= wall * S
+
+
+def test_pause_step_and_resume_in_lockstep(simulated_body_factory):
+    """
+    ~/pause from another node: ticks run no physics, the clock stands still; ~/step: one tick.
+
+    Resumed, the clock goes on from where it stood: no tick catches up the paused ones.
+    """
+    body = simulated_body_factory(rate_hz=200.0)
+    caller = body.add_node(Node('caller', context=body.context))
+    pause = caller.create_client(SetBool, '/mouse_constraint/pause')
+    step = caller.create_client(Trigger, '/mouse_constraint/step')
+
+    def call(client, request):
+        future = client.call_async(request)
+        body.drain()
+        return future.result()
+
+    body.step(10)
+    refused = call(step, Trigger.Request())
+    assert not refused.success and 'pause it first' in refused.message
+    assert call(pause, SetBool.Request(data=True)).message == 'paused at 0.050000000 s'
+    state, pose = body.node.simulation.state, body.pose.message
+    body.step(100)
+    assert body.node.paused and body.time == 0.05
+    assert body.node.simulation.state is state and body.pose.message is pose
+    assert call(step, Trigger.Request()).message == 'one tick of 0.005 s, stamped 0.055000000 s'
+    assert body.time == pytest.approx(0.055, abs=1e-12) and body.pose.time == body.time
+    assert call(pause, SetBool.Request(data=False)).message == 'running from 0.055000000 s'
+    body.step(10)
+    assert body.time == pytest.approx(0.105, abs=1e-12) and body.node.ticks_run == 21
 
 
 def test_publish_clock_with_use_sim_time_is_refused(ros):

@@ -24,9 +24,9 @@ import time
 from geometry_msgs.msg import WrenchStamped
 import numpy as np
 import pytest
+from rclpy.node import Node
 from rclpy.parameter import Parameter
 from scipy.spatial.transform import Rotation
-from std_srvs.srv import SetBool, Trigger
 from visualization_msgs.msg import Marker, MarkerArray
 
 from mouse_constraint_ros.inputs.wrench_gate import (effective_time, HeldWrench, NO_WRENCH,
@@ -34,8 +34,8 @@ from mouse_constraint_ros.inputs.wrench_gate import (effective_time, HeldWrench,
 from mouse_constraint_ros.monitoring.markers import marker_array, wrench_reference
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.physics import BodyState, MouseSimulation, RigidBody, Settings
+from mouse_constraint_ros.testing import InputRefused
 from mouse_constraint_ros.wire import messages
-from test_support.ros_harness import SimClock
 
 MASS = 2.0
 BOX = (0.4, 0.2, 0.1)
@@ -171,6 +171,8 @@ def test_a_scheduled_wrench_takes_effect_at_its_stamp_and_zero_ends_it():
     assert effective_time(now - STAMP_WINDOW_NS, now) == now - STAMP_WINDOW_NS
     assert effective_time(now + 7, now) == now + 7
     assert effective_time(0, now) == now and effective_time(now - STAMP_WINDOW_NS - 1, now) == now
+    # Zero is no stamp, also on a simulated clock that started at zero less than a window ago.
+    assert effective_time(0, 50_000_000) == 50_000_000
 
 
 ZERO3 = (0.0, 0.0, 0.0)
@@ -210,79 +212,72 @@ def wrench_message(force, torque, frame_id='world') -> WrenchStamped:
     return messages.wrench_message(force, torque, frame_id)
 
 
-def test_the_node_applies_a_wrench_and_drops_it_after_the_timeout(ros):
+def test_the_node_applies_a_wrench_and_drops_it_after_the_timeout(simulated_body_factory):
     """A wrench pushes the free body; wrench_timeout after the last one it is removed."""
-    node = start_node(ros, 'pushed', rate_hz=200.0, wrench_timeout=0.3, **FREE)
-    publisher = ros.probe.create_publisher(WrenchStamped, '/pushed/wrench', 10)
-    assert ros.spin_until(lambda: publisher.get_subscription_count() > 0)
-    force = (4.0, 0.0, 0.0)
-    publisher.publish(wrench_message(force, (0.0, 0.0, 0.1), ''))
-    assert ros.spin_until(lambda: node.simulation.wrench != NO_WRENCH, timeout=2.0)
-    assert node.simulation.wrench == (force, (0.0, 0.0, 0.1))
-    assert ros.spin_until(lambda: node.simulation.wrench == NO_WRENCH, timeout=2.0)
-    # Pushed for wrench_timeout (within a tick or two) at F / m, then coasting.
+    body = simulated_body_factory(namespace='/pushed', rate_hz=200.0, wrench_timeout=0.3,
+                                  **FREE)
+    node = body.node
+    body.step(10)
+    force, torque = (4.0, 0.0, 0.0), (0.0, 0.0, 0.1)
+    given = body.time
+    body.wrench(force, torque)
+    assert node.simulation.wrench == NO_WRENCH  # from the next tick on
+    body.step()
+    assert node.simulation.wrench == (force, torque)
+    body.step_until(lambda: node.simulation.wrench == NO_WRENCH, max_ticks=100)
+    # Applied on the ticks stamped within wrench_timeout of its arrival, then removed at the
+    # first tick past it: pushed for exactly 60 ticks of 5 ms, at F / m.
+    assert body.time == pytest.approx(given + 0.3 + 0.005, abs=1e-12)
     speed = node.simulation.state.linear_velocity[0]
-    assert speed == pytest.approx(force[0] / MASS * 0.3, rel=0.1)
-    ros.spin_for(0.2)
+    assert speed == pytest.approx(force[0] / MASS * 0.3, rel=1e-12)
+    body.step(40)
     assert node.simulation.state.linear_velocity[0] == speed
 
 
-def test_a_stamped_push_lasts_its_duration_to_the_tick(ros):
+def test_a_stamped_push_lasts_its_duration_to_the_tick(simulated_body_factory):
     """
     A push stamped t0 and its zero wrench stamped t1: the ticks stamped in [t0, t1) push.
 
-    On a simulated clock driven here, both messages arrive before any of those ticks runs:
-    taken at their arrival, they would cancel; taken at their stamps, the body gains exactly
-    F (t1 - t0) / m, however late the ticks run (here in steps of two ticks).
+    Both messages arrive before any of those ticks runs: taken at their arrival, they would
+    cancel; taken at their stamps, the body gains exactly F (t1 - t0) / m.
     """
-    node = start_node(ros, rate_hz=100.0, use_sim_time=True, wrench_timeout=0.0, **FREE)
-    clock = SimClock(ros, node)
-    start = 1_000 * 10 ** 9
-    clock.advance_to(start)
-    publisher = ros.probe.create_publisher(WrenchStamped, 'wrench', 10)
-    assert ros.spin_until(lambda: publisher.get_subscription_count() > 0)
+    body = simulated_body_factory(rate_hz=100.0, wrench_timeout=0.0, **FREE)
+    body.step(10)
+    start = body.time
     force = 3.0
-    for stamp, value in ((start + 50_000_000, force), (start + 250_000_000, 0.0)):
-        message = wrench_message((value, 0.0, 0.0), ZERO3)
-        messages.set_stamp(message.header.stamp, stamp)
-        publisher.publish(message)
-        # The wrench subscription keeps the newest message only: let the node take each.
-        ros.spin_for(0.1)
-    assert node.simulation.wrench == NO_WRENCH
-    for k in range(1, 26):
-        clock.advance_to(start + k * 20_000_000)
-    assert node.dropped_ticks == 0
-    assert node.simulation.wrench == NO_WRENCH
-    assert node.simulation.state.linear_velocity[0] == pytest.approx(force / MASS * 0.2,
-                                                                     rel=1e-12)
+    body.wrench((force, 0.0, 0.0), stamp=start + 0.05)
+    body.wrench((0.0, 0.0, 0.0), stamp=start + 0.25)
+    assert body.node.simulation.wrench == NO_WRENCH
+    body.step(50)
+    assert body.node.simulation.wrench == NO_WRENCH
+    assert body.node.simulation.state.linear_velocity[0] == pytest.approx(force / MASS * 0.2,
+                                                                          rel=1e-12)
 
 
-def test_hostile_wrenches_change_nothing_bit_for_bit(ros, capfd):
+def test_hostile_wrenches_change_nothing_bit_for_bit(simulated_body_factory, capfd):
     """
-    Non-finite, foreign-frame and oversized wrenches are ignored with a warning each.
+    Non-finite, foreign-frame and oversized wrenches are refused, each with its reason.
 
-    The node is paused with a valid wrench applied; after the hostile ones, its simulation
-    steps exactly as a copy taken before them does.
+    After them, the simulation steps exactly as a copy taken before them does.
     """
-    node = start_node(ros, publish_clock=True, max_wrench_force=50.0, max_wrench_torque=5.0,
-                      **FREE)
-    publisher = ros.probe.create_publisher(WrenchStamped, 'wrench', 10)
-    assert ros.spin_until(lambda: publisher.get_subscription_count() > 0)
+    body = simulated_body_factory(max_wrench_force=50.0, max_wrench_torque=5.0, **FREE)
+    node = body.node
     valid = ((1.0, 2.0, 3.0), (0.01, 0.0, 0.0))
-    publisher.publish(wrench_message(*valid))
-    assert ros.spin_until(lambda: node.simulation.wrench == valid, timeout=2.0)
-    assert ros.call(SetBool, '/mouse_constraint/pause', SetBool.Request(data=True)).success
+    body.wrench(*valid)
+    body.step()
+    assert node.simulation.wrench == valid
     reference = copy.deepcopy(node.simulation)
-    hostile = [wrench_message((math.nan, 0.0, 0.0), (0.0, 0.0, 0.0)),
-               wrench_message((0.0, 0.0, 0.0), (0.0, 0.0, math.inf)),
-               wrench_message((1.0, 0.0, 0.0), (0.0, 0.0, 0.0), 'map'),
-               wrench_message((50.1, 0.0, 0.0), (0.0, 0.0, 0.0)),
-               wrench_message((0.0, 0.0, 0.0), (0.0, 5.1, 0.0))]
-    for message in hostile:
-        publisher.publish(message)
-        ros.spin_for(0.05)
+    hostile = [((math.nan, 0.0, 0.0), ZERO3, '', 'wrench finite'),
+               (ZERO3, (0.0, 0.0, math.inf), '', 'wrench finite'),
+               ((1.0, 0.0, 0.0), ZERO3, 'map', 'wrench frame'),
+               ((50.1, 0.0, 0.0), ZERO3, '', 'wrench force'),
+               (ZERO3, (0.0, 5.1, 0.0), '', 'wrench torque')]
+    for force, torque, frame, key in hostile:
+        with pytest.raises(InputRefused) as refused:
+            body.wrench(force, torque, frame_id=frame)
+        assert refused.value.key == key
     for _ in range(5):
-        assert ros.call(Trigger, '/mouse_constraint/step', Trigger.Request()).success
+        body.step()
         reference.step(1.0 / 1000.0)
     assert node.simulation.wrench == valid
     assert node.simulation.state == reference.state
@@ -291,22 +286,30 @@ def test_hostile_wrenches_change_nothing_bit_for_bit(ros, capfd):
         assert 'ignoring wrench' in err and reason in err, reason
 
 
-def test_markers_show_the_applied_force(ros):
+def test_markers_show_the_applied_force(simulated_body_factory):
     """The node's wrench arrow appears with a force and is deleted after the timeout."""
-    node = start_node(ros, rate_hz=200.0, marker_rate_hz=50.0, wrench_timeout=0.2, **FREE)
-    arrays = ros.collect(MarkerArray, '/mouse_constraint/markers')
-    publisher = ros.probe.create_publisher(WrenchStamped, 'wrench', 10)
-    assert ros.spin_until(lambda: publisher.get_subscription_count() > 0)
+    body = simulated_body_factory(rate_hz=200.0, marker_rate_hz=50.0, wrench_timeout=0.2, **FREE)
+    viewer = Node('viewer', context=body.context)
+    arrays = []
+    viewer.create_subscription(MarkerArray, '/mouse_constraint/markers', arrays.append, 10)
+    body.add_node(viewer)
 
     def arrow():
         return {m.ns: m for m in arrays[-1].markers}['wrench'] if arrays else None
 
-    publisher.publish(wrench_message((0.0, 0.0, 9.0), (0.0, 0.0, 0.0)))
-    assert ros.spin_until(lambda: arrow() is not None and arrow().action == Marker.ADD)
+    body.wrench((0.0, 0.0, 9.0))
+    body.step()
+    # Markers come on their own timer (wall time): step until one shows the tick's wrench.
+    count = len(arrays)
+    body.step_until(lambda: len(arrays) > count + 1, max_ticks=100_000)
+    assert arrow().action == Marker.ADD
     start, end = ((p.x, p.y, p.z) for p in arrow().points)
-    length = max(BOX) * 9.0 / wrench_reference(node.simulation.settings)
+    length = max(BOX) * 9.0 / wrench_reference(body.node.simulation.settings)
     assert end[2] - start[2] == pytest.approx(length)
-    assert ros.spin_until(lambda: arrow().action == Marker.DELETE)
+    body.step_until(lambda: body.node.simulation.wrench == NO_WRENCH, max_ticks=100)
+    count = len(arrays)
+    body.step_until(lambda: len(arrays) > count + 1, max_ticks=100_000)
+    assert arrow().action == Marker.DELETE
 
 
 def run_wrench_cli(ros, arguments, *, signal_after=None, timeout=20.0):

@@ -53,9 +53,12 @@ def effective_time(stamp_ns: int, now_ns: int) -> int:
     Return the node's time (ns) from which a wrench stamped ``stamp_ns`` applies.
 
     Its stamp when that lies within ``STAMP_WINDOW_NS`` before ``now_ns`` (its arrival) or at
-    most as far after it; else ``now_ns``.
+    most as far after it; else ``now_ns``. A zero stamp is none (``ros2 topic pub`` leaves it
+    so), even on a simulated clock that starts at zero: it applies from its arrival.
     """
-    return stamp_ns if abs(now_ns - stamp_ns) <= STAMP_WINDOW_NS else now_ns
+    if stamp_ns == 0 or abs(now_ns - stamp_ns) > STAMP_WINDOW_NS:
+        return now_ns
+    return stamp_ns
 
 
 @dataclass(frozen=True)
