@@ -5,6 +5,7 @@
 #               when /usr/bin/chromium is there)
 #   make test-unit  only the unit tier (pure code, no rclpy context, no process): seconds
 #   make test-browser  only the browser tier (headless chromium on mouse_view)
+#   make test-loaded   make test RUNS times (3) while a process keeps a core busy
 #   make lint   flake8 (ament_flake8 settings, see .flake8)
 #   make run    run the node with config/params.yaml
 #   make view   run mouse_view: the body in a browser, dragged with the mouse
@@ -33,7 +34,8 @@ ifneq ($(shell $(VPY) -c 'print(1)' 2>/dev/null),1)
 $(shell rm -f $(STAMP))
 endif
 
-.PHONY: venv test test-unit test-browser lint run view bench bench-venv demo demo-figure clean
+.PHONY: venv test test-unit test-browser test-loaded lint run view bench bench-venv demo \
+	demo-figure clean
 
 # Peer engines for the benchmarks only (PyBullet, MuJoCo): installed into .venv by `make bench`,
 # never by `make venv`, `make test` or CI (requirements/bench/ is outside the wildcard above).
@@ -64,6 +66,11 @@ test: venv
 
 test-browser: venv
 	$(VPY) -m pytest test/ -q -m browser $(PYTEST_ARGS)
+
+# The loaded-machine check (docs/reliability.md): every run must pass with a core kept busy.
+RUNS ?= 3
+test-loaded: venv
+	$(VPY) -m test_support.loaded_runs --runs $(RUNS) --hogs 1 -- $(MAKE) --no-print-directory test
 
 test-unit: venv
 	$(VPY) -m pytest test/ -q -m unit $(PYTEST_ARGS)

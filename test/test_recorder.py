@@ -53,8 +53,10 @@ import yaml
 
 from mouse_constraint_ros.cli.record import parse_arguments
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
+from mouse_constraint_ros.recording.capture import fetch_start
 from mouse_constraint_ros.recording.capture import Progress
 from mouse_constraint_ros.recording.capture import progress_bar
+from mouse_constraint_ros.recording.capture import Recorder
 from mouse_constraint_ros.recording.figure import FIGURE_DPI
 from mouse_constraint_ros.recording.figure import FIGURE_INCHES
 from mouse_constraint_ros.recording.mcap_file import message_definition
@@ -69,6 +71,7 @@ from mouse_constraint_ros.recording.received import Received
 from mouse_constraint_ros.recording.rows import COLUMNS
 from mouse_constraint_ros.recording.rows import tick_rows
 from mouse_constraint_ros.timing.publish_ticks import PublishTicks
+from mouse_constraint_ros.timing.spin import StopRequest
 from mouse_constraint_ros.wire.messages import point_message
 from mouse_constraint_ros.wire.messages import stamp_nanoseconds
 from test_support.ros_harness import RosHarness
@@ -569,6 +572,48 @@ def test_check_writable_leaves_nothing_behind(tmp_path):
     assert tree(tmp_path) == {existing: b'old'}
     assert [p.name for p in output_paths(Path('x/run'), mcap=True)] == [
         'run.csv', 'run.png', 'run.mcap']
+
+
+def test_a_recording_in_lockstep_holds_every_tick_bit_for_bit(simulated_body_factory):
+    """
+    The recorder node beside a body stepped in lockstep: one row per tick, none missing.
+
+    Each row is the pose and twist the node published at that tick, bit for bit, with the target
+    the node held at it: targets sent between ticks k - 1 and k are in row k on, a grab moves
+    the anchor from its row on, a release empties the target.
+    """
+    body = simulated_body_factory(rate_hz=RATE, anchor=list(ANCHOR), linear_damping=2.0,
+                                  angular_damping=2.0, marker_rate_hz=0.0,
+                                  diagnostics_rate_hz=0.0)
+    recorder = body.add_node(Recorder(context=body.context))
+    start = fetch_start(recorder, body.executor, StopRequest(), target_node='mouse_constraint',
+                        timeout=5.0)
+    assert start['anchor'] == ANCHOR and start['rate_hz'] == RATE
+    published, held = [], []
+    body.add_tick_callback(lambda b: (published.append((b.pose.message, b.twist.message)),
+                                      held.append(b.node.simulation.target)))
+    for k in range(20):
+        body.target(target_at(k))
+        body.step(10)
+    grab = body.node.simulation.state.world_point((-0.15, 0.05, 0.0))
+    body.grab(grab)
+    body.step(40)
+    body.release()
+    body.step(40)
+    rows = tick_rows(recorder.received, start)
+    assert len(rows) == len(published) == 280
+    assert [row.stamp_ns for row in rows] == [5_000_000 * n for n in range(1, 281)]
+    for row, (pose, twist), target in zip(rows, published, held):
+        q = pose.pose.orientation
+        assert row.position == xyz(pose.pose.position)
+        assert row.orientation == (q.x, q.y, q.z, q.w)
+        assert row.linear_velocity == xyz(twist.twist.linear)
+        assert row.angular_velocity == xyz(twist.twist.angular)
+        assert row.target == target
+    grabbed = tuple(body.node.get_parameter('anchor').value)
+    assert [row.body_anchor for row in rows] == [ANCHOR] * 200 + [grabbed] * 80
+    marked = [(row.grab, row.grab_taken) for row in rows if row.grab is not None]
+    assert marked == [(grab, True)]
 
 
 def damped_node(ros, namespace: str) -> MouseConstraintNode:

@@ -102,11 +102,13 @@ def parameter_value(name: str, value: Any) -> Any:
     Python writes ``2`` where YAML must write ``2.0``; here the intent is plain. Sequences
     (tuples, numpy arrays) become lists.
 
-    :raises TypeError: ``name`` is none of the node's parameters (with the nearest one).
+    :raises TypeError: ``name`` is none of the node's parameters or rclpy's (with the nearest
+        one).
     """
     if name not in DEFAULTS:
-        [warning] = unknown_parameter_warnings([name], [], [p.name for p in PARAMETERS])
-        raise TypeError(warning.replace('ignoring unknown', 'unknown'))
+        for warning in unknown_parameter_warnings([name], [], [p.name for p in PARAMETERS]):
+            raise TypeError(warning.replace('ignoring unknown', 'unknown'))
+        return value  # one of rclpy's own (use_sim_time ...)
     default = DEFAULTS[name]
 
     def number(item: Any) -> Any:
