@@ -42,6 +42,7 @@ SUITE = [
     ('drag', 'dragging at 1 kHz, tracking error'),
     ('mouse_feel', 'a click and a streamed drag: the shipped joint and the anchors recipes'),
     ('stream_timing', 'a browser drag through ROS, timed by stamps and by arrival'),
+    ('late_streams', 'late, mixed and jittering streams, the floor press: the node in lockstep'),
     ('contact', 'the floor: rest, slide and drop, ours against PyBullet and MuJoCo'),
     ('node_rate', 'the node process against the rclpy floor at 1 kHz and up, pose and twist read'),
     ('node_floor', 'the node at 1 kHz resting on the floor against no floor: CPU ratio'),

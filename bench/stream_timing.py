@@ -50,7 +50,7 @@ import numpy as np
 from rclpy.serialization import deserialize_message
 
 from mouse_constraint_ros.physics import BodyState, MouseSimulation
-from mouse_constraint_ros.physics.target_motion import TargetStream
+from mouse_constraint_ros.physics.target_stream import TargetStream
 from test_support import processes
 from test_support.mouse_feel import configured, PARAMS_FILE
 from test_support.stream_timing import circle, following, replay, schedule
@@ -247,7 +247,7 @@ def run(quick: bool = False) -> dict:
     }
 
 
-# Estimators for stamped streams, as overrides of physics.target_motion's constants.
+# Estimators for stamped streams, as overrides of physics.target_stream's constants.
 ESTIMATORS = [
     ('parabola over 0.4 s', {'STAMPED_DEGREE': 2, 'BLEND_INTERVALS': 0.0}),
     ('cubic over 0.4 s', {'STAMPED_DEGREE': 3, 'BLEND_INTERVALS': 0.0}),
@@ -262,15 +262,15 @@ CONDITIONS = [('exact', {}), ('stamps +-0.5 ms', {'stamp_noise': 0.0005}),
 
 def estimators(seconds: float = SECONDS) -> None:
     """Print, as Markdown, the core replay of stamped drags for each estimator and condition."""
-    from mouse_constraint_ros.physics import target_motion
+    from mouse_constraint_ros.physics import target_stream
     print('| stamped estimator | ' + ' | '.join(
         f'{rate:g} Hz, {label}' for rate in RATES_HZ for label, _ in CONDITIONS) + ' |')
     print('| --- ' * (1 + len(RATES_HZ) * len(CONDITIONS)) + '|')
     for name, overrides in ESTIMATORS:
-        saved = {key: getattr(target_motion, key) for key in overrides}
+        saved = {key: getattr(target_stream, key) for key in overrides}
         try:
             for key, value in overrides.items():
-                setattr(target_motion, key, value)
+                setattr(target_stream, key, value)
             cells = []
             for rate in RATES_HZ:
                 for _, keywords in CONDITIONS:
@@ -278,7 +278,7 @@ def estimators(seconds: float = SECONDS) -> None:
                     cells.append(f'{r.error * 1e3:.2g} mm, {r.speed_deviation * 100:.2g} %')
         finally:
             for key, value in saved.items():
-                setattr(target_motion, key, value)
+                setattr(target_stream, key, value)
         print(f'| {name} | ' + ' | '.join(cells) + ' |', flush=True)
 
 

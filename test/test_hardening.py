@@ -55,14 +55,13 @@ from rcl_interfaces.srv import SetParametersAtomically
 from rclpy.parameter import Parameter
 from rosgraph_msgs.msg import Clock
 
-from mouse_constraint_ros.inputs.target_stamps import TargetStamps
+from mouse_constraint_ros.inputs.target_stamps import TargetTiming
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.node.parameters import DEFAULTS
 from mouse_constraint_ros.node.parameters import node_config
 from mouse_constraint_ros.physics import MouseSimulation
 from mouse_constraint_ros.physics import RigidBody
-from mouse_constraint_ros.physics.target_motion import STREAM_GAP
-from mouse_constraint_ros.timing.tick_grid import core_time
+from mouse_constraint_ros.physics.target_stream import STREAM_GAP
 from mouse_constraint_ros.wire.messages import point_message
 from test_support import hardening_tools as tools
 from test_support.processes import ChildProcess
@@ -147,7 +146,7 @@ def replay_in_core(ticks: int) -> list:
     Return the states the node should publish: the pure core fed the valid targets.
 
     A target that arrives between ticks k - 1 and k is received at the clock of tick k - 1 and
-    used from tick k on, timed by its stamp where the node's policy takes it (``TargetStamps``,
+    used from tick k on, timed by its stamp where the node's policy takes it (``TargetTiming``,
     mapped to the core's time from tick k - 1 as the node maps it) and else by its arrival;
     the node releases the body before a tick when target_timeout has passed since the last
     target.
@@ -156,7 +155,7 @@ def replay_in_core(ticks: int) -> list:
     simulation = MouseSimulation(config.settings, config.initial_state)
     simulation.target = config.initial_anchor()
     timeout_ns = SIM_OVERRIDES['target_timeout'] * 1e9
-    stamps = TargetStamps(STREAM_GAP)
+    timing = TargetTiming(STREAM_GAP)
     last_target_ns = None
     states = []
     for k in range(ticks):
@@ -164,13 +163,9 @@ def replay_in_core(ticks: int) -> list:
         if k in VALID_TARGETS:
             point, (_, stamp) = VALID_TARGETS[k]
             received = now - SIM_PERIOD_NS
-            stamp_ns = stamp_of(stamp or divmod(received, NS))
-            arrival = simulation.time
-            if stamps.refusal(stamp_ns, now_ns=received, tick_s=1.0 / SIM_RATE) is None:
-                simulation.set_target(point, time=core_time(
-                    stamp_ns, tick_stamp_ns=received, tick_core_time=arrival), stamped=True)
-            else:
-                simulation.set_target(point, time=arrival)
+            timing.take(simulation, point, stamp_ns=stamp_of(stamp or divmod(received, NS)),
+                        now_ns=received, tick_stamp_ns=received, tick_s=1.0 / SIM_RATE,
+                        ticked=True)
             last_target_ns = received
         if last_target_ns is not None and now - last_target_ns > timeout_ns:
             simulation.target = None

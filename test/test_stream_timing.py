@@ -21,11 +21,12 @@ through ROS are ``python -m bench.stream_timing``'s, not asserted here.
 
 import math
 
+from hypothesis import given, settings, strategies as st
 import numpy as np
 import pytest
 
-from mouse_constraint_ros.physics.target_motion import BLEND_INTERVALS, STAMPED_WINDOW
-from mouse_constraint_ros.physics.target_motion import TargetStream
+from mouse_constraint_ros.physics.target_stream import BLEND_INTERVALS, STAMPED_WINDOW
+from mouse_constraint_ros.physics.target_stream import TargetStream
 from test_support.mouse_feel import shipped_parameters
 from test_support.stream_timing import circle, replay, SPEED
 
@@ -57,19 +58,43 @@ def test_a_stamped_circle_is_not_flattened():
     assert min(errors[id(arrival)]) >= 5.0 * max(errors[id(stamped)])
 
 
-def test_a_stamped_point_is_extrapolated_from_its_stamp_until_two_intervals_after_arrival():
-    """A line at 1 m/s stamped 30 ms before arrival: the target is where the line is now."""
+def test_a_late_stream_is_presented_at_its_latency_and_extrapolated_one_gap_at_most():
+    """
+    A line at 1 m/s, points 50 ms apart, each arriving 30 ms after its stamp.
+
+    The stream is presented 30 ms late (its latency): the target is where the line was 30 ms
+    ago, up to one interval past the latest point (50 ms, the latencies all alike); then it
+    eases back to the latest point over as long, and rests there.
+    """
     stream = TargetStream()
     for k in range(10):
         t = 0.05 * k
         stream.add((t, 0.0, 0.0), t, 2.0, t + 0.03)
+    assert stream.delay == exactly(0.03) and stream.horizon == exactly(0.05)
     arrived = 0.45 + 0.03
-    position, velocity = stream.predict(arrived + 0.05)
-    assert position == (exactly(0.45 + 0.08), 0.0, 0.0)
+    position, velocity = stream.predict(arrived + 0.02)
+    assert position == (exactly(0.45 + 0.02), 0.0, 0.0)
     assert velocity[0] == exactly(1.0)
-    # Two mean intervals after the arrival the stream has stopped: the last point, at rest.
-    assert stream.predict(arrived + 0.1 + 1e-6) == ((0.45, 0.0, 0.0), (0.0, 0.0, 0.0))
-    assert stream.predict(arrived + 0.1 - 1e-6)[1][0] == exactly(1.0)
+    # The horizon: 50 ms past the latest point at most, however late the next one is.
+    cap = 0.45 + 0.03 + 0.05
+    assert stream.predict(cap)[0][0] == exactly(0.5)
+    position, velocity = stream.predict(cap + 0.025)
+    assert 0.45 < position[0] < 0.5 and velocity[0] < 0.0
+    # Eased back at 1.5 times the speed it had, at most; then at rest on the latest point.
+    assert min(stream.predict(cap + 0.05 * f)[1][0] for f in np.linspace(0.0, 1.0, 51)) == \
+        pytest.approx(-1.5, abs=1e-9)
+    assert stream.predict(cap + 0.05 + 1e-6) == ((0.45, 0.0, 0.0), (0.0, 0.0, 0.0))
+
+
+def test_a_jittering_still_pointer_is_not_extrapolated():
+    """Still points jittering by 2 mm: the fit takes degree 0 (the data bear no curve)."""
+    random = np.random.default_rng(4)
+    stream = TargetStream()
+    for k in range(40):
+        t = k / 60.0
+        stream.add((*random.uniform(-0.002, 0.002, 2), 1.0), t, 2.0, t + 0.1)
+    assert stream.velocity == (0.0, 0.0, 0.0)
+    assert stream.predict(40 / 60.0 + 0.1)[0] == stream._latest[1]
 
 
 def test_a_new_stamped_fit_is_blended_in_without_a_jump():
@@ -94,16 +119,27 @@ def test_a_new_stamped_fit_is_blended_in_without_a_jump():
     assert np.allclose(settled[0], fresh.predict(done + 1e-6)[0], atol=1e-12)
 
 
-def test_a_change_between_stamps_and_arrival_times_starts_a_new_stream():
-    """Times on two clocks are not one stream: the velocity starts from zero again."""
+def test_stamps_after_arrival_times_or_a_jump_in_latency_start_a_new_stream():
+    """
+    Times on two clocks are not one fit: the velocity starts from zero again.
+
+    An unstamped point in a stamped stream is put on the stamps' base instead (its arrival less
+    the stream's median latency): the stream goes on.
+    """
     stream = TargetStream()
     for k in range(5):
-        stream.add((0.02 * k, 0.0, 0.0), 0.02 * k, 2.0, 0.02 * k + 0.01)
+        stream.add((0.02 * k, 0.0, 0.0), 0.02 * k, 2.0)
     assert stream.velocity[0] == exactly(1.0)
-    assert not stream.add((0.1, 0.0, 0.0), 0.11, 2.0)
+    assert not stream.add((0.1, 0.0, 0.0), 0.1, 2.0, 0.11)
     assert stream.velocity == (0.0, 0.0, 0.0)
-    assert stream.add((0.12, 0.0, 0.0), 0.13, 2.0)
-    assert not stream.add((0.14, 0.0, 0.0), 0.14, 2.0, 0.15)
+    for k in range(6, 10):
+        assert stream.add((0.02 * k, 0.0, 0.0), 0.02 * k, 2.0, 0.02 * k + 0.01)
+    # Unstamped, arriving 10 ms after its event like the others: on the same base.
+    assert stream.add((0.2, 0.0, 0.0), 0.21, 2.0)
+    assert stream.velocity[0] == exactly(1.0)
+    # A latency 100 ms longer than the stream's: another path.
+    assert not stream.add((0.22, 0.0, 0.0), 0.22, 2.0, 0.33)
+    assert stream.velocity == (0.0, 0.0, 0.0) and stream.delay == exactly(0.11)
 
 
 def test_stamps_through_the_nodes_timing_path_follow_a_20_hz_circle():
@@ -164,7 +200,11 @@ def test_the_node_times_targets_by_their_stamps(simulated_body_factory):
 
 @pytest.mark.parametrize('degree', [1, 2, 3, 4])
 def test_stamped_motion_of_degree_up_to_four_is_extrapolated_exactly(degree):
-    """Points on a polynomial of degree <= 4 in time: position and velocity ahead, exact."""
+    """
+    Points on a polynomial of degree <= 4 in time: position and velocity ahead, exact.
+
+    Each arrives 10 ms after its stamp: the motion is presented 10 ms late.
+    """
     def motion(t: float):
         return (0.3 * t ** degree + 0.1 * t, -0.2 * t ** degree, 1.0)
 
@@ -175,7 +215,34 @@ def test_stamped_motion_of_degree_up_to_four_is_extrapolated_exactly(degree):
     for k in range(12):
         t = 0.5 + 0.03 * k
         stream.add(motion(t), t, math.inf, t + 0.01)
-    later = 0.5 + 0.03 * 11 + 0.04
-    position, velocity = stream.predict(later)
+    later = 0.5 + 0.03 * 11 + 0.025  # within the horizon: one interval past the latest
+    position, velocity = stream.predict(later + 0.01)
     assert position == pytest.approx(motion(later), abs=1e-9)
     assert velocity == pytest.approx(rate(later), abs=1e-7)
+
+
+def test_a_stamped_stream_that_goes_on_unstamped_past_its_window_holds():
+    """Stamped points, then 0.6 s of unstamped ones only: the fit anchors on what it has."""
+    stream = TargetStream()
+    for k in range(10):
+        stream.add((0.02 * k, 0.0, 0.0), 0.02 * k, 2.0, 0.02 * k + 0.01)
+    for k in range(10, 40):
+        assert stream.add((0.02 * k, 0.0, 0.0), 0.02 * k + 0.01, 2.0)
+    assert stream.velocity[0] == pytest.approx(1.0, abs=1e-6)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.tuples(
+    st.floats(-1.0, 1.0), st.floats(0.0, 0.3), st.one_of(st.none(), st.floats(-0.01, 0.3)),
+    st.booleans()), min_size=1, max_size=60))
+def test_any_sequence_of_points_gives_a_finite_target(steps):
+    """Stamped, unstamped, untimed and out-of-order points in any mix: never a failure."""
+    stream, time = TargetStream(), 0.0
+    for x, gap, latency, timed in steps:
+        time += gap
+        arrival = None if latency is None else time + latency
+        stream.add((x, 0.0, 1.0), time if timed else None, 2.0, arrival if timed else None)
+        if stream.has_points():
+            for later in (0.0, 0.01, 0.1, 1.0):
+                position, velocity = stream.predict(time + later)
+                assert all(math.isfinite(c) for c in (*position, *velocity))

@@ -16,9 +16,10 @@
 
 import pytest
 
-from mouse_constraint_ros.inputs.target_stamps import REASONS, stamp_refusal, TargetStamps
-from mouse_constraint_ros.physics.target_motion import STREAM_GAP
-from mouse_constraint_ros.timing.tick_grid import core_time, CoreClock
+from mouse_constraint_ros.inputs.target_stamps import (core_time, CoreClock, REASONS,
+                                                       stamp_refusal, TargetStamps,
+                                                       TargetTiming)
+from mouse_constraint_ros.physics.target_stream import STREAM_GAP
 
 NOW = 1_796_000_000_123_456_789  # a system clock reading (ns)
 TICK = 1_000_000  # 1 kHz
@@ -98,20 +99,50 @@ def test_core_time_is_the_latest_ticks_core_time_plus_the_distance_from_its_stam
     assert core_time(NOW, tick_stamp_ns=NOW, tick_core_time=12.0) == 12.0
 
 
-def test_the_core_clock_says_when_the_offset_moved():
-    """Ticks on time keep the offset; 50 ms of dropped ticks move it, once."""
+def test_the_core_clock_says_how_far_the_offset_moved():
+    """Ticks on time keep the offset; 50 ms of dropped ticks move it, once, by 50 ms."""
     clock = CoreClock()
     tick_ns = 1_000_000
     for n in range(1, 5):
         tick_stamp = NOW + n * tick_ns
-        time, moved = clock.time_of(tick_stamp - 2 * tick_ns, tick_stamp_ns=tick_stamp,
+        time, shift = clock.time_of(tick_stamp - 2 * tick_ns, tick_stamp_ns=tick_stamp,
                                     tick_core_time=n * 1e-3, tick_s=1e-3)
-        assert not moved
+        assert shift == 0.0
         assert time == pytest.approx((n - 2) * 1e-3, abs=1e-12)
-    # 50 ticks dropped: the clock ran 51 ms, the core 1 ms.
-    time, moved = clock.time_of(NOW + 54 * tick_ns, tick_stamp_ns=NOW + 55 * tick_ns,
+    # 50 ticks dropped: the clock ran 51 ms, the core 1 ms; the times mapped so far are 50 ms
+    # earlier on the new offset.
+    time, shift = clock.time_of(NOW + 54 * tick_ns, tick_stamp_ns=NOW + 55 * tick_ns,
                                 tick_core_time=5e-3, tick_s=1e-3)
-    assert moved
+    assert shift == pytest.approx(-0.05, abs=1e-12)
     assert time == pytest.approx(4e-3, abs=1e-12)
-    assert not clock.time_of(NOW + 55 * tick_ns, tick_stamp_ns=NOW + 56 * tick_ns,
-                             tick_core_time=6e-3, tick_s=1e-3)[1]
+    assert clock.time_of(NOW + 55 * tick_ns, tick_stamp_ns=NOW + 56 * tick_ns,
+                         tick_core_time=6e-3, tick_s=1e-3)[1] == 0.0
+
+
+def test_after_dropped_ticks_the_stream_goes_on_on_the_new_offset():
+    """
+    A 1 m/s line with 30 ms of ticks dropped: the stream keeps its velocity, shifted.
+
+    Timed through ``TargetTiming``, as the node times it: the stream's times move by the
+    offset's change, so the velocity after the drop is still the line's, where a new stream
+    would have started at rest.
+    """
+    from mouse_constraint_ros.physics import BodyState, MouseSimulation, RigidBody, Settings
+    from mouse_constraint_ros.physics.target_motion import TargetMotion
+    simulation = MouseSimulation(Settings(
+        RigidBody.solid_box(2.0, (0.4, 0.2, 0.1)), gravity=(0.0, 0.0, 0.0),
+        target_motion=TargetMotion(feed_forward=True)), BodyState())
+    timing = TargetTiming(STREAM_GAP)
+    tick_s, tick_ns = 1e-3, 1_000_000
+    tick_stamp = NOW
+    for n in range(1, 200):
+        now = NOW + n * tick_ns
+        dropped = 100 <= n < 130
+        if n % 10 == 0:
+            timing.take(simulation, (1e-9 * (now - NOW), 0.0, 0.0), stamp_ns=now, now_ns=now,
+                        tick_stamp_ns=tick_stamp, tick_s=tick_s, ticked=True)
+            if n > 20:
+                assert simulation.target_velocity == pytest.approx((1.0, 0.0, 0.0), abs=1e-9)
+        if not dropped:
+            simulation.step(tick_s)
+            tick_stamp = now

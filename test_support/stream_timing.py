@@ -36,10 +36,9 @@ from typing import Callable, NamedTuple, Sequence, Tuple
 
 import numpy as np
 
-from mouse_constraint_ros.inputs.target_stamps import TargetStamps
+from mouse_constraint_ros.inputs.target_stamps import TargetTiming
 from mouse_constraint_ros.physics import MouseSimulation
-from mouse_constraint_ros.physics.target_motion import STREAM_GAP
-from mouse_constraint_ros.timing.tick_grid import CoreClock
+from mouse_constraint_ros.physics.target_stream import STREAM_GAP
 from test_support.mouse_feel import configured
 
 SPEED = 1.0
@@ -118,9 +117,8 @@ def replay(rate_hz: float, stamped: bool, seconds: float, seed: int = 1, *,
     Return the metrics of the same drag fed to the core as the node feeds it, without ROS.
 
     Each target arrives when it is sent and is taken before the first tick due at or after
-    that; its stamp goes through the node's policy (``TargetStamps``) and clock-to-core mapping
-    (``CoreClock``) with the latest tick's stamp, as in ``mouse_constraint``. Ticks run on
-    time: this is the floor that scheduling and transport add to.
+    that, timed as the node times it (``TargetTiming``) with the latest tick's stamp. Ticks run
+    on time: this is the floor that scheduling and transport add to.
 
     :param stamp_noise: each stamp is off its event by up to this much (s, uniform), as a
         coarse clock would stamp it.
@@ -136,7 +134,7 @@ def replay(rate_hz: float, stamped: bool, seconds: float, seed: int = 1, *,
     random = np.random.default_rng(seed + 1000)
     tick = 1.0 / config.rate_hz
     tick_ns = round(tick * 1e9)
-    stamps, clock = TargetStamps(STREAM_GAP), CoreClock()
+    timing = TargetTiming(STREAM_GAP)
     origin_ns = 1_000_000_000_000
     last_tick_ns = origin_ns
     pending = list(zip(plan.events, plan.sends))
@@ -151,15 +149,8 @@ def replay(rate_hz: float, stamped: bool, seconds: float, seed: int = 1, *,
             point = path(event)
             if pixel:
                 point[:2] = np.round(point[:2] / pixel) * pixel
-            arrival = simulation.time
-            if n and stamps.refusal(stamp, now_ns=now_ns, tick_s=tick) is None:
-                time, moved = clock.time_of(stamp, tick_stamp_ns=last_tick_ns,
-                                            tick_core_time=arrival, tick_s=tick)
-                if moved:
-                    simulation.target = tuple(point)
-                simulation.set_target(tuple(point), time=time, stamped=True)
-            else:
-                simulation.set_target(tuple(point), time=arrival)
+            timing.take(simulation, tuple(point), stamp_ns=stamp, now_ns=now_ns,
+                        tick_stamp_ns=last_tick_ns, tick_s=tick, ticked=n > 0)
         if any(start <= n * tick < start + length for start, length in drops):
             n += 1  # dropped: no step, no state
             continue

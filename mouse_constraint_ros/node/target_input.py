@@ -15,13 +15,12 @@
 """
 The node's target and grab input: what it takes, how a stamp times it, when it times out.
 
-A target is taken when ``TargetGate`` takes it (frame, finite, workspace). Its header stamp
-times it when ``TargetStamps`` finds the stamp usable and the node has ticked: ``CoreClock``
-maps the stamp onto the core's time through the latest tick (``TickRecord``), and when that
-mapping moved (ticks dropped, a pause) the point starts a new stream. Any other target is timed
-by its arrival, the simulation's time. A grab takes the same gate, then ``grab`` says where on
-the box it lands; the node's own ``anchor`` parameter is set to that point (``set_anchor``,
-validated as any parameter change) and the point becomes the target, untimed.
+A target is taken when ``TargetGate`` takes it (frame, finite, workspace). ``TargetTiming``
+times it by its header stamp where that is usable and the node has ticked (mapped onto the
+core's time through the latest tick of the ``TickRecord``), else by its arrival. A grab takes
+the same gate, then ``grab`` says where on the box it lands; the node's own ``anchor``
+parameter is set to that point (``set_anchor``, validated as any parameter change) and the
+point becomes the target, untimed.
 
 A user target older than ``target_timeout`` is let go at the first tick after (``expire``).
 Every refusal goes to the node's ``RefusalLog``: a throttled warning, counted.
@@ -36,12 +35,11 @@ from .tick_record import TickRecord
 from ..inputs.grab import grab
 from ..inputs.input_timeouts import input_age, target_release_text, timed_out
 from ..inputs.target_gate import apart, Refusal, TargetGate
-from ..inputs.target_stamps import TargetStamps
+from ..inputs.target_stamps import TargetTiming
 from ..inputs.throttle import RefusalLog
 from ..physics import MouseSimulation
 from ..physics.algebra import Vector3
-from ..physics.target_motion import STREAM_GAP
-from ..timing.tick_grid import CoreClock
+from ..physics.target_stream import STREAM_GAP
 from ..wire.messages import point_from_message, stamp_nanoseconds
 
 
@@ -68,7 +66,7 @@ class TargetInput:
         self._set_anchor = set_anchor
         self._refuse = refuse
         self._log = log
-        self._stamps, self._core_clock = TargetStamps(STREAM_GAP), CoreClock()
+        self._timing = TargetTiming(STREAM_GAP)
         # Whether the target is one a user gave (not the held initial anchor), and when (ns).
         self.user_target = False
         self.last_target_ns = 0
@@ -125,19 +123,11 @@ class TargetInput:
         if refusal is not None:
             self._refuse(refusal, f'ignoring target {refusal.reason}')
             return
-        simulation, record = self._simulation, self._record
-        now, arrival = self._now_ns(), simulation.time
-        stamp = stamp_nanoseconds(message.header.stamp)
-        if record.ticks_run and self._stamps.refusal(stamp, now_ns=now,
-                                                     tick_s=record.dt) is None:
-            stamped, moved = self._core_clock.time_of(
-                stamp, tick_stamp_ns=record.stamp_ns, tick_core_time=arrival, tick_s=record.dt)
-            if moved:
-                # Ticks were dropped (or paused) since the last stamp: a new stream.
-                simulation.target = point
-            simulation.set_target(point, time=stamped, stamped=True)
-        else:
-            simulation.set_target(point, time=arrival)
+        record, now = self._record, self._now_ns()
+        self._timing.take(self._simulation, point,
+                          stamp_ns=stamp_nanoseconds(message.header.stamp), now_ns=now,
+                          tick_stamp_ns=record.stamp_ns, tick_s=record.dt,
+                          ticked=record.ticks_run > 0)
         self.user_target = True
         self.last_target_ns = now
 

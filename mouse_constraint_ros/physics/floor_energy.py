@@ -70,8 +70,59 @@ def bounce(rows: List[list], before: Tuple[Vector3, Vector3], after: Tuple[float
         return after
     # Every contact takes part: a bouncing corner's push turns the box, and its other corners
     # in contact hold their own goal (u_n >= -s / h, or >= 0) against it.
-    goals = [row[22] if row[22] is not None and row[19] > 0.0 else row[18] for row in rows]
+    bouncing = [row[22] is not None and row[19] > 0.0 for row in rows]
+    goals = [row[22] if bounces else row[18] for row, bounces in zip(rows, bouncing)]
     start = [row[19] for row in rows]
+    vx, vy, vz, wx, wy, wz = _normal_pass(rows, goals, after, inverse_mass, iterations)
+    bounced = [row[19] for row in rows]
+    mass = 1.0 / im
+    i00, i01, i02, i11, i12, i22 = congruence(rotation, inertia)
+    world_inertia = (i00, i01, i02, i11, i12, i22)
+    kick = tuple(2.0 * h * c for c in gravity)
+    gx, gy, gz = kick
+
+    def energy(*velocities):
+        return twice_energy(velocities, mass, world_inertia, kick)
+
+    cap = max(energy(*before[0], *before[1]), energy(*after))
+    if energy(vx, vy, vz, wx, wy, wz) <= cap:
+        return vx, vy, vz, wx, wy, wz
+    # Pulled back toward the bouncing corners stopped on the floor (u_n = 0): the bounce is
+    # scaled down as a whole, a lower restitution, and stays as symmetric as the impact was.
+    # (The solve's own result would do too, but its speculative rows turn the box to land its
+    # corners together, and a share of that turn, kept, grows bounce after bounce.)
+    for row, impulse in zip(rows, start):
+        row[19] = impulse
+    stopped = [0.0 if bounces else goal for goal, bounces in zip(goals, bouncing)]
+    ax, ay, az, bx, by, bz = _normal_pass(rows, stopped, after, inverse_mass, iterations)
+    base = [row[19] for row in rows]
+    dvx, dvy, dvz, dwx, dwy, dwz = vx - ax, vy - ay, vz - az, wx - bx, wy - by, wz - bz
+    quadratic = (mass * (dvx * dvx + dvy * dvy + dvz * dvz)
+                 + dwx * (i00 * dwx + i01 * dwy + i02 * dwz)
+                 + dwy * (i01 * dwx + i11 * dwy + i12 * dwz)
+                 + dwz * (i02 * dwx + i12 * dwy + i22 * dwz))
+    linear = (mass * (dvx * (2.0 * ax - gx) + dvy * (2.0 * ay - gy) + dvz * (2.0 * az - gz))
+              + 2.0 * (dwx * (i00 * bx + i01 * by + i02 * bz)
+                       + dwy * (i01 * bx + i11 * by + i12 * bz)
+                       + dwz * (i02 * bx + i12 * by + i22 * bz)))
+    constant = energy(ax, ay, az, bx, by, bz) - cap
+    if quadratic > 0.0 and constant <= 0.0:
+        alpha = (-linear + math.sqrt(max(0.0, linear * linear - 4.0 * quadratic * constant))) \
+            / (2.0 * quadratic)
+        alpha = min(max(alpha, 0.0), 1.0)
+    else:
+        alpha = 0.0
+    for row, low, high in zip(rows, base, bounced):
+        row[19] = low + alpha * (high - low)
+    return (ax + alpha * dvx, ay + alpha * dvy, az + alpha * dvz,
+            bx + alpha * dwx, by + alpha * dwy, bz + alpha * dwz)
+
+
+def _normal_pass(rows: List[list], goals: List[float], velocities: Tuple[float, ...],
+                 inverse_mass: float, iterations: int) -> Tuple[float, ...]:
+    """Return the velocities after normal rows alone drive each contact to its goal."""
+    vx, vy, vz, wx, wy, wz = velocities
+    im = inverse_mass
     for _ in range(iterations):
         largest = 0.0
         for row, goal in zip(rows, goals):
@@ -94,37 +145,4 @@ def bounce(rows: List[list], before: Tuple[Vector3, Vector3], after: Tuple[float
                     largest = change
         if largest <= CONVERGED_SPEED:
             break
-    # The change, and the largest share alpha of it that keeps the energy at most the cap.
-    ax, ay, az, bx, by, bz = after
-    dvx, dvy, dvz, dwx, dwy, dwz = vx - ax, vy - ay, vz - az, wx - bx, wy - by, wz - bz
-    mass = 1.0 / im
-    i00, i01, i02, i11, i12, i22 = congruence(rotation, inertia)
-    world_inertia = (i00, i01, i02, i11, i12, i22)
-    kick = tuple(2.0 * h * c for c in gravity)
-    gx, gy, gz = kick
-
-    def energy(*velocities):
-        return twice_energy(velocities, mass, world_inertia, kick)
-
-    cap = max(energy(*before[0], *before[1]), energy(*after))
-    if energy(vx, vy, vz, wx, wy, wz) <= cap:
-        return vx, vy, vz, wx, wy, wz
-    quadratic = (mass * (dvx * dvx + dvy * dvy + dvz * dvz)
-                 + dwx * (i00 * dwx + i01 * dwy + i02 * dwz)
-                 + dwy * (i01 * dwx + i11 * dwy + i12 * dwz)
-                 + dwz * (i02 * dwx + i12 * dwy + i22 * dwz))
-    linear = (mass * (dvx * (2.0 * ax - gx) + dvy * (2.0 * ay - gy) + dvz * (2.0 * az - gz))
-              + 2.0 * (dwx * (i00 * bx + i01 * by + i02 * bz)
-                       + dwy * (i01 * bx + i11 * by + i12 * bz)
-                       + dwz * (i02 * bx + i12 * by + i22 * bz)))
-    constant = energy(*after) - cap
-    if quadratic > 0.0:
-        alpha = (-linear + math.sqrt(max(0.0, linear * linear - 4.0 * quadratic * constant))) \
-            / (2.0 * quadratic)
-        alpha = min(max(alpha, 0.0), 1.0)
-    else:
-        alpha = 0.0
-    for row, impulse in zip(rows, start):
-        row[19] = impulse + alpha * (row[19] - impulse)
-    return (ax + alpha * dvx, ay + alpha * dvy, az + alpha * dvz,
-            bx + alpha * dwx, by + alpha * dwy, bz + alpha * dwz)
+    return vx, vy, vz, wx, wy, wz

@@ -20,6 +20,16 @@ gyroscopic term (``gyroscopic``), the angular friction while a target is held an
 constraint's impulse P = -K^-1 (a J V + b C), |P| <= h F_max (``mouse_joint``, seed eqs.
 1.1-1.10). ``coefficients`` computes once per settings and substep everything of that which does
 not change from one substep to the next. ``simulation.MouseSimulation`` calls both.
+
+The force bound F_max (``force_bound``: ``max_force``, ``max_force_per_weight`` body weights)
+lets a rigid joint keep the anchor on the guide through a click's fastest turns: a free body
+always follows. An anchor held back from the guide does not (a corner pressed into the floor,
+a wall, a body too heavy for the bound), and the full bound then acts through whatever holds
+it back as through a lever: a box's top corner pressed down and sideways into the floor tips
+the box about its edge at 30 rad/s, flung. So the bound falls with the anchor's error C, from
+F_max up to HELD_BACK_START to the follow force m (|g| + max_target_acceleration) from
+HELD_BACK_FULL on: what moves the body along the guide's fastest motion, still enough to press
+it down, slide it along the floor and lift it.
 """
 
 import math
@@ -29,7 +39,7 @@ from .algebra import cholesky, multiply_symmetric, multiply_transposed, solve_ch
 from .body import RigidBody
 from .gyroscopic import free_rotation, gyroscopic_step, gyroscopic_step_diagonal
 from .mouse_joint import effective_mass
-from .settings import force_bound, friction_torque_bound, Settings
+from .settings import follow_force, force_bound, friction_torque_bound, Settings
 from .state import BodyState
 
 # The most a substep's position correction may turn the body (rad). The impulse is solved for
@@ -43,6 +53,13 @@ MAX_CORRECTION_TURN = 0.2
 # mode, since a first-order kick of a spring that settles within a step adds energy. Likewise
 # damping: undone over h / 2 only while its rate times h is below this.
 STIFF_START = 0.5
+# Held back: an anchor farther than HELD_BACK_START (m) from where the joint pulls it is pulled
+# with less than the full force bound, down to the follow force (``settings.follow_force``)
+# from HELD_BACK_FULL on. A rigid joint keeps a free anchor on the guide to micrometres, a soft
+# one within millimetres through a click; a centimetre is a contact, a wall, or a body too
+# heavy for the bound.
+HELD_BACK_START = 0.01
+HELD_BACK_FULL = 0.05
 ZERO: Vector3 = (0.0, 0.0, 0.0)
 
 
@@ -69,8 +86,9 @@ def velocities(px: float, py: float, pz: float, q, v: Vector3, w: Vector3, h: fl
     are written out inline here, in the same operation order, because a Python call and its
     tuples cost as much as the arithmetic they wrap.
     """
-    (gx, gy, gz, linear_decay, angular_decay, a, b, max_impulse, max_turn_impulse, carry,
-     kick, gyroscopic, inertia, joint_body, body_inertia, inverse_inertia) = coefficients
+    (gx, gy, gz, linear_decay, angular_decay, a, b, max_impulse, follow_impulse,
+     max_turn_impulse, carry, kick, gyroscopic, inertia, joint_body, body_inertia,
+     inverse_inertia) = coefficients
     # R(q), as algebra.rotation_matrix.
     x, y, z, qw = q
     xx, yy, zz = x * x, y * y, z * z
@@ -193,6 +211,12 @@ def velocities(px: float, py: float, pz: float, q, v: Vector3, w: Vector3, h: fl
     iy = k01 * sx + k11 * sy + k12 * sz + by
     iz = k02 * sx + k12 * sy + k22 * sz + bz
     norm = math.sqrt(ix * ix + iy * iy + iz * iz)
+    if follow_impulse < max_impulse:
+        # Held back: the bound falls from the full one to the follow force (``held_back``).
+        error = math.sqrt(cx * cx + cy * cy + cz * cz)
+        if error > HELD_BACK_START:
+            share = max(0.0, (HELD_BACK_FULL - error) / (HELD_BACK_FULL - HELD_BACK_START))
+            max_impulse = follow_impulse + (max_impulse - follow_impulse) * share
     if norm > max_impulse:
         scale = max_impulse / norm
         ix *= scale
@@ -237,6 +261,7 @@ def coefficients(settings: Settings, h: float, start: bool = False) -> Tuple[flo
     return (gx * h, gy * h, gz * h, _decay(settings.linear_damping, h, start),
             _decay(settings.angular_damping, h, start), a, b,
             force_bound(settings) * abs(h),
+            math.inf if start else follow_force(settings) * abs(h),
             0.0 if start else friction_torque_bound(settings) * abs(h),
             1.0 - a if constraint.gravity_feed_forward and not start else 0.0,
             h * body.inverse_mass, *_gyroscopic(body),

@@ -132,6 +132,20 @@ def force_bound(settings: Settings) -> float:
     return min(constraint.max_force, constraint.max_force_per_weight * weight_scale(settings))
 
 
+def follow_force(settings: Settings) -> float:
+    """
+    Return the force (N) that moves the body along the guide's fastest motion: m (|g| + a).
+
+    a is ``max_target_acceleration``; without a guide (or an unbounded one) there is none to
+    follow, and the force is unbounded. A held-back anchor is pulled with no more than this
+    (``kernel.velocities``).
+    """
+    acceleration = settings.target_motion.max_acceleration
+    if math.isinf(acceleration) or not settings.target_motion.guided:
+        return math.inf
+    return settings.body.mass * (math.hypot(*settings.gravity) + acceleration)
+
+
 def friction_torque_bound(settings: Settings) -> float:
     """Return the angular friction's torque bound c m |g| sqrt(I_mean / m) (N m)."""
     friction = settings.constraint.angular_friction

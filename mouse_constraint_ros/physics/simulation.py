@@ -43,7 +43,8 @@ from .limits import MAX_STEP, MIN_STEP
 from .settings import (check_lever, force_bound, friction_torque_bound,  # noqa: F401
                        Settings, STANDARD_GRAVITY, weight_scale)
 from .state import BodyState
-from .target_motion import Guide, pull_point, TargetStream
+from .target_motion import Guide, pull_point
+from .target_stream import TargetStream
 from .validation import finite_vector, scalar
 
 __all__ = ['check_lever', 'force_bound', 'friction_torque_bound', 'MAX_STEP', 'MIN_STEP',
@@ -159,6 +160,10 @@ class MouseSimulation:
         self._target = target
         self._stream.add(target, time, self._settings.target_motion.max_speed,
                          self._time if stamped else None)
+
+    def shift_target_times(self, seconds: float) -> None:
+        """Move the times of the targets taken so far by ``seconds`` (the core's clock moved)."""
+        self._stream.shift(seconds)
 
     @property
     def time(self) -> float:

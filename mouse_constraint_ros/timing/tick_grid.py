@@ -28,17 +28,13 @@ The node keeps one grid on its clock (``for_rate``, catching up on at most
 the new clock. The texts of these events and of the drops are here too.
 
 The grid is where the node's clock meets the core's time: the state published with a tick's
-stamp is the core's state after that tick's step, so a time on the node's clock is the core's
-time of the latest tick plus the clock's distance from that tick's stamp (``core_time``; a
-target's usable stamp becomes its time in the core this way). Dropped ticks, a pause or a new
-grid shift the two apart; the latest tick always gives the current offset, and ``CoreClock``
-says when it moved since the last stamp it mapped: the stamps mapped before then are on
-another offset, so a stream of them must start again.
+stamp is the core's state after that tick's step (``inputs.target_stamps.core_time`` maps a
+target's stamp onto the core's time through the latest tick).
 """
 
 from fractions import Fraction
 import math
-from typing import NamedTuple, Optional, Tuple
+from typing import NamedTuple, Optional
 
 NANOSECONDS_PER_SECOND = 1_000_000_000
 # Catch up on at most this much missed time in one timer callback (s); older ticks are dropped.
@@ -144,37 +140,3 @@ def drop_text(rate_hz: float, count: int, total: int, cause: str) -> str:
     """Return the warning of ``count`` dropped ticks (``total`` since start) and why."""
     return (f'cannot keep {rate_hz:g} Hz: dropped {count} ticks ({total} in all): {cause}; '
             'simulated time falls behind')
-
-
-def core_time(stamp_ns: int, *, tick_stamp_ns: int, tick_core_time: float) -> float:
-    """
-    Return the core's time (s) at ``stamp_ns`` on the node's clock.
-
-    :param tick_stamp_ns: the stamp of the latest tick run (ns, node's clock).
-    :param tick_core_time: the core's time after that tick's step (s).
-    """
-    return tick_core_time + (stamp_ns - tick_stamp_ns) * 1e-9
-
-
-class CoreClock:
-    """``core_time`` for a stream of stamps, and whether the offset moved since the last one."""
-
-    def __init__(self) -> None:
-        """Start with no stamp mapped."""
-        # The node's clock minus the core's time at the latest tick (ns), at the last stamp.
-        self.offset_ns: Optional[int] = None
-
-    def time_of(self, stamp_ns: int, *, tick_stamp_ns: int, tick_core_time: float,
-                tick_s: float) -> Tuple[float, bool]:
-        """
-        Return the core's time of ``stamp_ns``, and whether the offset moved by half a tick.
-
-        :param tick_stamp_ns: the stamp of the latest tick run (ns, node's clock).
-        :param tick_core_time: the core's time after that tick's step (s).
-        :param tick_s: the node's tick (s).
-        """
-        offset = tick_stamp_ns - round(tick_core_time * NANOSECONDS_PER_SECOND)
-        moved = self.offset_ns is not None and abs(offset - self.offset_ns) >= 0.5e9 * tick_s
-        self.offset_ns = offset
-        return core_time(stamp_ns, tick_stamp_ns=tick_stamp_ns,
-                         tick_core_time=tick_core_time), moved
