@@ -9,6 +9,7 @@
 #   make lint   flake8 (ament_flake8 settings, see .flake8)
 #   make run    run the node with config/params.yaml
 #   make view   run mouse_view: the body in a browser, dragged with the mouse
+#               (VIEW_ARGS='--port 8090' passes options)
 #   make bench  run the benchmark suite (python -m bench.run_all): bench/results.md, .json
 #   make demo   run the node, grab it, drag a circle, a click jump; record into demo/output/
 #   make demo-figure  the same, and the figure replaces the committed demo/figure.png
@@ -59,10 +60,11 @@ $(STAMP): $(REQS) setup.py setup.cfg
 	  { echo 'error: .venv/bin/mouse_constraint_node or mouse_view was not installed' >&2; exit 1; }
 	@touch $@
 
+# -rs: every skipped test is listed with its reason, so a user sees what was not tested and why.
 test: venv
-	@if [ -x $(CHROMIUM) ]; then $(VPY) -m pytest test/ -q $(PYTEST_ARGS); else \
+	@if [ -x $(CHROMIUM) ]; then $(VPY) -m pytest test/ -q -rs $(PYTEST_ARGS); else \
 	  echo 'browser tier skipped: no $(CHROMIUM) (apt-get install chromium, then make test-browser)'; \
-	  $(VPY) -m pytest test/ -q -m 'not browser' $(PYTEST_ARGS); fi
+	  $(VPY) -m pytest test/ -q -rs -m 'not browser' $(PYTEST_ARGS); fi
 
 test-browser: venv
 	$(VPY) -m pytest test/ -q -m browser $(PYTEST_ARGS)
@@ -81,8 +83,10 @@ lint: venv
 run: venv
 	$(VENV)/bin/mouse_constraint_node --ros-args --params-file config/params.yaml
 
+# VIEW_ARGS: mouse_view's options, e.g. make view VIEW_ARGS='--port 8090'.
+VIEW_ARGS ?=
 view: venv
-	$(VENV)/bin/mouse_view
+	$(VENV)/bin/mouse_view $(VIEW_ARGS)
 
 bench-venv: $(BENCH_STAMP)
 

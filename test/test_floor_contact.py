@@ -227,3 +227,19 @@ def test_an_initial_state_below_the_floor_is_refused_and_reset_returns_above_it(
         sim.step(WORLD.dt)
     sim.reset()
     assert sim.state.position == (0.0, 0.0, 0.3) and sim.contact_count == 0
+
+
+@pytest.mark.parametrize('height', [0.0, -1.25, 3.0])
+def test_a_corner_exactly_the_slop_below_the_floor_is_taken(height):
+    """
+    The lowest corner exactly ``contact_slop`` deep is taken, as the docs say ("more than").
+
+    0.0495 - 0.05 is not -0.0005 in binary: the check allows the subtraction's rounding, and
+    a corner a micrometre deeper is still refused.
+    """
+    floor = dataclasses.replace(WORLD.floor, height=height)
+    slop = floor.slop
+    exact = height + WORLD.half_height - slop
+    floor.check_state((0.0, 0.0, exact), (0.0, 0.0, 0.0, 1.0))
+    with pytest.raises(ValueError, match='below floor_height'):
+        floor.check_state((0.0, 0.0, exact - 1e-6), (0.0, 0.0, 0.0, 1.0))

@@ -31,7 +31,7 @@ ALLOWED = {
     'node': {'node', 'physics', 'timing', 'inputs', 'wire', 'monitoring'},
     'recording': {'recording', 'physics', 'timing', 'wire'},
     'cli': {'cli', 'physics', 'timing', 'inputs', 'wire', 'recording', 'node/parameters.py'},
-    'view': {'view', 'physics', 'timing', 'wire', 'monitoring'},
+    'view': {'view', 'physics', 'timing', 'inputs', 'wire', 'monitoring'},
     'testing': {'testing', 'node', 'physics', 'timing', 'inputs', 'wire', 'monitoring'},
 }
 

@@ -19,17 +19,17 @@ import pytest
 from mouse_constraint_ros.node.service_replies import (pause_reply, release_reply, reset_refusal,
                                                        reset_reply, step_refusal, step_reply)
 
-NOW = 12_345_678_901
+SIMULATED = 12.3456789
 
 
 @pytest.mark.parametrize('pause, paused, reply', [
     (True, True, 'already paused'), (False, False, 'already running'),
-    (True, False, f'paused at {NOW * 1e-9:.9f} s'),
-    (False, True, f'running from {NOW * 1e-9:.9f} s'),
+    (True, False, 'paused at 12.345679 s simulated'),
+    (False, True, 'running from 12.345679 s simulated'),
 ])
-def test_pause_says_what_changed_and_when(pause, paused, reply):
-    assert pause_reply(pause, paused, NOW) == reply
-    assert '12.345678901 s' in reply or reply.startswith('already')
+def test_pause_says_what_changed_and_when_in_simulated_time(pause, paused, reply):
+    """The simulated time, not the node's clock (seconds since 1970 on system time)."""
+    assert pause_reply(pause, paused, SIMULATED) == reply
 
 
 def test_a_step_runs_only_paused_and_with_a_clock():
@@ -38,7 +38,7 @@ def test_a_step_runs_only_paused_and_with_a_clock():
     assert step_refusal(True, '/clock on /sim/clock') == (
         'waiting for /clock on /sim/clock: no time to stamp a step with')
     assert step_refusal(True, None) is None
-    assert step_reply(0.001, NOW) == 'one tick of 0.001 s, stamped 12.345678901 s'
+    assert step_reply(0.001, SIMULATED) == 'one tick of 0.001 s, to 12.345679 s simulated'
 
 
 def test_reset_and_release_say_what_is_left():

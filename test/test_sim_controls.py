@@ -282,16 +282,37 @@ def test_pause_step_and_resume_in_lockstep(simulated_body_factory):
     body.step(10)
     refused = call(step, Trigger.Request())
     assert not refused.success and 'pause it first' in refused.message
-    assert call(pause, SetBool.Request(data=True)).message == 'paused at 0.050000000 s'
+    assert call(pause, SetBool.Request(data=True)).message == 'paused at 0.050000 s simulated'
     state, pose = body.node.simulation.state, body.pose.message
     body.step(100)
     assert body.node.paused and body.time == 0.05
     assert body.node.simulation.state is state and body.pose.message is pose
-    assert call(step, Trigger.Request()).message == 'one tick of 0.005 s, stamped 0.055000000 s'
+    assert call(step, Trigger.Request()).message == 'one tick of 0.005 s, to 0.055000 s simulated'
     assert body.time == pytest.approx(0.055, abs=1e-12) and body.pose.time == body.time
-    assert call(pause, SetBool.Request(data=False)).message == 'running from 0.055000000 s'
+    assert call(pause, SetBool.Request(data=False)).message == 'running from 0.055000 s simulated'
     body.step(10)
     assert body.time == pytest.approx(0.105, abs=1e-12) and body.node.ticks_run == 21
+
+
+def test_a_reset_while_paused_publishes_the_state_it_leaves(simulated_body_factory):
+    """Paused with the body fallen: ~/reset publishes the initial pose at once, no tick run."""
+    body = simulated_body_factory(rate_hz=200.0, hold_initial_anchor=False)
+    caller = body.add_node(Node('caller', context=body.context))
+    pause = caller.create_client(SetBool, '/mouse_constraint/pause')
+    poses = []
+    caller.create_subscription(PoseStamped, 'pose', poses.append, 10)
+    body.step(40)
+    future = pause.call_async(SetBool.Request(data=True))
+    body.drain()
+    assert future.result().success
+    fallen, count, ticks = body.pose, len(poses), body.node.ticks_run
+    assert fallen.position[2] < 0.99
+    body.reset()
+    assert len(poses) == count + 1 and body.node.ticks_run == ticks
+    reset = poses[-1]
+    assert (reset.pose.position.x, reset.pose.position.y, reset.pose.position.z) == (
+        0.0, 0.0, 1.0)
+    assert reset.header.stamp == fallen.message.header.stamp
 
 
 def test_publish_clock_with_use_sim_time_is_refused(ros):

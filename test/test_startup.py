@@ -113,6 +113,14 @@ def test_the_description_names_rate_mode_and_clock():
         f'publishing /clock at real time factor {DEFAULTS["real_time_factor"]:g}')
 
 
+def test_the_description_says_where_the_floor_is():
+    """The shipped configuration turns the floor on: the start line says so, and where."""
+    assert ', no floor' in describe(node_config(DEFAULTS))
+    floored = describe(node_config({**DEFAULTS, 'floor': True, 'floor_height': -0.25,
+                                    'restitution': 0.5}))
+    assert ', floor at z -0.25 m (friction 0.5, restitution 0.5)' in floored
+
+
 @pytest.mark.parametrize('args, name', [
     ([], 'n'),
     (['--ros-args', '-r', '__node:=other'], 'other'),

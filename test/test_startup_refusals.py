@@ -141,3 +141,18 @@ def test_a_rate_whose_timer_cannot_run_is_one_line(tmp_path, line, name):
     result = run_node('--params-file', str(params_file(tmp_path, 'publish_clock: true', line)))
     assert result.returncode == 1
     assert f'{name} must be 0 or at least 0.001' in the_one_line(result)
+
+
+@pytest.mark.parametrize('flag', ['--help', '-h'])
+def test_help_prints_the_usage_and_every_parameter_and_starts_nothing(flag):
+    """``mouse_constraint_node --help``: usage and the parameters, exit 0, no node started."""
+    from mouse_constraint_ros.node.parameters import PARAMETERS
+    result = subprocess.run([NODE, flag], capture_output=True, text=True, timeout=20.0)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.startswith('usage: mouse_constraint_node')
+    for parameter in PARAMETERS:
+        assert f'\n  {parameter.name}: ' in result.stdout, parameter.name
+    assert result.stderr == '' and 'Hz x' not in result.stdout
+    # A --help among the ROS arguments is theirs: the node starts (and here refuses a file).
+    refused = run_node('--params-file', '/no/such/file.yaml', '--help')
+    assert refused.returncode == 1

@@ -18,7 +18,8 @@ The browser tier: a real mouse in Debian's chromium (headless, Playwright) on th
 The node and ``mouse_view`` run in-process (their executor spins on a thread while Playwright
 drives the browser); chromium draws the page with SwiftShader, its first frame in 10-20 s. The
 pointer is aimed at the body through the camera the browser reports (a pinhole with its vertical
-field of view), away from the panel. The test presses on the body and checks the node's
+field of view), away from the panel. The test checks that the loaded page is turned to the body
+at a readable size, presses on the body and checks the node's
 ``anchor`` parameter becomes a point on the body, drags and checks the target is the pointer's
 ray met with the camera-facing plane through the grabbed point and that the anchor follows it,
 then releases and checks the body is free. It saves a screenshot of the drag: to
@@ -27,6 +28,7 @@ temporary folder.
 """
 
 import contextlib
+import itertools
 import os
 from pathlib import Path
 import threading
@@ -41,11 +43,11 @@ from scipy.spatial.transform import Rotation
 pytest.importorskip('viser', reason='mouse_view needs viser: pip install -r requirements/view.txt')
 from mouse_constraint_ros.inputs.grab import box_distance
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
-from mouse_constraint_ros.view.command import (INITIAL_CAMERA, INITIAL_LOOK_AT, page_address,
-                                               serve)
-from mouse_constraint_ros.view.geometry import camera_plane_point, world_point
+from mouse_constraint_ros.view.command import page_address
+from mouse_constraint_ros.view.geometry import camera_plane_point, FRAME_FRACTION, world_point
 from mouse_constraint_ros.view.node import MouseViewNode
 from mouse_constraint_ros.view.scene import ViewScene
+from mouse_constraint_ros.view.server import start
 
 pytestmark = pytest.mark.browser
 
@@ -56,7 +58,8 @@ VIEWPORT = {'width': 1280, 'height': 720}
 BOX = (0.4, 0.2, 0.1)
 # The body at rest where it starts; a slow guide, so that the picture catches it on its way.
 AT_REST = {'gravity': [0.0, 0.0, 0.0], 'hold_initial_anchor': False, 'box_size': list(BOX),
-           'max_target_speed': 0.25}
+           'floor': True,
+           'max_target_speed': 0.1}
 DEFAULT_ANCHOR = (0.2, 0.1, 0.05)
 # The drag, in pixels from the press.
 DRAG = np.array([120.0, -80.0])
@@ -136,7 +139,7 @@ def chromium_page():
 
 def test_a_real_mouse_grabs_drags_and_releases_the_body(ros, chromium_page, tmp_path):
     """Press on the body: it is grabbed there; drag: the anchor follows; release: it is free."""
-    server = serve('127.0.0.1', 0)
+    server = start('127.0.0.1', 0)
     try:
         node = ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
             Parameter(name, value=value) for name, value in AT_REST.items()]))
@@ -147,6 +150,7 @@ def test_a_real_mouse_grabs_drags_and_releases_the_body(ros, chromium_page, tmp_
             page.goto(page_address('127.0.0.1', server.get_port()), timeout=60_000)
             wait_for(lambda: any(_camera_known(c) for c in server.get_clients().values()),
                      60.0, 'the browser reported its camera')
+            _assert_framed(server, view)
             camera, press = _grab(page, node, lambda: _aim(server, view))
             anchor = np.array(node.get_parameter('anchor').value)
             assert box_distance(anchor, BOX) <= node.get_parameter('grab_margin').value
@@ -163,7 +167,7 @@ def test_a_real_mouse_grabs_drags_and_releases_the_body(ros, chromium_page, tmp_
                 "the anchor followed the drag to the pointer's plane point")
             # The picture while the body is on its way back: target, line and trail in sight.
             page.mouse.move(*(end - 1.5 * DRAG), steps=4)
-            time.sleep(0.5)
+            time.sleep(1.0)
             shot = Path(os.environ.get('MOUSE_VIEW_SCREENSHOT', tmp_path / 'view.png'))
             page.screenshot(path=str(shot))
             assert shot.stat().st_size > 10_000
@@ -180,6 +184,21 @@ def _camera_known(client) -> bool:
         return False
 
 
+def _assert_framed(server, view) -> None:
+    """Check the loaded page looks at the body, which spans a quarter of its height or more."""
+    client = next(iter(server.get_clients().values()))
+    wait_for(lambda: view.scene.shown is not None and np.allclose(
+        client.camera.look_at, view.scene.shown.position, atol=0.05), 60.0,
+        'the page turned to the body')
+    camera, pose = PinholeCamera(client.camera), view.latest_pose()
+    corners = [camera.pixel(world_point(pose, np.multiply(signs, BOX) / 2))
+               for signs in itertools.product((-1.0, 1.0), repeat=3)]
+    width, height = np.ptp(corners, axis=0)
+    assert max(width, height) > FRAME_FRACTION * VIEWPORT['height'], (width, height)
+    center = camera.pixel(pose.position)
+    assert np.allclose(center, (VIEWPORT['width'] / 2, VIEWPORT['height'] / 2), atol=40.0)
+
+
 def _facing(pose, local, camera: PinholeCamera) -> float:
     normal = Rotation.from_quat(pose.orientation).apply(np.sign(local) * (np.abs(local) > 0))
     return float(np.dot(normal, camera.forward))
@@ -189,11 +208,11 @@ def _aim(server, view):
     """
     Return the browser's camera and the pixel of the centre of the face that looks at it.
 
-    The camera is put back where it starts first: a press before the page has drawn the body
+    The camera is turned to the body again first: a press before the page has drawn the body
     orbits it.
     """
     client = next(iter(server.get_clients().values()))
-    client.camera.position, client.camera.look_at = INITIAL_CAMERA, INITIAL_LOOK_AT
+    view.scene.frame(client)
     time.sleep(0.5)
     camera = PinholeCamera(client.camera)
     assert abs(camera.width / camera.height - 1280 / 720) < 0.05

@@ -23,8 +23,9 @@ from scipy.spatial.transform import Rotation
 
 from mouse_constraint_ros.inputs.grab import grab
 from mouse_constraint_ros.physics import BodyState
-from mouse_constraint_ros.view.geometry import (camera_plane_point, material_point, Pose,
-                                                ray_box_hit, world_point, wxyz)
+from mouse_constraint_ros.view.geometry import (camera_plane_point, FRAME_FRACTION, framing,
+                                                material_point, Pose, ray_box_hit, world_point,
+                                                wxyz)
 from mouse_constraint_ros.view.gestures import (Action, Camera, Gestures, GRAB, HOLD_MODIFIER,
                                                 RELEASE, TARGET)
 
@@ -122,6 +123,20 @@ def test_wxyz_is_the_same_rotation():
 
 CAMERA = Camera((0.0, -3.0, 1.0), (0.0, 1.0, 0.0))
 AT_REST = Pose((0.0, 0.0, 1.0), (0.0, 0.0, 0.0, 1.0))
+
+
+@pytest.mark.parametrize('box', [BOX, (0.001, 0.001, 0.001), (4.0, 1.0, 0.5)])
+def test_a_framed_box_spans_a_quarter_of_the_view_whatever_its_size(box):
+    """The camera looks at the COM from where the longest edge spans FRAME_FRACTION."""
+    fov, center = math.radians(75.0), np.array([0.3, -0.2, 1.0])
+    view = framing(center, box, fov)
+    assert view.look_at == pytest.approx(center)
+    distance = np.linalg.norm(np.subtract(view.position, center))
+    # An edge of the longest length, facing the camera at the COM, over the view's height.
+    assert max(box) / (2.0 * distance * math.tan(fov / 2)) == pytest.approx(FRAME_FRACTION)
+    assert view.position[2] > center[2]  # from above: the floor and the grid in sight
+    assert view.near == pytest.approx(distance / 100)  # nothing of the box clipped
+    assert distance - np.linalg.norm(box) / 2 > 10 * view.near
 
 
 def test_a_drag_grabs_the_pressed_point_moves_on_the_camera_plane_and_releases():

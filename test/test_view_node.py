@@ -34,12 +34,13 @@ from rclpy.parameter import Parameter
 # mouse_view serves its page with viser (requirements/view.txt; no rosdep key: package.xml).
 pytest.importorskip('viser', reason='mouse_view needs viser: pip install -r requirements/view.txt')
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
-from mouse_constraint_ros.view.command import serve
-from mouse_constraint_ros.view.geometry import world_point
+from mouse_constraint_ros.view.geometry import framing, world_point
 from mouse_constraint_ros.view.gestures import HOLD_MODIFIER
 from mouse_constraint_ros.view.node import MouseViewNode
 from mouse_constraint_ros.view.push_throttle import MAX_PUSH_RATE
-from mouse_constraint_ros.view.scene import FLOOR_THICKNESS, ViewScene
+from mouse_constraint_ros.view.scene import FLOOR_GAP, FLOOR_THICKNESS, ViewScene
+from mouse_constraint_ros.view.server import start
+from test_support import viser_client
 
 AT_REST = {'gravity': [0.0, 0.0, 0.0], 'hold_initial_anchor': False}
 CAMERA = SimpleNamespace(position=np.array([0.0, -3.0, 1.0]), look_at=np.array([0.0, 0.0, 1.0]))
@@ -48,14 +49,14 @@ CAMERA = SimpleNamespace(position=np.array([0.0, -3.0, 1.0]), look_at=np.array([
 @pytest.fixture
 def server():
     """Yield a viser server on a free port, stopped afterwards."""
-    server = serve('127.0.0.1', 0)
+    server = start('127.0.0.1', 0)
     yield server
     server.stop()
 
 
-def _view(ros, server) -> MouseViewNode:
+def _view(ros, server, **options) -> MouseViewNode:
     return ros.add(MouseViewNode(scene_factory=lambda p: ViewScene(server, p),
-                                 context=ros.context))
+                                 context=ros.context, **options))
 
 
 def _node(ros, **parameters) -> MouseConstraintNode:
@@ -103,6 +104,9 @@ def test_press_drag_release_reach_the_node(ros, server):
     assert ros.spin_until(lambda: node.simulation.target is None)
     assert ros.spin_until(
         lambda: view.scene.reply.content == '/mouse_constraint/release: released')
+    _drag(view, 'start', start=world_point(view.latest_pose(), local))
+    assert ros.spin_until(lambda: node.simulation.target is not None)
+    assert view.scene.reply.content == ''  # the next drag: "released" no longer holds
 
 
 def test_a_held_release_keeps_the_target(ros, server):
@@ -159,9 +163,17 @@ def test_the_page_follows_the_nodes_parameters_and_buttons(ros, server):
                                             'no target')
 
 
+def test_it_looks_for_the_node_before_it_says_there_is_none(ros, server):
+    """While discovery may run the page says it is looking; then, still no node, none."""
+    view = _view(ros, server, discovery_seconds=1.0)
+    ros.spin_for(0.6)
+    assert view.scene.status.content == 'looking for **/mouse_constraint** on `/pose`'
+    assert ros.spin_until(lambda: 'no node on /pose' in view.scene.status.content, timeout=2.0)
+
+
 def test_no_node_then_the_node_comes_and_goes(ros, server):
     """Without the node the page says so; it recovers when the node comes and again after."""
-    view = _view(ros, server)
+    view = _view(ros, server, discovery_seconds=0.0)
     ros.spin_for(0.5)
     assert 'no node on /pose' in view.scene.status.content
     view._on_pose(b'not a pose')  # malformed input is passed over
@@ -180,8 +192,7 @@ def test_no_node_then_the_node_comes_and_goes(ros, server):
 
 def test_the_view_follows_a_namespace(ros, server):
     """In /robot the view watches /robot/mouse_constraint and says /robot/pose without it."""
-    view = ros.add(MouseViewNode(scene_factory=lambda p: ViewScene(server, p),
-                                 context=ros.context, namespace='/robot'))
+    view = _view(ros, server, namespace='/robot', discovery_seconds=0.0)
     ros.spin_for(0.5)
     assert view.target_node == '/robot/mouse_constraint'
     assert 'no node on /robot/pose' in view.scene.status.content
@@ -192,9 +203,8 @@ def test_the_view_follows_a_namespace(ros, server):
 
 def test_the_page_stays_live_on_a_clock_that_stands_still(ros, server):
     """With use_sim_time and no /clock the view's timers still run: the page says no node."""
-    view = ros.add(MouseViewNode(scene_factory=lambda p: ViewScene(server, p),
-                                 context=ros.context,
-                                 parameter_overrides=[Parameter('use_sim_time', value=True)]))
+    view = _view(ros, server, discovery_seconds=0.0,
+                 parameter_overrides=[Parameter('use_sim_time', value=True)])
     assert ros.spin_until(lambda: 'no node on /pose' in view.scene.status.content)
 
 
@@ -218,4 +228,40 @@ def test_a_floor_parameter_draws_the_floor_and_unknown_ones_change_nothing(ros, 
     assert not view.scene.floor.visible
     publisher.publish(event('/mouse_constraint', floor, height, unknown))
     assert ros.spin_until(lambda: view.scene.floor.visible)
-    assert view.scene.floor.position[2] == pytest.approx(-0.25 - 0.5 * FLOOR_THICKNESS)
+    top = -0.25 - FLOOR_GAP * max(view.parameters.box_size)
+    assert view.scene.floor.position[2] == pytest.approx(top - 0.5 * FLOOR_THICKNESS)
+    height.value.double_value = 0.0  # the grid's plane: the slab's top is drawn under it
+    publisher.publish(event('/mouse_constraint', height))
+    assert ros.spin_until(lambda: view.parameters.floor_height == 0.0)
+    assert view.scene.floor.position[2] + 0.5 * FLOOR_THICKNESS == pytest.approx(-0.002)
+
+
+@pytest.mark.parametrize('box', [[0.001, 0.001, 0.001], [4.0, 2.0, 1.0]])
+def test_the_spheres_and_lines_are_drawn_to_the_boxs_scale(ros, server, box):
+    """A 1 mm or a 4 m box: the spheres a tenth of its longest edge across, as RViz's."""
+    node = _node(ros, box_size=box)
+    view = _view(ros, server)
+    _ready(ros, view, node)
+    scene = view.scene
+    assert tuple(scene.body.dimensions) == tuple(box)
+    assert scene.anchor.radius == scene.target.radius == pytest.approx(0.05 * max(box))
+    assert scene.line.thickness == pytest.approx(max(box) / 30)
+
+
+def test_a_page_that_loads_is_turned_to_the_body(ros, server):
+    """A page connecting: its camera looks at the body from where the box reads well."""
+    node = _node(ros, initial_position=[0.5, 0.5, 0.3])
+    view = _view(ros, server)
+    _ready(ros, view, node)
+    client = viser_client.RawClient(server.get_port())
+    try:
+        client.send(viser_client.camera((3.0, 3.0, 3.0), (0.0, 0.0, 0.0)))
+        assert viser_client.spin_reading(ros, client, lambda: len(server.get_clients()) == 1)
+        handle = next(iter(server.get_clients().values()))
+        assert viser_client.spin_reading(ros, client, lambda: np.allclose(
+            handle.camera.look_at, view.scene.shown.position, atol=1e-6))
+        expected = framing(view.scene.shown.position, (0.4, 0.2, 0.1), handle.camera.fov)
+        assert tuple(handle.camera.position) == pytest.approx(expected.position, abs=1e-6)
+        assert tuple(server.initial_camera.look_at) == pytest.approx(expected.look_at)
+    finally:
+        client.close()

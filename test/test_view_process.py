@@ -28,29 +28,17 @@ import pytest
 
 # mouse_view serves its page with viser (requirements/view.txt; no rosdep key: package.xml).
 pytest.importorskip('viser', reason='mouse_view needs viser: pip install -r requirements/view.txt')
-from test_support import processes
+from test_support import processes, viser_client
 
 pytestmark = pytest.mark.system
 
-VIEW = processes.BIN / 'mouse_view'
-ADDRESS = re.compile(r'mouse_view: open http://127\.0\.0\.1:(\d+) \(viewing (\S+)\)')
+IPV6_ADDRESS = re.compile(r'mouse_view: open (http://\[::1\]:\d+) ')
 # /proc/net/tcp's hex form of the bound addresses, and its LISTEN state.
 LOOPBACK_HEX, ANY_HEX, LISTEN = '0100007F', '00000000', '0A'
 
 
 def _environment():
     return processes.private_environment()
-
-
-def _wait_for_port(view: processes.ChildProcess, timeout: float = 30.0):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        match = ADDRESS.search(view.log())
-        if match:
-            return int(match.group(1)), match.group(2)
-        assert view.alive(), view.log()
-        time.sleep(0.1)
-    pytest.fail(f'mouse_view printed no address in {timeout:g} s: {view.log()}')
 
 
 def _wait_for_line(view: processes.ChildProcess, text: str, *, count: int,
@@ -74,9 +62,9 @@ def _listening_addresses(port: int):
 
 def test_it_binds_the_loopback_serves_the_viewer_and_ends_with_0():
     """Default host: 127.0.0.1 only; the page's index is served; no warning; SIGINT: exit 0."""
-    with processes.ChildProcess([str(VIEW), '--port', '0'],
+    with processes.ChildProcess([str(viser_client.VIEW), '--port', '0'],
                                 environment=_environment()) as view:
-        port, target = _wait_for_port(view)
+        port, target = viser_client.wait_for_address(view)
         assert target == '/mouse_constraint'
         assert _listening_addresses(port) == {LOOPBACK_HEX}
         with urllib.request.urlopen(f'http://127.0.0.1:{port}/', timeout=10) as response:
@@ -88,10 +76,10 @@ def test_it_binds_the_loopback_serves_the_viewer_and_ends_with_0():
 
 def test_another_host_is_warned_about_in_one_line():
     """--host 0.0.0.0 binds every address and says so once; a namespace is followed."""
-    command = [str(VIEW), '--host', '0.0.0.0', '--port', '0', '--ros-args', '-r',
+    command = [str(viser_client.VIEW), '--host', '0.0.0.0', '--port', '0', '--ros-args', '-r',
                '__ns:=/robot']
     with processes.ChildProcess(command, environment=_environment()) as view:
-        port, target = _wait_for_port(view)
+        port, target = viser_client.wait_for_address(view)
         assert target == '/robot/mouse_constraint'
         assert _listening_addresses(port) == {ANY_HEX}
         warnings = [line for line in view.log().splitlines() if 'serving on 0.0.0.0' in line]
@@ -100,11 +88,41 @@ def test_another_host_is_warned_about_in_one_line():
         assert view.process.wait(timeout=10) == 0
 
 
+def test_a_view_started_beside_a_running_node_finds_it_without_a_word_of_its_absence():
+    """The node first, then the view: 'publishes on /pose', never 'no node' while discovering."""
+    environment = _environment()
+    node = processes.ChildProcess(processes.node_command(), environment=environment)
+    try:
+        _wait_for_line(node, 'Hz x', count=1)
+        with processes.ChildProcess([str(viser_client.VIEW), '--port', '0'],
+                                    environment=environment) as view:
+            viser_client.wait_for_address(view)
+            _wait_for_line(view, '/mouse_constraint publishes on /pose', count=1)
+            assert 'no node' not in view.log()
+            assert view.stop() == 0
+    finally:
+        node.close()
+
+
+def test_every_ipv6_address_prints_an_address_that_opens():
+    """--host ::: the printed address is the IPv6 loopback, and the page opens there."""
+    command = [str(viser_client.VIEW), '--host', '::', '--port', '0']
+    with processes.ChildProcess(command, environment=_environment()) as view:
+        deadline = time.monotonic() + 30.0
+        while not (match := IPV6_ADDRESS.search(view.log())):
+            assert view.alive() and time.monotonic() < deadline, view.log()
+            time.sleep(0.1)
+        with urllib.request.urlopen(match.group(1), timeout=10) as response:
+            assert response.status == 200
+        assert view.stop() == 0
+
+
 def test_the_view_outlives_a_node_that_restarts():
     """The node killed and started again under the view: each time it is lost and found."""
     environment = _environment()
-    with processes.ChildProcess([str(VIEW), '--port', '0'], environment=environment) as view:
-        port, _ = _wait_for_port(view)
+    with processes.ChildProcess([str(viser_client.VIEW), '--port', '0'],
+                                environment=environment) as view:
+        port, _ = viser_client.wait_for_address(view)
         _wait_for_line(view, 'no node on /pose', count=1)
         for restart in range(2):
             node = processes.ChildProcess(processes.node_command(), environment=environment)

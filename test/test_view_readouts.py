@@ -143,3 +143,4 @@ def test_numbers_and_addresses():
     assert warning is not None and '\n' not in warning and '0.0.0.0' in warning
     assert page_address('0.0.0.0', 8080) == 'http://127.0.0.1:8080'
     assert page_address('::1', 8081) == 'http://[::1]:8081'
+    assert page_address('::', 8173) == 'http://[::1]:8173'

@@ -54,6 +54,7 @@ from .target_input import TargetInput
 from .tick import Tick
 from .tick_loop import NodeClockTicks
 from .tick_record import TickRecord
+from .usage import asks_for_help, usage_text
 from .wrench_input import WrenchInput
 from ..inputs.target_gate import Refusal
 from ..inputs.throttle import RefusalLog, Throttle
@@ -392,6 +393,9 @@ class MouseConstraintNode(Node):
 
 def main(args: Optional[List[str]] = None) -> int:
     """Run the node until Ctrl-C, SIGTERM or SIGHUP; exit 0 then, 1 when it cannot start."""
+    if asks_for_help(sys.argv if args is None else args):
+        print(usage_text())
+        return 0
     # rcl logs "Failed to parse global arguments" of its own before it raises; the FATAL line
     # below says it all, and with the reason.
     quiet = rclpy.logging.LoggingSeverity.FATAL

@@ -16,20 +16,30 @@
 What the node's services answer: ``~/pause``, ``~/step``, ``~/reset`` and ``~/release``.
 
 Each reply says what happened, or why nothing did, in one line a user reads in
-``ros2 service call``'s output. ``~/step`` is refused while the physics runs (a step between
-timer ticks would be a tick off the grid) and while a simulated clock has not started (there
-is no time to stamp it with). Times are shown in seconds of the node's time, to the
-nanosecond. Plain Python only.
+``ros2 service call``'s output (and the browser view's panel). ``~/step`` is refused while the
+physics runs (a step between timer ticks would be a tick off the grid) and while a simulated
+clock has not started (there is no time to stamp it with). Times are the simulated time, the
+seconds the body has been stepped since start, to the microsecond: the node's clock may read
+seconds since 1970, which say nothing at a glance. Plain Python only.
 """
 
 from typing import Optional, Sequence
 
 
-def pause_reply(pause: bool, paused: bool, now_ns: int) -> str:
-    """Return the reply to ``~/pause`` with ``pause`` (true: pause) while ``paused`` or not."""
+def simulated(seconds: float) -> str:
+    """Return a simulated time as the replies show it: '12.345678 s simulated'."""
+    return f'{seconds:.6f} s simulated'
+
+
+def pause_reply(pause: bool, paused: bool, simulated_s: float) -> str:
+    """
+    Return the reply to ``~/pause`` with ``pause`` (true: pause) while ``paused`` or not.
+
+    :param simulated_s: the simulated time now (s).
+    """
     if pause == paused:
         return 'already paused' if pause else 'already running'
-    return f'{"paused at" if pause else "running from"} {now_ns * 1e-9:.9f} s'
+    return f'{"paused at" if pause else "running from"} {simulated(simulated_s)}'
 
 
 def step_refusal(paused: bool, waiting_for: Optional[str]) -> Optional[str]:
@@ -47,9 +57,9 @@ def step_refusal(paused: bool, waiting_for: Optional[str]) -> Optional[str]:
     return None
 
 
-def step_reply(dt: float, stamp_ns: int) -> str:
-    """Return the reply to a ``~/step`` that ran one tick of ``dt`` seconds at ``stamp_ns``."""
-    return f'one tick of {dt:g} s, stamped {stamp_ns * 1e-9:.9f} s'
+def step_reply(dt: float, simulated_s: float) -> str:
+    """Return the reply to a ``~/step`` that ran one tick of ``dt`` seconds, to ``simulated_s``."""
+    return f'one tick of {dt:g} s, to {simulated(simulated_s)}'
 
 
 def reset_refusal(configured_anchor: Sequence[float], reason: str) -> str:

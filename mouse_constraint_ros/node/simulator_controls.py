@@ -19,7 +19,8 @@ Pausing holds both drivers of the tick: the node's timer runs no tick while paus
 simulated clock stands still; resuming catches nothing up (a new grid on the node's clock, the
 simulated clock paced from where it stood). ``~/step`` runs one tick while paused. ``~/reset``
 restores the configured anchor (through the node's own ``anchor`` parameter), the initial state
-and the initial hold, and drops the wrench. The replies are ``service_replies``'.
+and the initial hold, and drops the wrench; while paused it publishes the state it leaves at
+once. The replies are ``service_replies``'.
 """
 
 from typing import Callable, Optional
@@ -83,7 +84,7 @@ class SimulatorControls:
         """
         pause = bool(request.data)
         response.success = True
-        response.message = pause_reply(pause, self.paused, self._now_ns())
+        response.message = pause_reply(pause, self.paused, self._simulation.time)
         if pause == self.paused:
             return response
         self.paused = pause
@@ -111,7 +112,7 @@ class SimulatorControls:
             stamp = self._node_clock_ticks.step_stamp()
             self._tick.run(stamp)
         response.success = True
-        response.message = step_reply(self._record.dt, stamp)
+        response.message = step_reply(self._record.dt, self._simulation.time)
         return response
 
     def on_reset(self, _request: Trigger.Request, response: Trigger.Response):
@@ -124,6 +125,10 @@ class SimulatorControls:
         self._simulation.reset()
         self._target.hold_initial_anchor()
         self._wrench.clear()
+        if self.paused:
+            # No tick will publish it until the node runs again: every subscriber shows the
+            # old pose meanwhile. Published at once, stamped with the latest tick.
+            self._tick.publish_state()
         response.success = True
         response.message = reset_reply(self._hold_initial_anchor())
         return response

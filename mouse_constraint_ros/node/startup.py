@@ -194,10 +194,18 @@ def describe(config: NodeConfig) -> str:
             f'{constraint.angular_friction:g}, guide {motion.max_speed:g} m/s '
             f'{motion.max_acceleration:g} m/s^2, gravity {s.gravity}, damping '
             f'{s.linear_damping:g}/{s.angular_damping:g} 1/s, target timeout '
-            f'{c.target_timeout:g} s' + (
+            f'{c.target_timeout:g} s' + _floor(s.floor) + (
                 f', publishing at {c.publish_rate_hz:g} Hz' if c.publish_rate_hz else '') + (
                 f', publishing /clock at real time factor {c.real_time_factor:g}'
                 if c.publish_clock else ''))
+
+
+def _floor(floor) -> str:
+    """Return the floor's part of ``describe``: where it is and how it holds, or none."""
+    if not floor.enabled:
+        return ', no floor'
+    return (f', floor at z {floor.height:g} m (friction {floor.friction:g}, restitution '
+            f'{floor.restitution:g})')
 
 
 def requested_logger_name(args: Sequence[str], node_name: str) -> str:

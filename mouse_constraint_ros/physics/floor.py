@@ -22,6 +22,7 @@ docs/contact.md gives the model and why each choice.
 """
 
 from dataclasses import dataclass
+import sys
 from typing import Optional, Tuple
 
 from .algebra import Quaternion, Vector3
@@ -118,7 +119,11 @@ class Floor:
         if not self.enabled:
             return
         depth = self.depth(position, orientation)
-        if depth > self.slop:
+        # Up to the rounding of the subtraction: a corner placed exactly ``slop`` deep comes
+        # out a few 1e-19 m deeper (0.0495 - 0.05 is not -0.0005 in binary).
+        rounding = 8.0 * sys.float_info.epsilon * (
+            abs(self.height) + abs(position[2]) + 0.5 * sum(self.box_size))
+        if depth > self.slop + rounding:
             raise ValueError(
                 f'{prefix}position {shown(tuple(position))} puts the box {depth:.6g} m below '
                 f'floor_height {self.height!r} m (its lowest corner): start it at or above '

@@ -15,11 +15,14 @@
 """
 The ``mouse_view`` command: the page on http://127.0.0.1:8080, until Ctrl-C.
 
-``mouse_view [--host HOST] [--port PORT]`` serves the web view of ``mouse_constraint`` in its
-namespace (``--ros-args -r __ns:=/robot``) and prints the address to open. It binds the loopback
-address unless ``--host`` names another, which it warns about in one line: whoever reaches that
-address can drag the body and press the node's buttons. A busy port is taken as the next free
-one (the printed address says which); ``--port 0`` asks the system for any.
+``mouse_view [--host HOST] [--port PORT] [--allow-origin URL]`` serves the web view of
+``mouse_constraint`` in its namespace (``--ros-args -r __ns:=/robot``) and prints the address
+to open. It binds the loopback address unless ``--host`` names another, which it warns about in
+one line: whoever reaches that address can drag the body and press the node's buttons. A busy
+port is taken as the next free one (the printed address says which); ``--port 0`` asks the
+system for any. Pages of other origins are refused the websocket unless ``--allow-origin``
+names them (``server``). An address it cannot serve on is one error line and exit 2, as a bad
+argument is.
 """
 
 import argparse
@@ -30,16 +33,23 @@ import rclpy
 from rclpy.experimental import EventsExecutor
 from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
-import viser
 
 from .node import MouseViewNode
 from .scene import ViewScene
-from ..timing.spin import spin_until, StopRequest
+from .server import HIGHEST_PORT, ServeError, start
+from ..timing.spin import Interrupted, spin_until, StopRequest
 
 LOOPBACK = '127.0.0.1'
 DEFAULT_PORT = 8080
-# Where the camera starts (m, world): the shipped body hangs about 1 m up at the origin.
-INITIAL_CAMERA, INITIAL_LOOK_AT = (1.2, -1.6, 1.4), (0.0, 0.0, 0.9)
+# The exit status of a bad argument (argparse's), and of an address the view cannot serve on.
+USAGE_ERROR = 2
+
+
+def _port(text: str) -> int:
+    value = int(text)
+    if not 0 <= value <= HIGHEST_PORT:
+        raise argparse.ArgumentTypeError(f'a port is 0 .. {HIGHEST_PORT}, got {text}')
+    return value
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -52,9 +62,12 @@ def build_parser() -> argparse.ArgumentParser:
                'add --ros-args -r __ns:=/robot to view /robot/mouse_constraint')
     parser.add_argument('--host', default=LOOPBACK,
                         help='address to bind (default: %(default)s, this machine only)')
-    parser.add_argument('--port', type=int, default=DEFAULT_PORT,
+    parser.add_argument('--port', type=_port, default=DEFAULT_PORT,
                         help='port to serve on, the next free one if busy; 0: any '
                              '(default: %(default)s)')
+    parser.add_argument('--allow-origin', action='append', default=[], metavar='URL',
+                        help='also take the websocket from pages of this origin, e.g. '
+                             "http://robot.local:8080 (default: the view's own address only)")
     return parser
 
 
@@ -67,29 +80,14 @@ def host_warning(host: str) -> Optional[str]:
 
 
 def page_address(host: str, port: int) -> str:
-    """Return the address to open for a server bound to ``host``:``port``."""
-    shown = LOOPBACK if host in ('0.0.0.0', '') else host
+    """
+    Return the address to open for a server bound to ``host``:``port``.
+
+    Bound to every address, the view is opened on the loopback of the same family: asyncio
+    binds ``::`` to IPv6 only.
+    """
+    shown = {'0.0.0.0': LOOPBACK, '': LOOPBACK, '::': '::1'}.get(host, host)
     return f'http://[{shown}]:{port}' if ':' in shown else f'http://{shown}:{port}'
-
-
-def refuse_share_url(*_args, **_kwargs) -> None:
-    """Refuse viser's share link: it would open a public tunnel to this view."""
-    return None
-
-
-def serve(host: str, port: int) -> viser.ViserServer:
-    """
-    Start the viser server on ``host``:``port`` serving the viewer only.
-
-    The share button is hidden and a share request from a page is refused, so the view never
-    opens viser's tunnel to the outside.
-    """
-    server = viser.ViserServer(host=host, port=port, label='mouse_constraint', verbose=False)
-    server.request_share_url = refuse_share_url
-    server.gui.configure_theme(show_share_button=False)
-    server.initial_camera.position = INITIAL_CAMERA
-    server.initial_camera.look_at = INITIAL_LOOK_AT
-    return server
 
 
 def main(args: Optional[List[str]] = None) -> int:
@@ -100,7 +98,14 @@ def main(args: Optional[List[str]] = None) -> int:
     server = node = None
     try:
         with StopRequest() as stop:
-            server = serve(options.host, options.port)
+            try:
+                server = start(options.host, options.port, allowed=options.allow_origin,
+                               stop=stop)
+            except ServeError as error:
+                print(f'mouse_view: cannot serve on {error}', file=sys.stderr, flush=True)
+                return USAGE_ERROR
+            except Interrupted:
+                return 0
             node = MouseViewNode(scene_factory=lambda parameters: ViewScene(server, parameters))
             warning = host_warning(options.host)
             if warning is not None:

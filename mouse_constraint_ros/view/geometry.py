@@ -21,7 +21,8 @@ body frame. While dragging, the pointer's ray meets the plane that faces the cam
 grabbed point (``camera_plane_point``): the target stays at the grabbed point's depth, as in the
 Box2D and Bounce testbeds and MuJoCo's perturbation. ``material_point`` carries a point of the
 body from the pose the browser showed to the pose the node has now, so that a grab lands on the
-point the user pressed even when the body moved since it was drawn.
+point the user pressed even when the body moved since it was drawn. ``framing`` places a camera
+that shows the body at a readable size.
 """
 
 import math
@@ -31,6 +32,12 @@ from ..physics.algebra import multiply, multiply_transposed, Quaternion, rotatio
 
 # Below this |cos| between a ray and a plane's normal the ray counts as parallel to the plane.
 PARALLEL = 1e-9
+# A framed body's longest edge spans this fraction of the view's height, seen from this side
+# (from the body towards the camera: front right, a little above).
+FRAME_FRACTION = 0.25
+FRAME_SIDE = (1.2, -1.6, 0.5)
+# The near clipping plane at this fraction of the framing distance.
+NEAR_FRACTION = 0.01
 
 
 class Pose(NamedTuple):
@@ -138,3 +145,29 @@ def world_point(pose: Pose, local: Sequence[float]) -> Vector3:
 def wxyz(orientation: Sequence[float]) -> Quaternion:
     """Return a quaternion (x, y, z, w), REP 103's order, in the web view's order (w, x, y, z)."""
     return (orientation[3], orientation[0], orientation[1], orientation[2])
+
+
+class Framing(NamedTuple):
+    """A camera that frames the body: where it is, where it looks, its near plane (m)."""
+
+    position: Vector3
+    look_at: Vector3
+    near: float
+
+
+def framing(center: Sequence[float], box_size: Sequence[float], fov: float) -> Framing:
+    """
+    Return the camera that shows a box of ``box_size`` at ``center`` at a readable size.
+
+    The camera looks at ``center`` from ``FRAME_SIDE``, as far as makes the longest edge span
+    ``FRAME_FRACTION`` of the view's height, with its near plane in proportion (a 1 mm box and
+    a 4 m box look alike).
+
+    :param center: the body's COM (world, m).
+    :param box_size: the box's edges (m).
+    :param fov: the camera's vertical field of view (rad).
+    """
+    distance = max(box_size) / (FRAME_FRACTION * 2.0 * math.tan(0.5 * fov))
+    norm = math.sqrt(_dot(FRAME_SIDE, FRAME_SIDE))
+    position = _along(center, FRAME_SIDE, distance / norm)
+    return Framing(position, tuple(float(c) for c in center), NEAR_FRACTION * distance)

@@ -17,8 +17,10 @@ The ``mouse_view`` node: serves the page (``scene``) and turns its gestures into
 
 It wires ROS to pure parts and holds no geometry of its own: ``Gestures`` says what a pointer
 event sends, ``PushThrottle`` how often a pose goes to the browser, ``node_readouts`` what the
-node's parameters and /diagnostics say. All names are the ``interface`` module's, relative to the
-view's namespace, so ``--ros-args -r __ns:=/robot`` views ``/robot/mouse_constraint``.
+node's parameters and /diagnostics say. All names are the ``interface`` module's, relative to
+the view's namespace, so ``--ros-args -r __ns:=/robot`` views ``/robot/mouse_constraint``. It
+says there is no node only after looking for it ``DISCOVERY_SECONDS``: discovery takes a second
+or two, in which a running node is not seen yet.
 
 viser calls the pointer and button callbacks on its own threads; they only queue work with the
 time of the event, which a timer runs every ``WORK_PERIOD`` on the executor's thread, so every
@@ -59,6 +61,9 @@ LATEST_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)
 # Periods (s): the queued work and the throttle's flush, the panel's numbers, the look for
 # the node.
 WORK_PERIOD, PANEL_PERIOD, PRESENCE_PERIOD = 0.004, 0.2, 0.5
+# How long after its start the view looks for the node before it says there is none (s): DDS
+# discovery takes a second or two, during which a running node is not seen yet.
+DISCOVERY_SECONDS = 3.0
 # The parameters the page is drawn with.
 PARAMETER_NAMES = list(ViewParameters._fields)
 
@@ -90,11 +95,12 @@ class MouseViewNode(Node):
 
     :param scene_factory: makes the page (``ViewScene``) from the node's parameters as known.
     :param clock: seconds of a monotonic clock (the throttle's time).
+    :param discovery_seconds: how long it looks for the node before it says there is none.
     :param kwargs: passed to ``rclpy.node.Node``.
     """
 
     def __init__(self, *, scene_factory: Callable, clock: Callable[[], float] = time.monotonic,
-                 **kwargs) -> None:
+                 discovery_seconds: float = DISCOVERY_SECONDS, **kwargs) -> None:
         """Create the topics, services, timers and the scene."""
         super().__init__(VIEW_NODE_NAME, **kwargs)
         namespace = self.get_namespace().rstrip('/')
@@ -102,6 +108,7 @@ class MouseViewNode(Node):
         self.parameters, self.readouts = ViewParameters(), Readouts()
         self.gestures, self.throttle = Gestures(), PushThrottle()
         self._monotonic = clock
+        self._discovered_by = clock() + discovery_seconds
         self._work: 'queue.SimpleQueue[Callable[[], None]]' = queue.SimpleQueue()
         self._pose_raw: Optional[bytes] = None
         self._twist_raw: Optional[bytes] = None
@@ -192,6 +199,7 @@ class MouseViewNode(Node):
         now, shown = self.latest_pose(), self.scene.shown
         if now is None or shown is None:
             return
+        self.scene.show_reply('')  # the answer to an earlier release no longer holds
         self.send(self.gestures.start(client, pressed=pressed, camera=camera, shown=shown,
                                       now=now), stamp)
 
@@ -287,6 +295,8 @@ class MouseViewNode(Node):
     def _look_for_node(self) -> None:
         topic = self.pose_subscription.topic_name
         present = self.count_publishers(topic) > 0
+        if not present and self._present is None and self._monotonic() < self._discovered_by:
+            return  # Still discovering: a running node may not be seen yet.
         if present != self._present:
             self.get_logger().info(f'{self.target_node} publishes on {topic}' if present else
                                    f'no node on {topic}: waiting for it')
@@ -316,8 +326,11 @@ class MouseViewNode(Node):
             except Exception:  # A malformed twist shows as n/a.
                 self._twist_raw = None
         topic = self.pose_subscription.topic_name
-        status = (f'**{self.target_node}** on `{topic}`' if self._present else
-                  f'**no node on {topic}**: waiting for it (`make run`)')
+        if self._present is None:
+            status = f'looking for **{self.target_node}** on `{topic}`'
+        else:
+            status = (f'**{self.target_node}** on `{topic}`' if self._present else
+                      f'**no node on {topic}**: waiting for it (`make run`)')
         readouts = self.readouts
         numbers = '  \n'.join((
             f'COM speed: {number_text(speed, "m/s")}',

@@ -17,6 +17,9 @@ The page that ``viser`` draws in the browser: the scene and the panel.
 
 The scene holds the body, its anchor, the target and the line between, a trail of the anchor,
 the grid and axes, and the floor when the node has one; the panel the buttons and the numbers.
+A page that loads is turned to the body (``framing``): the camera looks at it from where its
+longest edge spans a quarter of the view's height; so is every page open when the first pose
+comes.
 
 ``ViewScene`` builds them once on a ``viser.ViserServer`` and then only moves them: each push
 sets a pose or a point, which viser sends to every browser attached. The colours and the
@@ -30,7 +33,7 @@ from typing import Callable, Deque, Optional, Sequence
 import numpy as np
 import viser
 
-from .geometry import Pose, wxyz
+from .geometry import framing, Pose, wxyz
 from .node_readouts import ViewParameters
 from ..monitoring.markers import (ANCHOR_COLOR, BODY_COLOR, LINE_FRACTION, SPHERE_FRACTION,
                                   TARGET_COLOR)
@@ -41,8 +44,9 @@ from ..physics.algebra import Vector3
 TRAIL_EVERY, TRAIL_LENGTH = 3, 20
 TRAIL_COLOR = (1.0, 0.75, 0.4)
 FLOOR_COLOR = (0.55, 0.55, 0.55)
-# The floor drawn: a square slab this wide (m) and thin, its top at floor_height.
-FLOOR_WIDTH, FLOOR_THICKNESS = 6.0, 0.002
+# The floor drawn: a square slab this wide (m) and thin, its top FLOOR_GAP times the box's
+# longest edge below floor_height, so that the grid at z = 0 is drawn over it, not through it.
+FLOOR_WIDTH, FLOOR_THICKNESS, FLOOR_GAP = 6.0, 0.002, 0.005
 GRID_WIDTH, GRID_CELL = 4.0, 0.1
 
 
@@ -70,17 +74,14 @@ class ViewScene:
                                    visible=False)
         self.body = scene.add_box('/body', _rgb(BODY_COLOR), parameters.box_size,
                                   opacity=BODY_COLOR[3])
-        radius = 0.5 * SPHERE_FRACTION * max(parameters.box_size)
         # A child of the body: it moves with the body's pose, at no cost per push.
-        self.anchor = scene.add_icosphere('/body/anchor', radius, _rgb(ANCHOR_COLOR))
-        self.target = scene.add_icosphere('/target', radius, _rgb(TARGET_COLOR), visible=False)
-        self._line_width = LINE_FRACTION * max(parameters.box_size)
+        self.anchor = scene.add_icosphere('/body/anchor', 1.0, _rgb(ANCHOR_COLOR))
+        self.target = scene.add_icosphere('/target', 1.0, _rgb(TARGET_COLOR), visible=False)
         self.line = scene.add_line_segments('/constraint', np.zeros((1, 2, 3)),
-                                            _rgb(TARGET_COLOR), thickness=self._line_width,
-                                            visible=False)
+                                            _rgb(TARGET_COLOR), visible=False)
         self._trail: Deque[Vector3] = deque(maxlen=TRAIL_LENGTH)
         self.trail = scene.add_line_segments('/trail', np.zeros((1, 2, 3)), _rgb(TRAIL_COLOR),
-                                             thickness=0.5 * self._line_width, visible=False)
+                                             visible=False)
         self.status = gui.add_markdown('')
         self.pause = gui.add_button('Pause')
         self.step = gui.add_button('Step')
@@ -95,14 +96,46 @@ class ViewScene:
         self._pushes = 0
         self._anchor: Optional[Vector3] = None
         self._target: Optional[Vector3] = None
+        self._box_size = parameters.box_size
         self.apply_parameters(parameters)
+        server.on_client_connect(self.frame)
 
     def apply_parameters(self, parameters: ViewParameters) -> None:
-        """Draw the box at ``box_size`` and the floor as the node's parameters say."""
+        """
+        Draw the box at ``box_size`` and the floor as the node's parameters say.
+
+        The spheres and lines are the RViz markers' size for the box (``SPHERE_FRACTION``,
+        ``LINE_FRACTION`` of its longest edge).
+        """
+        longest = max(parameters.box_size)
+        self._box_size = parameters.box_size
         self.body.dimensions = parameters.box_size
         self.anchor.position = parameters.anchor
+        self.anchor.radius = self.target.radius = 0.5 * SPHERE_FRACTION * longest
+        self.line.thickness = LINE_FRACTION * longest
+        self.trail.thickness = 0.5 * LINE_FRACTION * longest
         self.floor.visible = parameters.floor
-        self.floor.position = (0.0, 0.0, parameters.floor_height - 0.5 * FLOOR_THICKNESS)
+        self.floor.position = (0.0, 0.0, parameters.floor_height - FLOOR_GAP * longest
+                               - 0.5 * FLOOR_THICKNESS)
+
+    def frame(self, client) -> None:
+        """
+        Turn a page's camera to the body at its latest pose (before the first pose: nothing).
+
+        Also the camera a page starts with and returns to with its "Reset View".
+
+        :param client: the page (a viser client handle).
+        """
+        shown = self.shown
+        if shown is None:
+            return
+        view = framing(shown.position, self._box_size, float(client.camera.fov))
+        with client.atomic():  # the position first: viser moves the look-at point with it
+            client.camera.near = view.near
+            client.camera.position = view.position
+            client.camera.look_at = view.look_at
+        initial = self._server.initial_camera
+        initial.near, initial.position, initial.look_at = view.near, view.position, view.look_at
 
     def show_pose(self, pose: Pose, anchor: Vector3) -> None:
         """
@@ -113,7 +146,11 @@ class ViewScene:
         """
         with self._server.atomic():  # position and orientation land in one frame
             self.body.position, self.body.wxyz = pose.position, wxyz(pose.orientation)
+        first = self.shown is None
         self.shown, self._anchor = pose, anchor
+        if first:
+            for client in self._server.get_clients().values():
+                self.frame(client)
         self._pushes += 1
         if self._pushes % TRAIL_EVERY == 0:
             self._trail.append(anchor)
