@@ -51,6 +51,7 @@ SUITE = [
     ('soak', '10 min simulated at 1 kHz, the core directly'),
     ('flood', 'target floods at the 1 kHz node: 5 000/s plain, unbounded, hostile'),
     ('view_cost', 'mouse_view with one headless browser; the node with and without it'),
+    ('recorder_cost', 'mouse_record per tick: raw reads, rows, CSV and MCAP'),
     # Last: the longest, and nothing else runs while it does.
     ('memory', 'node RSS over minutes at 1 kHz, every path exercised'),
 ]

@@ -36,7 +36,8 @@ from mouse_constraint_ros.wire.cdr.clock import ClockLayout
 from mouse_constraint_ros.wire.cdr.geometry import PoseStampedLayout, TwistStampedLayout
 from mouse_constraint_ros.wire.cdr.odometry import OdometryLayout
 from mouse_constraint_ros.wire.cdr.point_stamped import (decode_point_stamped, fields_of,
-                                                         PointStampedFields, Refusal)
+                                                         PointStampedFields)
+from mouse_constraint_ros.wire.cdr.stamped import decode_stamped, POSE, Refusal, TWIST
 
 NS = 1_000_000_000
 INT32 = 2 ** 31
@@ -352,3 +353,47 @@ def test_decoder_says_why(edit, reason):
 def test_decoder_refuses_what_is_not_bytes(value):
     refusal = decode_point_stamped(value)
     assert isinstance(refusal, Refusal) and 'expected bytes' in refusal.reason
+
+
+def pose_and_twist(frame: str, stamp_ns: int, values) -> tuple:
+    """Return a PoseStamped of ``values[:7]`` and a TwistStamped of ``values[7:]``."""
+    pose, twist = PoseStamped(), TwistStamped()
+    for message in (pose, twist):
+        set_header(message.header, stamp_ns, frame)
+    p, q = pose.pose.position, pose.pose.orientation
+    p.x, p.y, p.z, q.x, q.y, q.z, q.w = values[:7]
+    linear, angular = twist.twist.linear, twist.twist.angular
+    linear.x, linear.y, linear.z, angular.x, angular.y, angular.z = values[7:]
+    return pose, twist
+
+
+def stamped_fields(message) -> tuple:
+    """Return the header and the doubles of an rclpy pose or twist, as decode_stamped does."""
+    header = message.header
+    if isinstance(message, PoseStamped):
+        p, q = message.pose.position, message.pose.orientation
+        values = (p.x, p.y, p.z, q.x, q.y, q.z, q.w)
+    else:
+        linear, angular = message.twist.linear, message.twist.angular
+        values = (linear.x, linear.y, linear.z, angular.x, angular.y, angular.z)
+    return header.frame_id, header.stamp.sec, header.stamp.nanosec, values
+
+
+@settings(max_examples=300, deadline=None)
+@given(frame=frames, stamp_ns=stamps, values=st.lists(doubles, min_size=13, max_size=13),
+       data=st.data())
+def test_the_stamped_decoder_reads_poses_and_twists_as_rclpy_does(frame, stamp_ns, values,
+                                                                  data):
+    """Whole, each reads as deserialize_message reads it; damaged, refused or read the same."""
+    for message, count in zip(pose_and_twist(frame, stamp_ns, values), (POSE, TWIST)):
+        whole = serialize_message(message)
+        decoded = decode_stamped(whole, count)
+        expected = stamped_fields(message)
+        assert decoded[:3] == expected[:3] and same_doubles(decoded.values, expected[3])
+        damaged = mutated(whole, data.draw)
+        decoded = decode_stamped(damaged, count)
+        if isinstance(decoded, Refusal):
+            assert decoded.reason
+            continue
+        expected = stamped_fields(deserialize_message(damaged, type(message)))
+        assert decoded[:3] == expected[:3] and same_doubles(decoded.values, expected[3])

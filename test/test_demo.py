@@ -88,3 +88,28 @@ def test_the_recording_holds_every_target_published_in_order(demo):
     for x, y, z in recorded[1:-1]:
         assert math.hypot(x - centre[0], y - centre[1]) == pytest.approx(RADIUS, abs=1e-12)
         assert z == grab[2]
+
+
+def test_the_recording_knows_the_nodes_tick_grid(demo):
+    """With --anchor the recorder still reads the node's rates: the grid is the node's 1 kHz."""
+    output, run = demo
+    assert run.returncode == 0, run.stdout + run.stderr
+    with open(output / 'recording.csv') as stream:
+        comments = [line for line in stream if line.startswith('#')]
+    assert '# grid: 1000 Hz, every tick published\n' in comments
+    assert 'was not read' not in (output / 'record.log').read_text()
+
+
+def test_the_summary_reads_the_run_phase_by_phase(demo):
+    """demo/summary.py finds the grab, the circle and the jump; the circle is followed closely."""
+    output, run = demo
+    assert run.returncode == 0, run.stdout + run.stderr
+    result = subprocess.run([sys.executable, str(ROOT / 'demo' / 'summary.py'), str(output)],
+                            capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.splitlines()
+    assert [line.split()[0] for line in lines] == ['grab', 'circle', 'after', 'jump', 'whole']
+    circle = re.search(r'median ([\d.e-]+) mm, .* from 0.2 s into it largest ([\d.e-]+) mm',
+                       lines[1])
+    # Measured against the target path: well under the 19 mm a target moves between two.
+    assert float(circle.group(1)) < 1.0 and float(circle.group(2)) < 5.0, lines[1]

@@ -23,7 +23,7 @@ ROOT = Path(__file__).resolve().parent.parent
 
 def test_flake8():
     """Flake8 with the repository's ament-mirroring configuration reports nothing."""
-    names = ('mouse_constraint_ros', 'test', 'test_support', 'bench', 'launch', 'setup.py')
+    names = ('mouse_constraint_ros', 'test', 'test_support', 'bench', 'demo', 'launch', 'setup.py')
     paths = [str(ROOT / name) for name in names if (ROOT / name).exists()]
     result = subprocess.run([sys.executable, '-m', 'flake8', '--config', str(ROOT / '.flake8'),
                              *paths], capture_output=True, text=True, cwd=ROOT)

@@ -68,7 +68,9 @@ from mouse_constraint_ros.recording.outputs import output_paths
 from mouse_constraint_ros.recording.received import parameter_changes
 from mouse_constraint_ros.recording.received import PARAMETER_EVENTS_TOPIC
 from mouse_constraint_ros.recording.received import Received
+from mouse_constraint_ros.recording.recording_files import FLUSH_SECONDS
 from mouse_constraint_ros.recording.rows import COLUMNS
+from mouse_constraint_ros.recording.rows import SETTLE_NS
 from mouse_constraint_ros.recording.rows import tick_rows
 from mouse_constraint_ros.timing.publish_ticks import PublishTicks
 from mouse_constraint_ros.timing.spin import StopRequest
@@ -79,6 +81,8 @@ from test_support.ros_harness import RosHarness
 # The MCAP readers (mcap, mcap-ros2-support: requirements/viz.txt, package.xml's test_depend).
 MCAP_MISSING = 'the mcap and mcap-ros2-support packages read the MCAP files: not installed'
 make_reader = pytest.importorskip('mcap.reader', reason=MCAP_MISSING).make_reader
+NonSeekingReader = pytest.importorskip('mcap.reader', reason=MCAP_MISSING).NonSeekingReader
+EndOfFile = pytest.importorskip('mcap.exceptions', reason=MCAP_MISSING).EndOfFile
 DecoderFactory = pytest.importorskip('mcap_ros2.decoder', reason=MCAP_MISSING).DecoderFactory
 
 BIN = Path(sys.executable).parent
@@ -205,7 +209,7 @@ def test_csv_matches_what_was_published(recording):
     ticks = round(span * RATE) + 1
     assert 0.75 * ticks <= len(rows) <= ticks
     np.testing.assert_allclose([row['time'] for row in rows], (stamps - stamps[0]) * 1e-9)
-    targets = set(recording['targets'])
+    targets = recording['targets']
     with_target = 0
     for row in rows:
         pose, twist = poses[row['stamp_ns']], twists[row['stamp_ns']]
@@ -223,12 +227,23 @@ def test_csv_matches_what_was_published(recording):
         if row['target_x'] is not None:
             with_target += 1
             target = (row['target_x'], row['target_y'], row['target_z'])
-            assert target in targets
+            # A published target, or a point between two consecutive ones: the stream's path.
+            assert on_path(target, targets)
             assert row['anchor_error'] == pytest.approx(np.linalg.norm(anchor - target))
     # From the first row with a target on, every row holds one (the node keeps it): the rows
     # before it are the recorder's ticks before the first target reached it.
     first = next(index for index, row in enumerate(rows) if row['target_x'] is not None)
     assert with_target == len(rows) - first and with_target > 0.5 * len(rows)
+
+
+def on_path(point, targets) -> bool:
+    """Return whether ``point`` is one of ``targets`` or between two consecutive ones."""
+    p = np.asarray(point)
+    for a, b in zip(np.asarray(targets), np.asarray(targets)[1:]):
+        share = np.clip(np.dot(p - a, b - a) / max(np.dot(b - a, b - a), 1e-300), 0.0, 1.0)
+        if np.linalg.norm(a + share * (b - a) - p) < 1e-12:
+            return True
+    return tuple(point) in set(targets)
 
 
 def test_png_is_a_valid_image_of_the_expected_size(recording):
@@ -307,8 +322,13 @@ def test_message_definition_decodes_arrays_and_sequences(message):
         assert list(decoded.pose.covariance) == [float(i) for i in range(36)]
 
 
-def test_tick_rows_join_pose_and_twist_and_hold_the_latest_target():
-    """Rows need a pose and a twist of one stamp; the target is the latest before the pose."""
+def test_tick_rows_join_pose_and_twist_and_follow_the_target_path():
+    """
+    Rows need a pose and a twist of one stamp; the target is where the target path is.
+
+    Each unstamped target is placed at the stamp of the pose received before it: the first at
+    10 ns, the second at 30 ns, a stream (0.25 s apart at most) whose line the rows follow.
+    """
     def pose(ns):
         message = PoseStamped()
         message.header.stamp.sec, message.header.stamp.nanosec = divmod(ns, 1_000_000_000)
@@ -331,9 +351,9 @@ def test_tick_rows_join_pose_and_twist_and_hold_the_latest_target():
     rows = tick_rows(received, {'anchor': (1.0, 0.0, 0.0)})
     assert [row.stamp_ns for row in rows] == [10, 20, 30]
     assert [row.time for row in rows] == [0.0, 1e-8, 2e-8]
-    assert [row.target for row in rows] == [None, (1.0, 0.0, 1.0), (1.0, 0.0, 1.0)]
+    assert [row.target for row in rows] == [None, (0.5, 0.0, 1.0), (0.0, 0.0, 1.0)]
     assert rows[0].anchor == (1.0, 0.0, 1.0)
-    assert rows[0].anchor_error is None and rows[1].anchor_error == 0.0
+    assert rows[0].anchor_error is None and rows[1].anchor_error == 0.5
     assert rows[0].speed == 5.0
     assert rows[0].fields()[-13:] == ['', '', '', '', 5.0, 0.0, 1.0, 0.0, 0.0, '', '', '', '']
     assert all(row.body_anchor == (1.0, 0.0, 0.0) and row.grab is None for row in rows)
@@ -436,6 +456,25 @@ def test_tick_rows_follow_reset_and_release():
     assert [row.target for row in rows] == [None, grabbed, grabbed, initial, None]
     without = tick_rows(received, {'anchor': start['anchor']})
     assert without[3].target is None
+
+
+def test_tick_rows_keep_a_tick_published_again_by_a_reset_while_paused():
+    """
+    A reset while paused publishes the state it leaves at the paused tick's stamp: a row more.
+
+    Pose and twist pair in the order they came, so the second row of the stamp is the reset's,
+    with the target the reset leaves.
+    """
+    start = {'anchor': (0.2, 0.0, 0.0), 'hold_initial_anchor': True,
+             'initial_position': (0.0, 0.0, 1.0), 'initial_orientation': (0.0, 0.0, 0.0, 1.0)}
+    received = [state('pose', 10, (1.0, 0.0, 0.0)), state('twist', 10),
+                point_received('target', (1.0, 1.0, 1.0)), service_event('reset'),
+                state('pose', 10, (0.0, 0.0, 1.0)), state('twist', 10),
+                state('pose', 20, (0.0, 0.0, 1.0)), state('twist', 20)]
+    rows = tick_rows(received, start)
+    assert [row.stamp_ns for row in rows] == [10, 10, 20]
+    assert [row.position for row in rows] == [(1.0, 0.0, 0.0), (0.0, 0.0, 1.0), (0.0, 0.0, 1.0)]
+    assert [row.target for row in rows] == [None, (0.2, 0.0, 1.0), (0.2, 0.0, 1.0)]
 
 
 def test_tick_rows_apply_a_change_to_the_ticks_stamped_after_it():
@@ -579,7 +618,9 @@ def test_a_recording_in_lockstep_holds_every_tick_bit_for_bit(simulated_body_fac
     The recorder node beside a body stepped in lockstep: one row per tick, none missing.
 
     Each row is the pose and twist the node published at that tick, bit for bit, with the target
-    the node held at it: targets sent between ticks k - 1 and k are in row k on, a grab moves
+    path at its time: the targets, sent every 10 ticks, are a stream, each placed at the stamp
+    of the tick before it came, and a row between two is on the line between them, at the
+    share of the ticks gone; the first target (before any tick) and the last hold; a grab moves
     the anchor from its row on, a release empties the target.
     """
     body = simulated_body_factory(rate_hz=RATE, anchor=list(ANCHOR), linear_damping=2.0,
@@ -603,17 +644,104 @@ def test_a_recording_in_lockstep_holds_every_tick_bit_for_bit(simulated_body_fac
     rows = tick_rows(recorder.received, start)
     assert len(rows) == len(published) == 280
     assert [row.stamp_ns for row in rows] == [5_000_000 * n for n in range(1, 281)]
-    for row, (pose, twist), target in zip(rows, published, held):
+    for tick, (row, (pose, twist), target) in enumerate(zip(rows, published, held), start=1):
         q = pose.pose.orientation
         assert row.position == xyz(pose.pose.position)
         assert row.orientation == (q.x, q.y, q.z, q.w)
         assert row.linear_velocity == xyz(twist.twist.linear)
         assert row.angular_velocity == xyz(twist.twist.angular)
-        assert row.target == target
+        sent = (tick - 1) // 10  # the target the node held: sent after tick 10 * sent
+        if 1 <= sent < 19:
+            share = (tick - 10 * sent) / 10
+            start, end = np.array(target_at(sent)), np.array(target_at(sent + 1))
+            assert target == target_at(sent)
+            assert row.target == pytest.approx(tuple(start + share * (end - start)), abs=1e-15)
+        else:
+            assert row.target == target
     grabbed = tuple(body.node.get_parameter('anchor').value)
     assert [row.body_anchor for row in rows] == [ANCHOR] * 200 + [grabbed] * 80
     marked = [(row.grab, row.grab_taken) for row in rows if row.grab is not None]
     assert marked == [(grab, True)]
+
+
+def test_the_anchor_error_of_a_streamed_circle_is_measured_against_its_path(
+        simulated_body_factory):
+    """
+    A stamped 50 Hz circle the node follows to within 0.02 mm: the rows say so.
+
+    The anchor error of each row within the stream is its distance to the line between the two
+    targets around the tick's time, so it differs from the distance to the circle itself at
+    that time by at most the chord's sagitta, R (1 - cos(w T / 2)) = 0.0625 mm; the distance to
+    the latest target, one stream gap stale, reaches w R T = 10 mm.
+    """
+    radius, omega, period = 0.2, 2.5, 0.02
+    body = simulated_body_factory(rate_hz=1000.0, marker_rate_hz=0.0, diagnostics_rate_hz=0.0,
+                                  floor=False)
+    recorder = body.add_node(Recorder(context=body.context))
+    start = fetch_start(recorder, body.executor, StopRequest(), target_node='mouse_constraint',
+                        timeout=5.0)
+    center = np.subtract(body.node.simulation.state.world_point(start['anchor']),
+                         (radius, 0.0, 0.0))
+
+    def circle(t: float) -> np.ndarray:
+        return center + radius * np.array([math.cos(omega * t), math.sin(omega * t), 0.0])
+    sent = []
+    for _ in range(150):
+        sent.append((body.time, circle(body.time)))
+        body.target(tuple(sent[-1][1]), stamp=body.time)
+        body.step(round(period * 1000.0))
+    rows = [row for row in tick_rows(recorder.received, start)
+            if 1.0 < row.stamp_ns * 1e-9 <= sent[-1][0]]
+    assert len(rows) > 1900
+    recorded = np.array([row.anchor_error for row in rows])
+    on_circle = np.array([np.linalg.norm(row.anchor - circle(row.stamp_ns * 1e-9))
+                          for row in rows])
+    latest = np.array([np.linalg.norm(row.anchor - max(
+        (s for s in sent if s[0] <= row.stamp_ns * 1e-9), key=lambda s: s[0])[1])
+        for row in rows])
+    sagitta = radius * (1.0 - math.cos(omega * period / 2))
+    assert on_circle.max() < 2e-5
+    assert np.abs(recorded - on_circle).max() <= sagitta + 1e-9
+    assert recorded.max() < 1e-4 and latest.max() > 0.9 * omega * radius * period
+
+
+def test_a_recorder_killed_outright_leaves_what_it_recorded(harness, tmp_path):
+    """
+    SIGKILL 2 s into a 20 s recording: the CSV and the MCAP hold all but its last moments.
+
+    The files are written while recording and flushed every FLUSH_SECONDS; the rows wait
+    2 SETTLE_NS for their changes and targets. The MCAP file, without its summary, is read
+    with the streaming reader, as ``mcap recover`` reads it.
+    """
+    prefix = tmp_path / 'killed'
+    process, lines, reader = start_recorder('-d', '20', '-o', str(prefix), '--mcap',
+                                            '--timeout', '20')
+    try:
+        deadline, started = time.monotonic() + 60.0, None
+        while started is None or time.monotonic() - started < 2.0:
+            assert process.poll() is None and time.monotonic() < deadline, ''.join(lines)
+            harness.spin_for(0.05)
+            if started is None and any(line.startswith('recording') for line in lines):
+                started = time.monotonic()
+        process.send_signal(signal.SIGKILL)
+        process.wait(timeout=10)
+    finally:
+        if process.poll() is None:
+            process.kill()
+        reader.join(timeout=5.0)
+    rows = read_csv(prefix.with_suffix('.csv'))
+    recorded = rows[-1]['time']
+    assert 2.0 - 2 * SETTLE_NS * 1e-9 - 2 * FLUSH_SECONDS - 0.5 < recorded < 2.5
+    assert len(rows) >= 0.75 * recorded * RATE
+    assert not prefix.with_suffix('.png').exists()
+    poses = []
+    with open(prefix.with_suffix('.mcap'), 'rb') as stream:
+        reader = NonSeekingReader(stream, decoder_factories=[DecoderFactory()])
+        with pytest.raises(EndOfFile):  # no summary, no footer: cut where it was killed
+            for _, channel, _, pose in reader.iter_decoded_messages(log_time_order=False):
+                if channel.topic == '/pose':
+                    poses.append(stamp_nanoseconds(pose.header.stamp))
+    assert {row['stamp_ns'] for row in rows} <= set(poses)
 
 
 def damped_node(ros, namespace: str) -> MouseConstraintNode:
@@ -758,6 +886,9 @@ def test_missing_ticks_count_the_gaps_on_the_grid():
     # A restart (back in time, or off the grid) counts nothing across it.
     restarted = missing_ticks([0, ms, 2 * ms, ms // 2, ms // 2 + ms, 2 * ms + 777], Grid(1000.0))
     assert (restarted.missing, restarted.restarts) == (0, 2)
+    # A tick published twice (a reset while paused) is neither a gap nor a restart.
+    again = missing_ticks([0, ms, ms, 2 * ms], Grid(1000.0))
+    assert (again.missing, again.restarts, again.recorded) == (0, 0, 4)
     # 300 Hz published at 1 kHz: gaps of 3 and 4 ticks are no loss; 13 ticks lack 3 publishes.
     ticks = PublishTicks(1000.0, 300.0)
     published = [n * ms for n in range(100) if ticks.due(n)]

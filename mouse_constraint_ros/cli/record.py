@@ -13,32 +13,35 @@
 # limitations under the License.
 
 """
-The ``mouse_record`` command: record target, pose, twist and grabs, then draw the motion.
+The ``mouse_record`` command: record target, pose, twist and grabs, and draw the motion.
 
 ``mouse_record --duration 10 --output run`` records the relative topics ``target``, ``pose``,
 ``twist`` and ``grab`` for 10 s of the node's clock from the first pose, with a progress bar,
-then writes
+into
 
 - ``run.csv``: one row per tick (pose and twist of the same stamp), with the anchor's world
-  position, the node's target at that tick (the latest target received, a grab the node took,
-  what ``~/reset`` and ``~/release`` leave), the anchor error, speed and angular speed, the
+  position, the target path at the tick's time (within a stream of targets the point between
+  the two around it; else the node's target: the latest received, a grab it took, what
+  ``~/reset`` and ``~/release`` leave), the anchor error to it, speed and angular speed, the
   body-frame anchor in effect and the grabs, taken or ignored;
-- ``run.png``: anchor and target paths from above and from the side, the anchor error, speed and
-  angular speed over time, grabs marked;
 - ``run.mcap`` with ``--mcap``: the topics as received (CDR, ``ros2`` profile), with the
   recorded node's changes from ``/parameter_events`` and its reset and release service events,
-  which Foxglove and ``ros2 bag info/play`` open.
+  which Foxglove and ``ros2 bag info/play`` open;
+- ``run.png`` at the end: anchor and target paths from above and from the side, the anchor
+  error, speed and angular speed over time, grabs marked.
 
-The anchor (body frame), ``hold_initial_anchor`` and the initial pose are read at the start from
-the node being recorded (``--node``, default ``mouse_constraint`` in the recorder's namespace)
-through its parameter service, then followed on ``/parameter_events`` (a ``grab`` makes the
-grabbed point the node's anchor), so the figure always matches the node; ``--anchor X Y Z``
-gives the starting anchor instead and needs no node (the target after a reset is then not
+The CSV and the MCAP file are written while recording (``RecordingFiles``): a recorder killed
+outright leaves all but its last half second. The anchor (body frame), ``hold_initial_anchor``,
+the initial pose and the rates are read at the start from the node being recorded (``--node``,
+default ``mouse_constraint`` in the recorder's namespace) through its parameter service, then
+followed on ``/parameter_events`` (a ``grab`` makes the grabbed point the node's anchor), so the
+figure always matches the node; ``--anchor X Y Z`` gives the starting anchor instead and needs
+no node's answer (without one, the target after a reset and the node's tick grid are not
 known). Ctrl-C ends the recording early and still writes the files. The files are checked for
 writing before the recording starts: an unwritable ``--output`` fails at once.
 
-This module is the command (its options and ``main``); the recording, the rows, the figure and
-the MCAP file are in the ``recording`` package.
+This module is the command (its options and ``main``); the recording, the rows, the files and
+the figure are in the ``recording`` package.
 """
 
 import argparse
@@ -57,15 +60,17 @@ from rclpy.utilities import remove_ros_args
 from .help_text import plain_text
 from ..recording.capture import capture, fetch_start, Progress, Recorder, wait_for_first_pose
 from ..recording.figure import write_figure
-from ..recording.mcap_file import write_mcap
 from ..recording.missing_ticks import Grid, missing_ticks
 from ..recording.outputs import check_writable, describe_os_error, output_paths
-from ..recording.rows import frame_of, tick_rows, write_csv
+from ..recording.recording_files import RecordingFiles
+from ..recording.rows import Row
 from ..timing.spin import Interrupted, SpinEnd, StopRequest
 from ..wire.interface import NODE_NAME
 
 # The exit status when a stop comes before the first pose: nothing was recorded.
 INTERRUPTED_STATUS = 130
+# With --anchor, how long the recorded node's parameters are waited for once poses come (s).
+ANCHOR_FETCH_SECONDS = 2.0
 
 
 def _finite(name: str, minimum: Optional[float] = None):
@@ -116,7 +121,7 @@ def parse_arguments(argv: List[str]) -> argparse.Namespace:
 
 def main(args: Optional[List[str]] = None) -> int:
     """
-    Record, then write the files.
+    Record, writing the files as it goes.
 
     :returns: 0 on success (also when Ctrl-C ended the recording early); 1 when there was
         nothing to record or the files cannot be written; ``INTERRUPTED_STATUS`` when a stop
@@ -124,43 +129,52 @@ def main(args: Optional[List[str]] = None) -> int:
     """
     argv = sys.argv if args is None else args
     options = parse_arguments(remove_ros_args(argv)[1:])
+    paths = output_paths(options.output, options.mcap)
     try:
-        check_writable(output_paths(options.output, options.mcap))
+        check_writable(paths)
     except OSError as error:
         print(f'mouse_record: cannot write {describe_os_error(error)}: nothing recorded',
               file=sys.stderr)
         return 1
     rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
-    node = Recorder(target_node=options.node)
+    files = RecordingFiles(paths[0], paths[2] if options.mcap else None)
+    node = Recorder(target_node=options.node, sink=files.add, keep=False)
     logger = node.get_logger()
     executor = EventsExecutor(context=node.context)
     executor.add_node(node)
     try:
+        # Set before the first pose: what comes while the node is asked is held to it too.
+        node.duration_ns = round(options.duration * 1e9)
         with StopRequest() as stop:
-            if options.anchor is not None:
-                start = {'anchor': tuple(options.anchor)}
-            else:
-                try:
-                    start = fetch_start(node, executor, stop, target_node=options.node,
-                                        timeout=options.timeout)
-                except RuntimeError as error:
-                    logger.error(f'{error}: is the node running (same ROS_DOMAIN_ID and '
-                                 'namespace, --node)? Or give --anchor X Y Z')
-                    return 1
-                logger.info(f'anchor {start["anchor"]} m (body frame) from {options.node}')
+            start = None if options.anchor is not None else _fetch(node, executor, stop, options)
+            if start is None and options.anchor is None:
+                return 1
             try:
                 wait_for_first_pose(node, executor, stop, timeout=options.timeout)
             except RuntimeError as error:
                 logger.error(str(error))
                 return 1
+            if options.anchor is not None:
+                start = _start_with_anchor(node, executor, stop, options)
+            try:
+                options.output.parent.mkdir(parents=True, exist_ok=True)
+                files.start(start, topic_names=node.topic_names(),
+                            offered_qos=node.offered_qos,
+                            metadata=[f'mouse_record of {node.target_name}'])
+            except OSError as error:
+                # Checked before recording, but the file system may have changed since.
+                logger.error(f'cannot write {describe_os_error(error)}')
+                return 1
             end = capture(node, executor, stop, duration=options.duration,
-                          idle_timeout=options.timeout, progress=Progress(options.duration))
+                          idle_timeout=options.timeout, progress=Progress(options.duration),
+                          each_turn=files.flush_due)
             if end is SpinEnd.SHUTDOWN:
+                files.close()  # what came is kept; the context is gone
                 return 1
             if end is SpinEnd.DEADLINE:
                 logger.warning(f'no pose for {options.timeout:g} s (the node paused or gone): '
                                f'the recording ends at {node.elapsed():.3f} s')
-        return write_outputs(node, options, start)
+        return finish_outputs(node, files, options, start)
     except Interrupted:
         logger.warning('interrupted before the first pose: nothing recorded')
         return INTERRUPTED_STATUS
@@ -171,33 +185,71 @@ def main(args: Optional[List[str]] = None) -> int:
         rclpy.try_shutdown()
 
 
-def write_outputs(node: Recorder, options: argparse.Namespace, start: Dict[str, object]) -> int:
+def _fetch(node: Recorder, executor, stop: StopRequest,
+           options: argparse.Namespace) -> Optional[Dict[str, object]]:
+    """Return the recorded node's parameters at the start, None when it does not answer."""
+    logger = node.get_logger()
+    try:
+        start = fetch_start(node, executor, stop, target_node=options.node,
+                            timeout=options.timeout)
+    except RuntimeError as error:
+        logger.error(f'{error}: is the node running (same ROS_DOMAIN_ID and namespace, '
+                     '--node)? Or give --anchor X Y Z')
+        return None
+    logger.info(f'anchor {start["anchor"]} m (body frame) from {options.node}')
+    return start
+
+
+def _start_with_anchor(node: Recorder, executor, stop: StopRequest,
+                       options: argparse.Namespace) -> Dict[str, object]:
     """
-    Write the CSV, the figure and, with ``--mcap``, the MCAP file; log where they went.
+    Return ``--anchor`` and the recorded node's other parameters, when it answers in time.
+
+    The poses came, so the node that publishes them, if it is one, is being discovered: its
+    parameter service is waited for ``ANCHOR_FETCH_SECONDS`` at most. Without an answer (poses
+    from a bag, a node of another name) its rates and initial pose are not known, and the grid
+    is taken from the rows (``missing_ticks``).
+    """
+    anchor = {'anchor': tuple(options.anchor)}
+    try:
+        start = fetch_start(node, executor, stop, target_node=options.node,
+                            timeout=min(options.timeout, ANCHOR_FETCH_SECONDS))
+    except RuntimeError as error:
+        node.get_logger().info(f"{error}: the node's rates and initial pose are not known")
+        return anchor
+    return {**start, **anchor}
+
+
+def finish_outputs(node: Recorder, files: RecordingFiles, options: argparse.Namespace,
+                   start: Dict[str, object]) -> int:
+    """
+    Write the last rows, the CSV's trailer, the MCAP's summary and the figure; log them.
 
     :param start: the recorded node's parameters at the start (``rows.NodeView``).
     """
     logger = node.get_logger()
-    anchor = start['anchor']
-    rows = tick_rows(node.received, start)
-    if not rows:
-        logger.error('no tick with both pose and twist was recorded')
-        return 1
     grid = (Grid(start['rate_hz'], start.get('publish_rate_hz', 0.0)) if 'rate_hz' in start
             else None)
-    lacking = missing_ticks([row.stamp_ns for row in rows], grid)
+    lacking = None
+
+    def trailer(rows: List[Row]) -> List[str]:
+        nonlocal lacking
+        lacking = missing_ticks([row.stamp_ns for row in rows], grid)
+        return lacking.lines() if rows else []
     written = output_paths(options.output, options.mcap)
     try:
-        options.output.parent.mkdir(parents=True, exist_ok=True)
-        write_csv(written[0], rows, [f'mouse_record of {node.target_name}', *lacking.lines()])
-        write_figure(written[1], rows, anchor=anchor, frame_id=frame_of(node.received) or '?')
-        if options.mcap:
-            write_mcap(written[2], node.received, topic_names=node.topic_names(),
-                       offered_qos=node.offered_qos)
+        files.close(trailer)
+        if not files.rows:
+            logger.error('no tick with both pose and twist was recorded')
+            for path in files.paths():
+                path.unlink(missing_ok=True)
+            return 1
+        write_figure(written[1], files.rows, anchor=start['anchor'],
+                     frame_id=files.frame_id or '?')
     except OSError as error:
-        # Checked before recording, but the file system may have changed since.
         logger.error(f'cannot write {describe_os_error(error)}')
         return 1
+    rows = files.rows
     logger.info(f'{len(rows)} ticks, {rows[-1].time:.2f} s: wrote '
                 + ', '.join(str(path) for path in written))
     if lacking.missing:
@@ -205,7 +257,7 @@ def write_outputs(node: Recorder, options: argparse.Namespace, start: Dict[str, 
             f'{lacking.missing} of {lacking.expected} ticks missing from the recording '
             f'(longest gap {lacking.longest_gap:.6g} s at {lacking.gap_at:.6g} s, grid '
             f'{lacking.grid}): the node dropped them or was paused, or this recorder did not '
-            f'keep up; the CSV header says so too')
+            f'keep up; the CSV says so in its last lines too')
     else:
         logger.info(f'no tick missing on the grid ({lacking.grid})')
     return 0

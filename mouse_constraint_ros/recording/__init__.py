@@ -17,8 +17,12 @@ The parts of ``mouse_record``, one idea a module, below the thin command ``cli/r
 
 - ``received``: the recorded topics and one message as received (serialized CDR);
 - ``capture``: the recording node, the anchor read from the recorded node, the progress line;
-- ``rows``: messages to CSV rows (one per tick) and the CSV file;
+- ``node_view``: the recorded node's target and anchor as the messages make them;
+- ``target_path``: where a stream of targets is at a tick's time;
+- ``rows``: messages to CSV rows (one per tick), made as the messages come;
+- ``recording_files``: the files written while recording; ``csv_file`` and ``mcap_file`` the
+  CSV and the MCAP file (and the ``ros2msg`` schemas it carries);
 - ``figure``: the PNG figure (matplotlib, no display);
-- ``mcap_file``: the MCAP file and the ``ros2msg`` schemas it carries;
+- ``missing_ticks``: which ticks of the node's grid a recording lacks;
 - ``outputs``: the files a recording writes, checked for writing before it starts.
 """

@@ -13,23 +13,24 @@
 # limitations under the License.
 
 """
-The recording itself: a node that keeps every message of the recorded topics, and its progress.
+The recording itself: a node that takes every message of the recorded topics, and its progress.
 
-``Recorder`` subscribes to ``TOPICS`` with deep RELIABLE queues and keeps each message serialized,
-as it arrived (``Received``), from the first message on; the recorded time starts at the first
-pose. It also keeps the recorded node's ``/parameter_events`` that change a parameter the rows
-follow (``received.NODE_PARAMETERS``: a ``grab`` makes the grabbed point the node's anchor) and
-the service events of its ``~/reset`` and ``~/release``, in the same stream, so that the rows
-follow the node's anchor and target from the moment they changed. ``fetch_start`` reads those
-parameters at the start from the recorded node's parameter service, ``wait_for_first_pose``
-and ``capture`` spin it
-(``spin.spin_until``) while ``Progress`` draws the progress line.
+``Recorder`` subscribes to ``TOPICS`` with deep RELIABLE queues and hands each message,
+serialized as it arrived (``Received``), from the first message on, to its sink (the files,
+written as they come: ``RecordingFiles``), and keeps it in ``received`` when asked; the
+recorded time starts at the first pose. It also takes the recorded node's ``/parameter_events``
+that change a parameter the rows follow (``received.NODE_PARAMETERS``: a ``grab`` makes the
+grabbed point the node's anchor) and the service events of its ``~/reset`` and ``~/release``,
+in the same stream, so that the rows follow the node's anchor and target from the moment they
+changed. ``fetch_start`` reads those parameters at the start from the recorded node's parameter
+service, ``wait_for_first_pose`` and ``capture`` spin it (``spin.spin_until``) while
+``Progress`` draws the progress line.
 """
 
 import math
 import sys
 import time
-from typing import Dict, List, Optional, TextIO
+from typing import Callable, Dict, List, Optional, TextIO
 
 from rcl_interfaces.msg import ParameterEvent
 from rclpy.executors import Executor
@@ -59,11 +60,16 @@ class Recorder(Node):
     :param target_node: the recorded node (resolved in this node's namespace), whose anchor
         changes on ``/parameter_events`` and service events of ``~/reset`` and ``~/release`` are
         kept.
+    :param sink: called with each message kept, as it comes (``RecordingFiles.add``).
+    :param keep: also keep the messages in ``received`` (a recording read back in-process).
     """
 
-    def __init__(self, *, target_node: str = NODE_NAME, **kwargs) -> None:
+    def __init__(self, *, target_node: str = NODE_NAME,
+                 sink: Optional[Callable[[Received], None]] = None, keep: bool = True,
+                 **kwargs) -> None:
         """Create the node ``mouse_record`` and its subscriptions."""
         super().__init__('mouse_record', **kwargs)
+        self._sink, self._keep = sink, keep
         guard_time_source(self, lambda text: self.get_logger().warning(
             text, throttle_duration_sec=2.0))
         self.target_name = self.resolve_topic_name(target_node)
@@ -109,10 +115,16 @@ class Recorder(Node):
         event = deserialize_message(data, ParameterEvent)
         if event.node != self.target_name or not parameter_changes(event):
             return
-        self.received.append(Received(PARAMETER_EVENTS_TOPIC, self.get_clock().now().nanoseconds,
-                                      data))
         self.parameter_changes += 1
         self._note_qos(PARAMETER_EVENTS_TOPIC)
+        self._keep_message(Received(PARAMETER_EVENTS_TOPIC,
+                                    self.get_clock().now().nanoseconds, data))
+
+    def _keep_message(self, message: Received) -> None:
+        if self._keep:
+            self.received.append(message)
+        if self._sink is not None:
+            self._sink(message)
 
     def _note_qos(self, key: str) -> None:
         if key not in self.offered_qos:
@@ -123,7 +135,7 @@ class Recorder(Node):
     def _receiver(self, key: str):
         # Serialized messages (raw=True) and no message info: the EventsExecutor of this rclpy
         # (7.1.6) fails on callbacks that take one.
-        received, counts, clock, latest = self.received, self.counts, self._clock, self.latest_ns
+        counts, clock, latest, keep = self.counts, self._clock, self.latest_ns, self._keep_message
         counted, state = key in counts, key in latest
 
         def receive(data: bytes) -> None:
@@ -137,17 +149,18 @@ class Recorder(Node):
                     self.pose_seen_at = time.monotonic()
                     if self.first_pose_ns is None:
                         self.first_pose_ns = stamp
-                if self.duration_ns is not None and stamp > self.first_pose_ns + \
-                        self.duration_ns:
+                first = self.first_pose_ns
+                if self.duration_ns is not None and first is not None and \
+                        stamp > first + self.duration_ns:
                     self.beyond[key] = True
                     return
                 if latest[key] is None or stamp > latest[key]:
                     latest[key] = stamp
-            received.append(Received(key, clock.now().nanoseconds, data))
             if counted:
                 counts[key] += 1
             if key not in self.offered_qos:
                 self._note_qos(key)
+            keep(Received(key, clock.now().nanoseconds, data))
         return receive
 
     def _service_receiver(self, key: str):
@@ -240,7 +253,8 @@ class Progress:
 
 
 def capture(node: Recorder, executor: Executor, stop: StopRequest, *, duration: float,
-            idle_timeout: float, progress: Progress) -> SpinEnd:
+            idle_timeout: float, progress: Progress,
+            each_turn: Callable[[], None] = lambda: None) -> SpinEnd:
     """
     Record ``duration`` seconds of the node's clock (the stamps) from the first pose, or less.
 
@@ -249,12 +263,16 @@ def capture(node: Recorder, executor: Executor, stop: StopRequest, *, duration: 
     node paused or gone). Then the node stops keeping messages and the progress line is drawn
     a last time. Timed by the stamps, the recording needs no ``use_sim_time``.
 
+    :param each_turn: called on each turn of the spin (``RecordingFiles.flush_due``).
+
     :returns: why it ended: ``CONDITION`` (the duration), ``STOPPED``, ``DEADLINE`` (no pose
         for ``idle_timeout``) or ``SHUTDOWN``.
     """
-    node.duration_ns = round(duration * 1e9)
+    if node.duration_ns is None:
+        node.duration_ns = round(duration * 1e9)
 
     def done() -> bool:
+        each_turn()
         progress.update(node.elapsed(), node.counts)
         return node.complete() or time.monotonic() - node.pose_seen_at > idle_timeout
 

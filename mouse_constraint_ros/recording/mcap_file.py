@@ -15,6 +15,9 @@
 """
 The MCAP file of a recording: the messages as received (CDR) on ``ros2msg`` schemas.
 
+``McapStream`` writes it as the messages come, a chunk at a time; ``write_mcap`` a whole
+recording at once.
+
 Foxglove and ``ros2 bag info/play`` open it: the ``ros2`` profile, one channel per recorded topic
 (target, pose, twist, grab, ``/parameter_events`` with the recorded node's changes, and the
 service events of its ``~/reset`` and ``~/release``)
@@ -25,7 +28,7 @@ from the message classes (``message_definition``), so that no ``.msg`` files are
 import importlib
 from pathlib import Path
 import re
-from typing import List, Mapping, Sequence
+from typing import Dict, List, Mapping, Sequence
 
 from rclpy.qos import QoSProfile
 import yaml
@@ -104,32 +107,79 @@ def message_definition(message_type) -> str:
     return ''.join(sections)
 
 
+class McapStream:
+    """
+    A recording's MCAP file, written as the messages come, a chunk at a time.
+
+    The schemas are written first, each channel with its first message (the publishers' QoS is
+    known then), the channels without a message at the end, so that each recorded topic is in
+    the file. ``flush`` closes the chunk in progress and hands it to the operating system: a
+    killed recorder leaves a file whose chunks up to its last flush are read back (``mcap
+    recover``, a streaming reader); ``close`` writes the summary that seeking readers use.
+
+    :param path: the file (created or truncated).
+    :param topic_names: the resolved topic name of each key of ``MESSAGE_TYPES``.
+    """
+
+    def __init__(self, path: Path, *, topic_names: Mapping[str, str]) -> None:
+        """Open the file and write the header and the schemas."""
+        from mcap.writer import Writer
+
+        self._stream = open(path, 'wb')
+        self._writer = Writer(self._stream)
+        self._writer.start(profile='ros2', library='mouse_constraint_ros mouse_record')
+        self._topic_names = topic_names
+        self._schemas = {
+            key: self._writer.register_schema(
+                name=schema_name(message_type), encoding='ros2msg',
+                data=message_definition(message_type).encode())
+            for key, message_type in MESSAGE_TYPES.items()}
+        self._channels: Dict[str, int] = {}
+        self._sequence = 0
+
+    def _channel(self, key: str, offered_qos: str) -> int:
+        if key not in self._channels:
+            self._channels[key] = self._writer.register_channel(
+                topic=self._topic_names[key], message_encoding='cdr',
+                schema_id=self._schemas[key], metadata={'offered_qos_profiles': offered_qos})
+        return self._channels[key]
+
+    def add(self, message: Received, offered_qos: str = '') -> None:
+        """
+        Write one message as received; each message its own sequence number, in order.
+
+        :param offered_qos: the publishers' QoS of its topic (``offered_qos_yaml``), used with
+            the first message of the topic.
+        """
+        self._writer.add_message(channel_id=self._channel(message.topic, offered_qos),
+                                 log_time=message.log_time, publish_time=message.log_time,
+                                 data=message.data, sequence=self._sequence)
+        self._sequence += 1
+
+    def flush(self) -> None:
+        """Close the chunk in progress and hand the file's bytes to the operating system."""
+        self._writer.flush()
+
+    def close(self, offered_qos: Mapping[str, str]) -> None:
+        """Write the channels without a message, the summary and the footer; close the file."""
+        for key in MESSAGE_TYPES:
+            self._channel(key, offered_qos.get(key, ''))
+        self._writer.finish()
+        self._stream.close()
+
+
 def write_mcap(path: Path, received: Sequence[Received], *, topic_names: Mapping[str, str],
                offered_qos: Mapping[str, str]) -> None:
     """
-    Write the messages as received into an MCAP file with the ``ros2`` profile.
+    Write a whole recording's messages, as received, into an MCAP file (``McapStream``).
 
-    :param received: the messages, in the order they came; each its own sequence number.
-    :param topic_names: the resolved topic name of each key of ``MESSAGE_TYPES``.
+    :param received: the messages, in the order they came.
     :param offered_qos: the publishers' QoS of each key (``offered_qos_yaml``), '' if unknown.
     """
-    from mcap.writer import Writer
-
-    with open(path, 'wb') as stream:
-        writer = Writer(stream)
-        writer.start(profile='ros2', library='mouse_constraint_ros mouse_record')
-        channels = {}
-        for key, message_type in MESSAGE_TYPES.items():
-            schema = writer.register_schema(name=schema_name(message_type), encoding='ros2msg',
-                                            data=message_definition(message_type).encode())
-            channels[key] = writer.register_channel(
-                topic=topic_names[key], message_encoding='cdr', schema_id=schema,
-                metadata={'offered_qos_profiles': offered_qos.get(key, '')})
-        for sequence, message in enumerate(received):
-            writer.add_message(channel_id=channels[message.topic], log_time=message.log_time,
-                               publish_time=message.log_time, data=message.data,
-                               sequence=sequence)
-        writer.finish()
+    stream = McapStream(path, topic_names=topic_names)
+    for message in received:
+        stream.add(message, offered_qos.get(message.topic, ''))
+    stream.close(offered_qos)
 
 
 def offered_qos_yaml(profiles: Sequence[QoSProfile]) -> str:

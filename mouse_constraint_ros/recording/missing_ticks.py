@@ -21,8 +21,9 @@ and publishes every tick, or with ``publish_rate_hz`` p the ticks that ``publish
 consecutive rows whose stamps lie k ticks apart lack round(k p / r) - 1 published ticks (k - 1
 at every tick): the node dropped them, was paused, or the recorder did not keep them. A stamp
 that goes back, or a step off the grid, is a restart of the grid (a clock jump, a new
-``rate_hz``): nothing is counted across it. Without the node's rates (``--anchor``), the grid
-is taken as the smallest step between rows. Plain integers; no ROS here.
+``rate_hz``): nothing is counted across it; a stamp repeated (a reset while paused publishes
+its state at the paused tick's stamp) is neither. Without the node's rates, the grid is taken
+as the smallest step between rows. Plain integers; no ROS here.
 """
 
 from fractions import Fraction
@@ -48,7 +49,7 @@ class MissingTicks(NamedTuple):
     grid: str
 
     def lines(self) -> list:
-        """Return the report as ``key: value`` lines, for the CSV's header."""
+        """Return the report as ``key: value`` lines, for the CSV's last lines."""
         return [f'grid: {self.grid}', f'ticks_expected: {self.expected}',
                 f'ticks_recorded: {self.recorded}', f'ticks_missing: {self.missing}',
                 f'longest_gap_s: {self.longest_gap:.9g}', f'longest_gap_at_s: {self.gap_at:.9g}',
@@ -79,6 +80,8 @@ def missing_ticks(stamps: Sequence[int], grid: Optional[Grid]) -> MissingTicks:
             f', published at {grid.publish_rate_hz:g} Hz')
     missing, restarts, longest, at = 0, 0, 0, 0
     for index, step in enumerate(steps):
+        if step == 0:
+            continue  # the same tick again: a reset while paused publishes the state it leaves
         ticks = round(step / period) if step > 0 else 0
         # Stamps are t0 + floor(n P): two of them lie within 1 ns of k P apart.
         if ticks < 1 or (exact and abs(step - ticks * period) >= 1):

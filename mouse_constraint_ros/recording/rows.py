@@ -13,47 +13,46 @@
 # limitations under the License.
 
 """
-Messages to CSV rows: one row per tick, pose and twist of one stamp, and the CSV file.
+Messages to CSV rows, one per tick (pose and twist of one stamp), made as the messages come.
 
 The anchor columns are the body-frame anchor placed by the pose (``BodyState.world_point``). A
-row's target and body-frame anchor are the node's when it ran that tick (``NodeView``): the
-latest target received, the grab the node took (its ``anchor`` change on ``/parameter_events``
-that puts the new anchor at the grab point: the grab is then the target and the anchor),
-a ``~/reset`` (the configured anchor; the target the initial anchor's world position when
-``hold_initial_anchor``, else none) and a ``~/release`` (no target). A change applies from the
-first pose received after it, and from any pose stamped later than the node's stamp of the
-change (a tick stamped after it ran after it, whatever the order of arrival on two topics).
-A grab the node took is marked on the row from which it holds; one it ignored on the row after
-it came.
+row's body-frame anchor is the node's when it ran that tick (``NodeView``): a change applies from
+the first pose received after it, and from any pose stamped later than the node's stamp of the
+change (a tick stamped after it ran after it, whatever the order of arrival on two topics). A
+row's target is where the target path is at the tick's time (``TargetPath``): within a stream
+of targets the point between the two around it, else the target the node holds; the anchor
+error is the anchor's distance to it.
+
+``RowStream`` makes the rows while recording: a row is made once poses stamped ``SETTLE_NS``
+after it came (the changes it waits for and the next target of a stream are in by then), and
+handed out ``SETTLE_NS`` later, when a grab that came before it and was not taken is known to
+be ignored. ``tick_rows`` makes all rows of a finished recording at once.
 """
 
-import csv
+from collections import deque
 import math
-from pathlib import Path
-from typing import Dict, List, Mapping, NamedTuple, Optional, Sequence, Tuple
+from typing import Deque, Dict, List, Mapping, NamedTuple, Optional, Sequence, Tuple
 
-from geometry_msgs.msg import PoseStamped
 from rclpy.serialization import deserialize_message
-from service_msgs.msg import ServiceEventInfo
 
-from .received import (MESSAGE_TYPES, parameter_changes, PARAMETER_EVENTS_TOPIC, Received,
-                       RELEASE_EVENTS, RESET_EVENTS)
+from .node_view import change_stamp, NodeView
+from .received import MESSAGE_TYPES, Received
+from .target_path import SAME_CLOCK_NS, TargetPath
 from ..physics import BodyState
 from ..physics.algebra import Vector3
+from ..wire.cdr.stamped import decode_stamped, POINT, POSE, Refusal, StampedFields, TWIST
 from ..wire.interface import GRAB_TOPIC, POSE_TOPIC, TARGET_TOPIC, TWIST_TOPIC
-from ..wire.messages import point_from_message, stamp_nanoseconds, state_from_messages
 
 COLUMNS = ('time', 'stamp_ns', 'x', 'y', 'z', 'qx', 'qy', 'qz', 'qw', 'vx', 'vy', 'vz', 'wx', 'wy',
            'wz', 'anchor_x', 'anchor_y', 'anchor_z', 'target_x', 'target_y', 'target_z',
            'anchor_error', 'speed', 'angular_speed', 'body_anchor_x', 'body_anchor_y',
            'body_anchor_z', 'grab_x', 'grab_y', 'grab_z', 'grab_taken')
-# How far (m) a taken grab's new anchor may lie from the grab point, placed by the pose received
-# before the change, beyond the motion of the anchor since that pose's stamp.
-GRAB_MATCH = 1e-6
-# A node's stamp of a change is used when it is this close (ns) to the stamp of the pose
-# received before it: then pose stamps and change stamps are on one clock (with publish_clock
-# the poses are stamped with simulated time and the node's events with its system clock).
-SAME_CLOCK_NS = 1_000_000_000
+# A row is made once a pose stamped this much later (ns) came, and handed out as much later.
+SETTLE_NS = 250_000_000
+# The messages done with are dropped this many at a time.
+FORGET_BATCH = 1024
+# The topics read raw, and the doubles after their header.
+_RAW = {POSE_TOPIC: POSE, TWIST_TOPIC: TWIST, TARGET_TOPIC: POINT, GRAB_TOPIC: POINT}
 
 
 class Row(NamedTuple):
@@ -91,176 +90,186 @@ class Row(NamedTuple):
                 self.speed, self.angular_speed, *self.body_anchor, *grab, taken]
 
 
-class NodeView:
-    """
-    The recorded node's target and anchor as the messages received so far make them.
+class _Message(NamedTuple):
+    topic: str
+    # A pose's or a twist's StampedFields, a target's or a grab's point, else the message.
+    item: object
 
-    :param parameters: the node's parameters of ``received.NODE_PARAMETERS`` at the start;
-        ``anchor`` at least. Without the others a reset leaves no target (it is not known).
+
+class RowStream:
+    """
+    The rows of a recording, made as its messages come (see the module).
+
+    Poses, twists, targets and grabs are read raw (``decode_stamped``: no message objects);
+    a message those bytes do not hold is passed over, as a malformed message would be.
+
+    :param parameters: the node's parameters at the start (``NodeView``): ``anchor``, the anchor
+        in the body frame (m), at least.
     """
 
     def __init__(self, parameters: Mapping[str, object]) -> None:
-        """Start from ``parameters``, no target (none was received), no grab pending."""
-        self.parameters: Dict[str, object] = dict(parameters)
-        self.anchor: Vector3 = tuple(parameters['anchor'])
-        self.configured: Vector3 = self.anchor
-        self.target: Optional[Vector3] = None
-        self.pose: Optional[BodyState] = None
-        self.pose_stamp: Optional[int] = None
-        # Grabs received and not yet taken: (point, the row after it came).
-        self.pending: List[Tuple[Vector3, int]] = []
-        # Grabs to mark: row -> (point, taken).
-        self.marks: Dict[int, Tuple[Vector3, bool]] = {}
+        """Start with no message."""
+        self._view = NodeView(parameters)
+        self._path = TargetPath()
+        # The messages not yet done with, and the index of the first.
+        self._messages: List[_Message] = []
+        self._base = 0
+        self._applied = 0  # messages applied to the view (index)
+        self._scanned = 0  # messages looked at for a row (index)
+        # The changes not yet applied whose node stamp is on the poses' clock: (index, stamp).
+        self._changes: List[Tuple[int, int]] = []
+        self._twists: Dict[int, List[StampedFields]] = {}
+        self._paired: Dict[int, int] = {}
+        self._latest_pose: Optional[int] = None
+        self._newest_pose: Optional[int] = None
+        self._held: Optional[int] = None  # the index of the target message the node holds
+        self._first: Optional[int] = None
+        self._last: Optional[int] = None  # the stamp of the latest row made
+        self._made = 0
+        self._ready: Deque[Row] = deque()
 
-    def take(self, topic: str, message, row: int) -> None:
-        """Apply one received message; ``row`` is the row that the next pose makes."""
-        if topic == TARGET_TOPIC:
-            self.target = point_from_message(message)
-        elif topic == GRAB_TOPIC:
-            self.pending.append((point_from_message(message), row))
-        elif topic == PARAMETER_EVENTS_TOPIC:
-            self._parameters_changed(parameter_changes(message), row)
-        elif topic in (RESET_EVENTS, RELEASE_EVENTS) and _succeeded(message):
-            if topic == RELEASE_EVENTS:
-                self.target = None
+    def add(self, received: Received) -> List[Row]:
+        """Take one message as received; return the rows it completes, in order."""
+        topic, index = received.topic, self._base + len(self._messages)
+        if topic in _RAW:
+            item = decode_stamped(received.data, _RAW[topic])
+            if isinstance(item, Refusal):
+                return []
+            if topic == POSE_TOPIC:
+                self._latest_pose = item.stamp_ns
+                self._newest_pose = max(item.stamp_ns, self._newest_pose or item.stamp_ns)
+            elif topic == TWIST_TOPIC:
+                self._twists.setdefault(item.stamp_ns, []).append(item)
             else:
-                self.anchor = self.configured
-                self.target = self._reset_target()
+                if topic == TARGET_TOPIC:
+                    self._path.add(index, self._path.time_of(item.stamp_ns, self._latest_pose),
+                                   item.values)
+                item = item.values
+        else:
+            item = deserialize_message(received.data, MESSAGE_TYPES[topic])
+            self._path.add_break(index)
+            stamp = change_stamp(topic, item)
+            if stamp is not None and self._latest_pose is not None and \
+                    abs(stamp - self._latest_pose) <= SAME_CLOCK_NS:
+                self._changes.append((index, stamp))
+        self._messages.append(_Message(topic, item))
+        if self._newest_pose is None:
+            return []
+        return self._rows(self._newest_pose - SETTLE_NS, self._newest_pose - 2 * SETTLE_NS)
 
-    def _parameters_changed(self, changes: Mapping[str, object], row: int) -> None:
-        self.parameters.update(changes)
-        anchor = changes.get('anchor')
-        if anchor is None:
+    def finish(self) -> List[Row]:
+        """Return the rows not handed out yet: the recording is over."""
+        return self._rows(None, None)
+
+    def _rows(self, make_until: Optional[int], hand_until: Optional[int]) -> List[Row]:
+        self._make(make_until)
+        rows = []
+        while self._ready and (hand_until is None or self._ready[0].stamp_ns <= hand_until):
+            rows.append(self._ready.popleft())
+        if rows:
+            # The grabs that came before the last row handed out and were not taken by now.
+            self._view.expire(self._made - len(self._ready) - 1 if hand_until is not None
+                              else self._made)
+            marks = self._view.marks
+            first = self._made - len(self._ready) - len(rows)
+            for offset, row in enumerate(rows):
+                mark = marks.pop(first + offset, None)
+                if mark is not None:
+                    rows[offset] = row._replace(grab=mark[0], grab_taken=mark[1])
+        return rows
+
+    def _at(self, index: int) -> _Message:
+        return self._messages[index - self._base]
+
+    def _make(self, until: Optional[int]) -> None:
+        """Make the rows of the poses stamped up to ``until`` (None: all)."""
+        end = self._base + len(self._messages)
+        while self._scanned < end:
+            topic, pose = self._at(self._scanned)
+            if topic != POSE_TOPIC:
+                self._scanned += 1
+                continue
+            stamp = pose.stamp_ns
+            if until is not None and stamp > until:
+                break
+            twists, paired = self._twists.get(stamp, ()), self._paired.get(stamp, 0)
+            if paired < len(twists):
+                self._paired[stamp] = paired + 1
+                self._make_row(pose, twists[paired])
+            self._scanned += 1
+        self._forget()
+
+    def _make_row(self, pose: StampedFields, twist: StampedFields) -> None:
+        # Everything received before this pose, and the changes the node made before its tick.
+        stamp = pose.stamp_ns
+        until = max([self._scanned] + [index + 1 for index, change in self._changes
+                                       if index >= self._scanned and change < stamp])
+        view = self._view
+        while self._applied < until:
+            topic, item = self._at(self._applied)
+            if topic == POSE_TOPIC:
+                view.pose = _state(item, self._twists.get(item.stamp_ns))
+            elif topic != TWIST_TOPIC:
+                before = view.target
+                view.take(topic, item, self._made)
+                if topic == TARGET_TOPIC:
+                    self._held = self._applied
+                elif view.target is not before:
+                    self._held = None
+            self._applied += 1
+        self._changes = [(i, c) for i, c in self._changes if i >= self._applied]
+        if self._first is None:
+            self._first = stamp
+        self._last = stamp
+        target = view.target
+        if self._held is not None:
+            target = self._path.at(stamp, self._held) or target
+        self._ready.append(_row(_state(pose, [twist]), stamp, target, view.anchor,
+                                self._first))
+        self._made += 1
+
+    def _forget(self) -> None:
+        """Drop the messages applied and looked at, the twists and targets no row needs."""
+        done = min(self._applied, self._scanned) - self._base
+        if done < FORGET_BATCH or self._last is None:
             return
-        self.anchor = anchor
-        grabbed = self._grab_for(anchor)
-        if grabbed is None:
-            self.configured = anchor  # ros2 param set, or ~/reset restoring it
-            return
-        point, index = grabbed
-        for refused, after in self.pending[:index]:
-            self.marks.setdefault(after, (refused, False))
-        del self.pending[:index + 1]
-        self.marks[row] = (point, True)
-        self.target = point
-
-    def _grab_for(self, anchor: Vector3) -> Optional[Tuple[Vector3, int]]:
-        """Return the pending grab (point, its index) that puts ``anchor`` where it is."""
-        if self.pose is None:
-            return None
-        placed = self.pose.world_point(anchor)
-        reach = math.hypot(*anchor) * math.hypot(*self.pose.angular_velocity) + math.hypot(
-            *self.pose.linear_velocity)
-        for index, (point, _) in enumerate(self.pending):
-            # The node placed it with its state of the latest tick, at most a tick or two after
-            # the pose received (publish_rate_hz may skip some): allow 0.1 s of motion.
-            if math.dist(placed, point) <= GRAB_MATCH + 0.1 * reach:
-                return point, index
-        return None
-
-    def _reset_target(self) -> Optional[Vector3]:
-        p = self.parameters
-        if not p.get('hold_initial_anchor') or 'initial_position' not in p \
-                or 'initial_orientation' not in p:
-            return None
-        start = BodyState(p['initial_position'], p['initial_orientation']).validated(
-            prefix='initial_')
-        return start.world_point(self.configured)
-
-    def refused_marks(self) -> Dict[int, Tuple[Vector3, bool]]:
-        """Return the marks, with every grab still pending marked as ignored."""
-        marks = dict(self.marks)
-        for point, after in self.pending:
-            marks.setdefault(after, (point, False))
-        return marks
-
-
-def _succeeded(event) -> bool:
-    """Return whether a service event is a sent response that says success."""
-    return (event.info.event_type == ServiceEventInfo.RESPONSE_SENT and len(event.response) == 1
-            and event.response[0].success)
-
-
-def _change_stamp(topic: str, message) -> Optional[int]:
-    """Return the node's stamp (ns) of a change, or None for a message without one."""
-    if topic == PARAMETER_EVENTS_TOPIC:
-        stamp = stamp_nanoseconds(message.stamp)
-    elif topic in (RESET_EVENTS, RELEASE_EVENTS):
-        stamp = stamp_nanoseconds(message.info.stamp)
-    else:
-        return None
-    return stamp or None
+        del self._messages[:done]
+        self._base += done
+        for stamp in [s for s in self._twists if s < self._last - SETTLE_NS]:
+            del self._twists[stamp]
+            self._paired.pop(stamp, None)
+        self._path.forget_before(self._last)
 
 
 def tick_rows(received: Sequence[Received], parameters: Mapping[str, object]) -> List[Row]:
     """
-    Return one row per stamp that has both a pose and a twist, in the order the poses came.
+    Return one row per pose that has a twist of its stamp, in the order the poses came.
+
+    A recording as a whole, made with ``RowStream``: a stamp published twice (a reset while
+    paused publishes the state it leaves at the paused tick's stamp) makes two rows.
 
     :param received: the messages as received, in order.
     :param parameters: the node's parameters at the start (``NodeView``): ``anchor``, the
         anchor in the body frame (m), at least.
     """
-    decoded = [(m.topic, deserialize_message(m.data, MESSAGE_TYPES[m.topic])) for m in received]
-    twists = {}
-    for topic, message in decoded:
-        if topic == TWIST_TOPIC:
-            twists.setdefault(stamp_nanoseconds(message.header.stamp), message)
-    stamps = _usable_stamps(decoded)
-    view = NodeView(parameters)
-    taken, seen, rows = 0, set(), []
-    for index, (topic, message) in enumerate(decoded):
-        if topic != POSE_TOPIC:
-            continue
-        stamp = stamp_nanoseconds(message.header.stamp)
-        if stamp in seen or stamp not in twists:
-            continue
-        seen.add(stamp)
-        # Everything received before this pose, and the changes the node made before its tick.
-        until = max([index] + [j + 1 for j, s in stamps.items() if j >= index and s < stamp])
-        while taken < until:
-            kind, item = decoded[taken]
-            if kind == POSE_TOPIC:
-                view.pose = _pose_state(item, twists)
-            else:
-                view.take(kind, item, len(rows))
-            taken += 1
-        rows.append(_row(message, twists[stamp], view.target, view.anchor,
-                         rows[0].stamp_ns if rows else stamp))
-    for row, (point, was_taken) in view.refused_marks().items():
-        if row < len(rows):
-            rows[row] = rows[row]._replace(grab=point, grab_taken=was_taken)
-    return rows
+    stream = RowStream(parameters)
+    rows = []
+    for message in received:
+        rows.extend(stream.add(message))
+    return rows + stream.finish()
 
 
-def _usable_stamps(decoded) -> Dict[int, int]:
-    """Return the node's stamp of each change, by index, where it is on the poses' clock."""
-    stamps, latest = {}, None
-    for index, (topic, message) in enumerate(decoded):
-        if topic == POSE_TOPIC:
-            latest = stamp_nanoseconds(message.header.stamp)
-            continue
-        stamp = _change_stamp(topic, message)
-        if stamp is not None and latest is not None and abs(stamp - latest) <= SAME_CLOCK_NS:
-            stamps[index] = stamp
-    return stamps
+def _state(pose: StampedFields, twists: Optional[List[StampedFields]]) -> BodyState:
+    """Return the body state of a pose and the first twist of its stamp (at rest without)."""
+    values = pose.values
+    if not twists:
+        return BodyState(values[:3], values[3:])
+    velocity = twists[0].values
+    return BodyState(values[:3], values[3:], velocity[:3], velocity[3:])
 
 
-def _pose_state(pose: PoseStamped, twists) -> BodyState:
-    twist = twists.get(stamp_nanoseconds(pose.header.stamp))
-    if twist is None:
-        return BodyState(*_pose_tuple(pose))
-    return state_from_messages(pose, twist)
-
-
-def _pose_tuple(pose: PoseStamped):
-    p, q = pose.pose.position, pose.pose.orientation
-    return (p.x, p.y, p.z), (q.x, q.y, q.z, q.w)
-
-
-def _row(pose: PoseStamped, twist, target: Optional[Vector3], body_anchor: Vector3,
+def _row(state: BodyState, stamp: int, target: Optional[Vector3], body_anchor: Vector3,
          start: int) -> Row:
-    stamp = stamp_nanoseconds(pose.header.stamp)
-    state = state_from_messages(pose, twist)
     world_anchor = state.world_point(body_anchor)
     return Row(
         time=(stamp - start) * 1e-9, stamp_ns=stamp, position=state.position,
@@ -269,25 +278,3 @@ def _row(pose: PoseStamped, twist, target: Optional[Vector3], body_anchor: Vecto
         anchor_error=None if target is None else math.dist(world_anchor, target),
         speed=math.hypot(*state.linear_velocity),
         angular_speed=math.hypot(*state.angular_velocity), body_anchor=body_anchor)
-
-
-def write_csv(path: Path, rows: Sequence[Row], metadata: Sequence[str] = ()) -> None:
-    """
-    Write ``rows`` under a ``COLUMNS`` header; floats keep every digit (repr).
-
-    :param metadata: lines written first, each after ``# `` (what the recording lacks).
-    """
-    with open(path, 'w', newline='') as stream:
-        for line in metadata:
-            stream.write(f'# {line}\n')
-        writer = csv.writer(stream)
-        writer.writerow(COLUMNS)
-        writer.writerows(row.fields() for row in rows)
-
-
-def frame_of(received: Sequence[Received]) -> str:
-    """Return the frame_id of the first pose, or '' without one."""
-    for message in received:
-        if message.topic == POSE_TOPIC:
-            return deserialize_message(message.data, PoseStamped).header.frame_id
-    return ''

@@ -13,22 +13,19 @@
 # limitations under the License.
 
 """
-Decoding a raw geometry_msgs/PointStamped.
+Decoding a raw geometry_msgs/PointStamped: ``decode_stamped`` with its three doubles.
 
 ``decode_point_stamped`` reads a raw geometry_msgs/PointStamped (a subscription created with
 ``raw=True`` passes ``bytes``) and returns its fields, or a ``Refusal`` that says what is wrong
 with the bytes; it never raises.
 """
 
-import struct
 from typing import NamedTuple, Tuple, Union
 
 from geometry_msgs.msg import PointStamped
 
-from .layout import ENCAPSULATION_SIZE, NANOSECONDS_PER_SECOND
-
-
-_REPRESENTATIONS = {b'\x00\x00': '>', b'\x00\x01': '<'}  # CDR_BE, CDR_LE (XCDR1 plain)
+from .layout import NANOSECONDS_PER_SECOND
+from .stamped import decode_stamped, POINT, Refusal
 
 
 class PointStampedFields(NamedTuple):
@@ -52,61 +49,18 @@ class PointStampedFields(NamedTuple):
         return (self.x, self.y, self.z)
 
 
-class Refusal(NamedTuple):
-    """Why some bytes are not a PointStamped this decoder reads."""
-
-    reason: str
-
-
 def decode_point_stamped(data: object) -> Union[PointStampedFields, Refusal]:
     """
     Return the fields of the raw geometry_msgs/PointStamped ``data``, or why it is refused.
 
-    Reads plain CDR (XCDR1) of either byte order, as any ROS 2 middleware sends it, and is
-    stricter than Fast CDR where the bytes break the format: it refuses a string whose length is
-    0, that has no terminating NUL or a NUL inside, or that is not UTF-8 (Fast CDR accepts the
-    first three, and rclpy replaces bad UTF-8), and any other encapsulation (XCDR2, parameter
-    lists). Bytes after the message are ignored, as Fast CDR ignores them. Whatever it accepts,
-    ``deserialize_message`` reads as the same fields.
+    As ``decode_stamped`` reads it (its checks and their messages).
 
     :param data: ``bytes``, ``bytearray`` or ``memoryview``; anything else is refused.
     """
-    if not isinstance(data, (bytes, bytearray, memoryview)):
-        return Refusal(f'expected bytes, got {type(data).__name__}')
-    try:
-        data = bytes(data)
-    except (TypeError, ValueError, BufferError) as error:
-        return Refusal(f'unreadable buffer: {error}')
-    size = len(data)
-    if size < ENCAPSULATION_SIZE:
-        return Refusal(f'truncated: {size} bytes, shorter than the encapsulation header')
-    order = _REPRESENTATIONS.get(data[:2])
-    if order is None:
-        return Refusal(f'encapsulation {data[:2].hex()} is not plain CDR (0000 or 0001)')
-    start = ENCAPSULATION_SIZE
-    if size < start + 12:
-        return Refusal(f'truncated: {size} bytes end inside the header')
-    sec, nanosec, length = struct.unpack_from(order + 'iII', data, start)
-    if length == 0:
-        return Refusal('frame_id has length 0: a CDR string counts its terminating NUL')
-    text_start = start + 12
-    text_end = text_start + length
-    if text_end > size:
-        return Refusal(f'truncated: frame_id of {length} bytes runs past the {size} bytes')
-    if data[text_end - 1] != 0:
-        return Refusal('frame_id has no terminating NUL')
-    raw = data[text_start:text_end - 1]
-    if b'\x00' in raw:
-        return Refusal('frame_id holds a NUL before its end')
-    try:
-        frame_id = raw.decode('utf-8')
-    except UnicodeDecodeError as error:
-        return Refusal(f'frame_id is not UTF-8: {error}')
-    point_start = text_end + (-(text_end - start) % 8)
-    if point_start + 24 > size:
-        return Refusal(f'truncated: {size} bytes end before the point')
-    x, y, z = struct.unpack_from(order + '3d', data, point_start)
-    return PointStampedFields(frame_id, sec, nanosec, x, y, z)
+    fields = decode_stamped(data, POINT)
+    if isinstance(fields, Refusal):
+        return fields
+    return PointStampedFields(fields.frame_id, fields.sec, fields.nanosec, *fields.values)
 
 
 def fields_of(message: PointStamped) -> PointStampedFields:

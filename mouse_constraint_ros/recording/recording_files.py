@@ -1,0 +1,133 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+A recording's files, written while it records: the CSV row by row, the MCAP chunk by chunk.
+
+``RecordingFiles`` takes each message as the recorder receives it. Until ``start`` (the first
+pose came and the recorded node's parameters are known) it keeps them; then it writes what it
+kept and, from there on, each message to the MCAP file and each row to the CSV as ``RowStream``
+completes it, and every ``FLUSH_SECONDS`` hands both files' bytes to the operating system. A
+recorder killed with SIGKILL leaves the rows and the messages of all but its last half second
+or so; ``close`` writes the rest, the CSV's trailer and the MCAP's summary, and the figure is
+drawn from the rows it kept.
+"""
+
+from pathlib import Path
+import time
+from typing import Callable, List, Mapping, Optional, Sequence
+
+from .csv_file import CsvFile
+from .mcap_file import McapStream
+from .received import Received
+from .rows import Row, RowStream
+from ..wire.cdr.stamped import decode_stamped, POSE, Refusal
+from ..wire.interface import POSE_TOPIC
+
+# How often the files' bytes go to the operating system (s).
+FLUSH_SECONDS = 0.25
+
+
+class RecordingFiles:
+    """
+    The CSV and, when asked, the MCAP file of one recording, written as it goes.
+
+    :param csv_path: the CSV file.
+    :param mcap_path: the MCAP file, or None for none.
+    :param clock: seconds of a monotonic clock (when to flush).
+    """
+
+    def __init__(self, csv_path: Path, mcap_path: Optional[Path] = None, *,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        """Open nothing yet."""
+        self._csv_path, self._mcap_path = csv_path, mcap_path
+        self._clock = clock
+        self._kept: List[Received] = []
+        self._rows: Optional[RowStream] = None
+        self._csv: Optional[CsvFile] = None
+        self._mcap: Optional[McapStream] = None
+        self._offered_qos: Mapping[str, str] = {}
+        self._flushed = clock()
+        self.rows: List[Row] = []
+        self.frame_id: Optional[str] = None
+
+    def start(self, parameters: Mapping[str, object], *, topic_names: Mapping[str, str],
+              offered_qos: Mapping[str, str], metadata: Sequence[str] = ()) -> None:
+        """
+        Open the files and write what came so far: the recording starts.
+
+        :param parameters: the recorded node's parameters at the start (``NodeView``).
+        :param topic_names: the resolved topic of each recorded key.
+        :param offered_qos: the publishers' QoS of each key, filled in as topics are seen.
+        :param metadata: the CSV's first lines.
+        """
+        self._offered_qos = offered_qos
+        self._rows = RowStream(parameters)
+        self._csv = CsvFile(self._csv_path, metadata)
+        if self._mcap_path is not None:
+            self._mcap = McapStream(self._mcap_path, topic_names=topic_names)
+        kept, self._kept = self._kept, []
+        for message in kept:
+            self.add(message)
+        self.flush()
+
+    def add(self, message: Received) -> None:
+        """Take one message as received: kept until ``start``, then written."""
+        if self._rows is None:
+            self._kept.append(message)
+            return
+        if self.frame_id is None and message.topic == POSE_TOPIC:
+            pose = decode_stamped(message.data, POSE)
+            self.frame_id = None if isinstance(pose, Refusal) else pose.frame_id
+        if self._mcap is not None:
+            self._mcap.add(message, self._offered_qos.get(message.topic, ''))
+        self._write(self._rows.add(message))
+        self.flush_due()
+
+    def flush_due(self) -> None:
+        """Flush when ``FLUSH_SECONDS`` passed since the last flush (a paused node sends none)."""
+        if self._clock() - self._flushed >= FLUSH_SECONDS:
+            self.flush()
+
+    def _write(self, rows: List[Row]) -> None:
+        if rows:
+            self._csv.write(rows)
+            self.rows.extend(rows)
+
+    def flush(self) -> None:
+        """Hand both files' bytes to the operating system."""
+        self._flushed = self._clock()
+        if self._csv is not None:
+            self._csv.flush()
+        if self._mcap is not None:
+            self._mcap.flush()
+
+    def close(self, trailer: Callable[[List[Row]], Sequence[str]] = lambda rows: ()) -> None:
+        """
+        Write the last rows, the CSV's trailer and the MCAP's summary; close both files.
+
+        :param trailer: returns the CSV's last lines from all the rows.
+        """
+        if self._rows is None:
+            return
+        self._write(self._rows.finish())
+        self._csv.close(trailer(self.rows))
+        if self._mcap is not None:
+            self._mcap.close(self._offered_qos)
+
+    def paths(self) -> List[Path]:
+        """Return the files opened, the CSV first."""
+        if self._rows is None:
+            return []
+        return [self._csv_path] + ([self._mcap_path] if self._mcap is not None else [])
