@@ -92,3 +92,26 @@ def test_readme_links_every_docs_page():
     section = README.read_text().split('## Documentation', 1)[1]
     linked = set(re.findall(r'\]\((docs/[\w.]+\.md)\)', section))
     assert linked == {f'docs/{page.name}' for page in (ROOT / 'docs').glob('*.md')}
+
+
+def _section(title: str) -> str:
+    return README.read_text().split(f'## {title}', 1)[1].split('\n## ', 1)[0]
+
+
+def test_the_ros_native_route_installs_what_it_needs_before_building():
+    """rosdep before colcon; viser at its pin for mouse_view; rviz2 for rviz:=true."""
+    section = _section('The ROS-native route')
+    commands = re.search(r'```bash\n(.*?)```', section, re.S).group(1).splitlines()
+    rosdep = next(i for i, line in enumerate(commands)
+                  if line.startswith('rosdep install --from-paths src'))
+    build = next(i for i, line in enumerate(commands) if line.startswith('colcon build'))
+    assert rosdep < build
+    [pin] = re.findall(r'^viser==\S+$', (ROOT / 'requirements' / 'view.txt').read_text(), re.M)
+    assert f'pip install {pin}' in section
+    assert 'ros-jazzy-rviz2' in section and 'rviz:=true' in section
+
+
+def test_the_worked_example_gives_each_terminal_one_role():
+    """Terminals are introduced in order, each once: the node, the view, commands, recorder."""
+    numbers = [int(n) for n in re.findall(r'[Tt]erminal (\d+)', _section('A worked example'))]
+    assert numbers == list(range(1, len(numbers) + 1)) and len(numbers) >= 4
