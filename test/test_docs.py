@@ -99,7 +99,7 @@ def _section(title: str) -> str:
 
 
 def test_the_ros_native_route_installs_what_it_needs_before_building():
-    """rosdep before colcon; viser at its pin for mouse_view; rviz2 for rviz:=true."""
+    """Install with rosdep before colcon; viser at its pin for mouse_view; rviz2 for RViz."""
     section = _section('The ROS-native route')
     commands = re.search(r'```bash\n(.*?)```', section, re.S).group(1).splitlines()
     rosdep = next(i for i, line in enumerate(commands)
