@@ -39,8 +39,9 @@ PYTHON_KEYS = {'numpy': 'python3-numpy', 'yaml': 'python3-yaml', 'scipy': 'pytho
 OPTIONAL = {'mcap', 'pytest'}
 # No rosdep key: viser serves ``mouse_view`` alone (and the tests of the view skip without it);
 # package.xml names it in a comment and the ROS-native route installs it with pip
-# (requirements/view.txt).
-UNKEYED = {'viser'}
+# (requirements/view.txt). websockets and msgspec come with it: the view bounds viser's
+# websocket server, and the view's tests speak its protocol.
+UNKEYED = {'viser', 'websockets', 'msgspec'}
 
 
 def imported(paths) -> set:

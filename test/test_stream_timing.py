@@ -231,6 +231,22 @@ def test_a_stamped_stream_that_goes_on_unstamped_past_its_window_holds():
     assert stream.velocity[0] == pytest.approx(1.0, abs=1e-6)
 
 
+def test_points_of_one_arrival_time_end_the_stream_at_the_last_one():
+    """
+    A burst of unstamped points in a stamped stream, all placed at one time: the newest wins.
+
+    The flood of a script that stamps every point alike: after the first, its stamps are not
+    later than the last used, so the points come timed by their arrival, many in one tick; the
+    stream stopped, the target rests at the last point sent, not at the first of its tick.
+    """
+    stream = TargetStream()
+    stream.add((0.0, 0.0, 0.0), 0.0, 2.0, 0.001)
+    for k in range(1, 21):
+        stream.add((0.0005 * k, 0.0, 0.0), 0.002, 2.0)  # one tick's arrival, 20 points
+    position, velocity = stream.predict(10.0)
+    assert position == (0.01, 0.0, 0.0) and velocity == (0.0, 0.0, 0.0)
+
+
 @settings(max_examples=300, deadline=None)
 @given(st.lists(st.tuples(
     st.floats(-1.0, 1.0), st.floats(0.0, 0.3), st.one_of(st.none(), st.floats(-0.01, 0.3)),

@@ -103,6 +103,8 @@ LATENCY_JUMP = 0.05
 # its time is off by as much as the latencies spread.
 UNSTAMPED_WEIGHT = 0.25
 ZERO: Vector3 = (0.0, 0.0, 0.0)
+# Points closer in time than this (s) to the latest are at its time: they replace its point.
+SAME_TIME = 1e-6
 
 
 def _cross_validated(times: np.ndarray, values: np.ndarray, weights: np.ndarray,
@@ -210,10 +212,19 @@ class TargetStream:
         if not stamped and time is not None and self._stamped and self._latencies:
             # An unstamped point in a stamped stream: on the stamps' base, by the latency.
             arrival, time, exact = time, time - self._median_latency(), False
-            if latest is not None and time <= latest[0]:
-                # Placed before the latest stamp: it adds nothing to the fit.
+            if latest is not None and time < latest[0]:
+                # Placed before the latest point: it adds nothing to the fit, but it is the
+                # newest point sent, where the target rests if the stream stops here.
+                self._latest = (latest[0], point)
                 return True
         jumped = stamped and (not self._stamped or self._latency_jumps(arrival - time))
+        if (latest is not None and time is not None and (arrival is not None) == self._stamped
+                and not jumped and 0.0 <= time - latest[0] < SAME_TIME):
+            # No time after the latest point (a burst in one tick): the newest point sent
+            # replaces it, where the target rests if the stream stops; the fit, whose times
+            # would be degenerate, stays.
+            self._latest = (latest[0], point)
+            return True
         if jumped:
             self._latencies.clear()
             self._floor = math.inf
