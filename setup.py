@@ -53,6 +53,7 @@ setup(
             'mouse_record = mouse_constraint_ros.cli.record:main',
             'mouse_wrench = mouse_constraint_ros.cli.wrench:main',
             'mouse_view = mouse_constraint_ros.view.command:main',
+            'mouse_marker = mouse_constraint_ros.marker.command:main',
         ],
         # The fixtures of mouse_constraint_ros.testing, for any package that installs this one.
         'pytest11': [

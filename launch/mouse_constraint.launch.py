@@ -19,6 +19,9 @@ Launch the mouse_constraint node with the installed parameters, and optionally R
   ros2 launch mouse_constraint_ros mouse_constraint.launch.py namespace:=/robot rviz:=true
   ros2 launch mouse_constraint_ros mouse_constraint.launch.py -s   # the arguments
 
+With ``rviz:=true`` it also starts ``mouse_marker`` (``marker``, by default as ``rviz``), the
+body as an interactive marker that RViz's Interact tool drags.
+
 The default parameters file and the RViz configuration are looked up in the package's installed
 share directory (ament index) when the launch file is loaded, so they are the installed copies.
 
@@ -41,10 +44,13 @@ from launch_ros.actions import Node
 
 PACKAGE = 'mouse_constraint_ros'
 NODE_NAME = 'mouse_constraint'
-# The topics the RViz configuration names, absolute as for an empty namespace. RViz runs in the
-# launch namespace with each remapped to its relative name, so that under namespace:=/robot it
-# shows /robot/pose and publishes clicks on /robot/target and /robot/grab.
-RVIZ_TOPICS = ('pose', NODE_NAME + '/markers', 'grab', 'target')
+MARKER_NAME = 'mouse_marker'
+# The topics (and the service) the RViz configuration names, absolute as for an empty
+# namespace. RViz runs in the launch namespace with each remapped to its relative name, so that
+# under namespace:=/robot it shows /robot/pose, publishes clicks on /robot/target and
+# /robot/grab, and drags the interactive marker of /robot/mouse_marker.
+RVIZ_TOPICS = ('pose', NODE_NAME + '/markers', 'grab', 'target', MARKER_NAME + '/update',
+               MARKER_NAME + '/feedback', MARKER_NAME + '/get_interactive_markers')
 # The spellings a boolean argument takes: IfCondition reads true/false in any case, and the
 # node's use_sim_time gets the argument parsed as YAML, where these four are booleans.
 BOOLEAN = ['true', 'false', 'True', 'False']
@@ -90,6 +96,10 @@ def generate_launch_description() -> LaunchDescription:
         DeclareLaunchArgument(
             'body_frame_id', default_value=NamespacedFrame('body'),
             description='Child frame of the body on /tf and odom; overrides params_file.'),
+        DeclareLaunchArgument(
+            'marker', default_value=LaunchConfiguration('rviz'), choices=BOOLEAN,
+            description='Also start mouse_marker, the body as an interactive marker to drag '
+                        "in RViz (default: as 'rviz')."),
         # RViz first: where rviz2 is not installed, rviz:=true makes launch fail at this action
         # (package not found) and shut down, exit code 1, before the node starts. (After a
         # failing action launch shuts down what it started, too.)
@@ -106,4 +116,8 @@ def generate_launch_description() -> LaunchDescription:
             parameters=[LaunchConfiguration('params_file'),
                         {'use_sim_time': use_sim_time,
                          'body_frame_id': LaunchConfiguration('body_frame_id')}]),
+        Node(
+            package=PACKAGE, executable='mouse_marker', name=MARKER_NAME, namespace=namespace,
+            output='screen', parameters=[{'use_sim_time': use_sim_time}],
+            condition=IfCondition(LaunchConfiguration('marker'))),
     ])

@@ -42,7 +42,9 @@ RVIZ_FILE = 'mouse_constraint.rviz'
 NODE_NAME = 'mouse_constraint'
 # The node's topics for an empty namespace: what the RViz configuration must name.
 NODE_TOPICS = {'markers': f'/{NODE_NAME}/markers', 'pose': '/pose', 'grab': '/grab',
-               'target': '/target'}
+               'target': '/target', 'marker_update': '/mouse_marker/update',
+               'marker_feedback': '/mouse_marker/feedback',
+               'marker_service': '/mouse_marker/get_interactive_markers'}
 SKIP_REASON = ('the ROS launch and launch_ros packages are not importable here (no wheel ships '
                'them; an apt ROS install or their sources provide them)')
 
@@ -119,23 +121,30 @@ def test_launch_file_names_the_installed_params_and_rviz_files(install, monkeypa
     arguments = {ast.literal_eval(call.args[0]): keywords(call)
                  for call in launch_calls(path, 'DeclareLaunchArgument')}
     assert list(arguments) == ['namespace', 'params_file', 'use_sim_time', 'rviz',
-                               'body_frame_id']
+                               'body_frame_id', 'marker']
+    # The marker server goes with RViz unless told otherwise.
+    assert ast.unparse(arguments['marker']['default_value']) == "LaunchConfiguration('rviz')"
     assert all(ast.literal_eval(argument['description']) for argument in arguments.values())
     params_file = share_path(arguments['params_file']['default_value'], share_directory)
     assert params_file == share(install) / 'config' / 'params.yaml'
     assert params_file.is_file()
-    nodes = {ast.literal_eval(keywords(call)['package']) if isinstance(
-        keywords(call)['package'], ast.Constant) else ast.unparse(keywords(call)['package']):
-        keywords(call) for call in launch_calls(path, 'Node')}
-    node = nodes['PACKAGE']
+    calls = [keywords(call) for call in launch_calls(path, 'Node')]
+    nodes = {ast.literal_eval(call['executable']): call for call in calls}
+    assert list(nodes) == ['rviz2', 'mouse_constraint_node', 'mouse_marker']
+    node = nodes['mouse_constraint_node']
     executable = ast.literal_eval(node['executable'])
-    assert executable == 'mouse_constraint_node'
+    assert ast.unparse(node['package']) == 'PACKAGE'
     assert ast.unparse(node['name']) == 'NODE_NAME' and f"NODE_NAME = '{NODE_NAME}'" in source
     assert (install / 'lib' / PACKAGE / executable).is_file()
     assert ast.unparse(node['parameters']).startswith("[LaunchConfiguration('params_file'), {")
     assert "'body_frame_id': LaunchConfiguration('body_frame_id')" in ast.unparse(
         node['parameters'])
     assert all(ast.literal_eval(n['output']) == 'screen' for n in nodes.values())
+    marker = nodes['mouse_marker']
+    assert ast.unparse(marker['package']) == 'PACKAGE' and ast.unparse(marker['name']) == \
+        'MARKER_NAME' and "MARKER_NAME = 'mouse_marker'" in source
+    assert (install / 'lib' / PACKAGE / 'mouse_marker').is_file()
+    assert ast.unparse(marker['condition']) == "IfCondition(LaunchConfiguration('marker'))"
     rviz = nodes['rviz2']
     rviz_arguments = rviz['arguments']
     assert ast.literal_eval(rviz_arguments.elts[0]) == '-d'
@@ -148,7 +157,7 @@ def test_launch_file_names_the_installed_params_and_rviz_files(install, monkeypa
     (assignment,) = [node for node in ast.walk(ast.parse(source)) if isinstance(node, ast.Assign)
                      and ast.unparse(node.targets[0]) == 'RVIZ_TOPICS']
     topics = eval(compile(ast.Expression(assignment.value), str(path), 'eval'),
-                  {'NODE_NAME': NODE_NAME})
+                  {'NODE_NAME': NODE_NAME, 'MARKER_NAME': 'mouse_marker'})
     assert sorted('/' + topic for topic in topics) == sorted(NODE_TOPICS.values())
 
 
@@ -167,6 +176,12 @@ def test_rviz_configuration_names_the_node_topics_and_the_world_frame():
     points = [t['Topic']['Value'] for t in manager['Tools']
               if t['Class'] == 'rviz_default_plugins/PublishPoint']
     assert points == [NODE_TOPICS['grab'], NODE_TOPICS['target']]
+    # The interactive marker's namespace: its update topic less '/update'; and the Interact
+    # tool first, the one rviz2 selects at start.
+    namespace = displays['rviz_default_plugins/InteractiveMarkers'][
+        'Interactive Markers Namespace']
+    assert namespace + '/update' == NODE_TOPICS['marker_update']
+    assert manager['Tools'][0]['Class'] == 'rviz_default_plugins/Interact'
 
 
 # What rviz2 (Jazzy) reads from a .rviz, per place and per plugin class: the keys its load()
@@ -197,6 +212,9 @@ DISPLAYS = {
         'Alpha': None, 'Axes Length': None, 'Axes Radius': None, 'Color': None,
         'Head Length': None, 'Head Radius': None, 'Shaft Length': None, 'Shaft Radius': None,
         'Shape': None, 'Topic': dict(TOPIC, **{'Filter size': None})},
+    'rviz_default_plugins/InteractiveMarkers': {
+        'Interactive Markers Namespace': None, 'Show Descriptions': None, 'Show Axes': None,
+        'Show Visual Aids': None, 'Enable Transparency': None},
     'rviz_default_plugins/TF': {
         'Frame Timeout': None, 'Frames': ANY, 'Marker Scale': None, 'Show Arrows': None,
         'Show Axes': None, 'Show Names': None, 'Tree': ANY, 'Update Interval': None,
@@ -388,7 +406,8 @@ def test_launch_file_parses_and_describes_its_arguments(real_launch, install, mo
         defaults = {a.name: perform_substitutions(context, a.default_value) for a in arguments}
         assert defaults == {
             'namespace': '', 'params_file': str(share(install) / 'config' / 'params.yaml'),
-            'use_sim_time': 'false', 'rviz': 'false', 'body_frame_id': body_frame}
+            'use_sim_time': 'false', 'rviz': 'false', 'body_frame_id': body_frame,
+            'marker': 'false'}
     choices = {a.name: a.choices for a in arguments}
     assert choices['rviz'] == choices['use_sim_time'] and {'True', 'true'} <= set(
         choices['rviz'])

@@ -32,6 +32,10 @@ ALLOWED = {
     'recording': {'recording', 'physics', 'timing', 'wire'},
     'cli': {'cli', 'physics', 'timing', 'inputs', 'wire', 'recording', 'node/parameters.py'},
     'view': {'view', 'physics', 'timing', 'inputs', 'wire', 'monitoring'},
+    # The RViz marker shares the web view's pure parts and its node follower, never viser.
+    'marker': {'marker', 'physics', 'timing', 'wire', 'monitoring', 'view/geometry.py',
+               'view/gestures.py', 'view/newest_message.py', 'view/node_follower.py',
+               'view/node_readouts.py', 'view/push_throttle.py'},
     'testing': {'testing', 'node', 'physics', 'timing', 'inputs', 'wire', 'monitoring'},
 }
 

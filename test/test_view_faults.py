@@ -204,7 +204,7 @@ def _nodes(ros, server):
 
 
 def _ready(view: MouseViewNode) -> bool:
-    return (view.scene.shown is not None and view._parameters_known
+    return (view.scene.shown is not None and view.follower.parameters_known
             and view.target_publisher.get_subscription_count() > 0
             and all(c.service_is_ready() for c in view._node_services.values()))
 

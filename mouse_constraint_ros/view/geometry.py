@@ -120,6 +120,11 @@ def camera_plane_point(origin: Sequence[float], direction: Sequence[float], *,
     return _along(origin, direction, t)
 
 
+def local_point(point: Sequence[float], pose: Pose) -> Vector3:
+    """Return the world ``point`` in the body frame at ``pose``: R^T (point - x)."""
+    return multiply_transposed(_sub(point, pose.position), rotation_matrix(pose.orientation))
+
+
 def material_point(point: Sequence[float], *, shown: Pose, now: Pose) -> Vector3:
     """
     Return where the body point that was at ``point`` (pose ``shown``) is at pose ``now``.
@@ -131,9 +136,7 @@ def material_point(point: Sequence[float], *, shown: Pose, now: Pose) -> Vector3
     :param shown: the pose the point was taken at.
     :param now: the body's pose now.
     """
-    local = multiply_transposed(_sub(point, shown.position), rotation_matrix(shown.orientation))
-    x = multiply(local, rotation_matrix(now.orientation))
-    return (now.position[0] + x[0], now.position[1] + x[1], now.position[2] + x[2])
+    return world_point(now, local_point(point, shown))
 
 
 def world_point(pose: Pose, local: Sequence[float]) -> Vector3:

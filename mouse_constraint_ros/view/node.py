@@ -17,10 +17,9 @@ The ``mouse_view`` node: serves the page (``scene``) and turns its gestures into
 
 It wires ROS to pure parts and holds no geometry of its own: ``Gestures`` says what a pointer
 event sends, ``PushThrottle`` how often a pose goes to the browser, ``node_readouts`` what the
-node's parameters and /diagnostics say. All names are the ``interface`` module's, relative to
-the view's namespace, so ``--ros-args -r __ns:=/robot`` views ``/robot/mouse_constraint``. It
-says there is no node only after looking for it ``DISCOVERY_SECONDS``: discovery takes a second
-or two, in which a running node is not seen yet.
+node's parameters and /diagnostics say, ``NodeFollower`` whether the node is there and its
+parameters. All names are the ``interface`` module's, relative to the view's namespace, so
+``--ros-args -r __ns:=/robot`` views ``/robot/mouse_constraint``.
 
 viser calls the pointer and button callbacks on its own threads; they only queue work with the
 time of the event, which a timer runs every ``WORK_PERIOD`` on the executor's thread, so every
@@ -35,11 +34,9 @@ from typing import Callable, List, Optional
 
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
-from rcl_interfaces.msg import ParameterEvent
-from rcl_interfaces.srv import GetParameters
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
-from rclpy.qos import qos_profile_parameter_events, QoSProfile, ReliabilityPolicy
+from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
 from std_srvs.srv import SetBool, Trigger
 from visualization_msgs.msg import Marker, MarkerArray
@@ -47,6 +44,7 @@ from visualization_msgs.msg import Marker, MarkerArray
 from .geometry import Pose, world_point
 from .gestures import Action, Camera, Gestures, GRAB, RELEASE
 from .newest_message import NewestMessage
+from .node_follower import DISCOVERY_SECONDS, NodeFollower
 from .node_readouts import number_text, Readouts, ViewParameters
 from .push_throttle import PushThrottle
 from ..wire.interface import (DIAGNOSTICS_TOPIC, GRAB_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH,
@@ -61,11 +59,6 @@ LATEST_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)
 # Periods (s): the queued work and the throttle's flush, the panel's numbers, the look for
 # the node.
 WORK_PERIOD, PANEL_PERIOD, PRESENCE_PERIOD = 0.004, 0.2, 0.5
-# How long after its start the view looks for the node before it says there is none (s): DDS
-# discovery takes a second or two, during which a running node is not seen yet.
-DISCOVERY_SECONDS = 3.0
-# The parameters the page is drawn with.
-PARAMETER_NAMES = list(ViewParameters._fields)
 
 
 def node_name(private: str) -> str:
@@ -103,18 +96,13 @@ class MouseViewNode(Node):
                  discovery_seconds: float = DISCOVERY_SECONDS, **kwargs) -> None:
         """Create the topics, services, timers and the scene."""
         super().__init__(VIEW_NODE_NAME, **kwargs)
-        namespace = self.get_namespace().rstrip('/')
-        self.target_node = f'{namespace}/{NODE_NAME}'
-        self.parameters, self.readouts = ViewParameters(), Readouts()
+        self.readouts = Readouts()
         self.gestures, self.throttle = Gestures(), PushThrottle()
         self._monotonic = clock
-        self._discovered_by = clock() + discovery_seconds
         self._work: 'queue.SimpleQueue[Callable[[], None]]' = queue.SimpleQueue()
         self._pose_raw: Optional[bytes] = None
         self._twist_raw: Optional[bytes] = None
         self._latest: Optional[Pose] = None
-        self._present: Optional[bool] = None  # not looked yet
-        self._parameters_known = False
         self.pushes = 0  # poses pushed to the page
         self.grab_publisher = self.create_publisher(PointStamped, GRAB_TOPIC, TARGET_QOS)
         self.target_publisher = self.create_publisher(PointStamped, TARGET_TOPIC, TARGET_QOS)
@@ -128,13 +116,13 @@ class MouseViewNode(Node):
                                  MONITOR_DEPTH)
         self.create_subscription(DiagnosticArray, DIAGNOSTICS_TOPIC, self._on_diagnostics,
                                  MONITOR_DEPTH)
-        self.create_subscription(ParameterEvent, '/parameter_events', self._on_parameter_event,
-                                 qos_profile_parameter_events)
+        self.follower = NodeFollower(self, topic=self.pose_subscription.topic_name,
+                                     on_parameters=self._parameters_changed,
+                                     discovery_seconds=discovery_seconds, clock=clock)
+        self.target_node = self.follower.target_node
         self._node_services = {name: self.create_client(kind, node_name(name)) for name, kind in (
             (PAUSE_SERVICE, SetBool), (STEP_SERVICE, Trigger), (RESET_SERVICE, Trigger),
             (RELEASE_SERVICE, Trigger))}
-        self._get_parameters = self.create_client(GetParameters,
-                                                  f'{NODE_NAME}/get_parameters')
         self.scene = scene_factory(self.parameters)
         self._bind_scene()
         # On the steady clock: the page stays live while a simulated clock stands still.
@@ -282,39 +270,18 @@ class MouseViewNode(Node):
     def _on_diagnostics(self, array: DiagnosticArray) -> None:
         self.readouts = self.readouts.updated(array, self.target_node)
 
-    def _on_parameter_event(self, event: ParameterEvent) -> None:
-        if event.node != self.target_node:
-            return
-        changed = (*event.new_parameters, *event.changed_parameters)
-        self._set_parameters((p.name, p.value) for p in changed)
+    @property
+    def parameters(self) -> ViewParameters:
+        """Return the node's parameters the page is drawn with, as known."""
+        return self.follower.parameters
 
-    def _set_parameters(self, pairs) -> None:
-        self.parameters = self.parameters.with_values(pairs)
-        self.scene.apply_parameters(self.parameters)
+    def _parameters_changed(self, parameters: ViewParameters) -> None:
+        self.scene.apply_parameters(parameters)
 
     def _look_for_node(self) -> None:
-        topic = self.pose_subscription.topic_name
-        present = self.count_publishers(topic) > 0
-        if not present and self._present is None and self._monotonic() < self._discovered_by:
-            return  # Still discovering: a running node may not be seen yet.
-        if present != self._present:
-            self.get_logger().info(f'{self.target_node} publishes on {topic}' if present else
-                                   f'no node on {topic}: waiting for it')
-        if not present:
-            self.readouts, self._parameters_known = Readouts(), False
-        elif not self._parameters_known and self._get_parameters.service_is_ready():
-            self._parameters_known = True
-            self._get_parameters.call_async(
-                GetParameters.Request(names=PARAMETER_NAMES)).add_done_callback(
-                self._parameters_answered)
-        self._present = present
-
-    def _parameters_answered(self, done) -> None:
-        response = done.result()
-        if response is None or len(response.values) != len(PARAMETER_NAMES):
-            self._parameters_known = False  # Asked again at the next look.
-            return
-        self._set_parameters(zip(PARAMETER_NAMES, response.values))
+        self.follower.look()
+        if self.follower.present is False:
+            self.readouts = Readouts()
 
     def _update_panel(self) -> None:
         speed = None
@@ -326,10 +293,11 @@ class MouseViewNode(Node):
             except Exception:  # A malformed twist shows as n/a.
                 self._twist_raw = None
         topic = self.pose_subscription.topic_name
-        if self._present is None:
+        present = self.follower.present
+        if present is None:
             status = f'looking for **{self.target_node}** on `{topic}`'
         else:
-            status = (f'**{self.target_node}** on `{topic}`' if self._present else
+            status = (f'**{self.target_node}** on `{topic}`' if present else
                       f'**no node on {topic}**: waiting for it (`make run`)')
         readouts = self.readouts
         numbers = '  \n'.join((

@@ -66,6 +66,13 @@ class PushThrottle(Generic[Item]):
         self._last = now
         return item
 
+    def take(self) -> Optional[Item]:
+        """Return the held item now, its slot come or not (and forget it), else None."""
+        if not self._holding:
+            return None
+        item, self._held, self._holding = self._held, None, False
+        return item
+
     @property
     def holding(self) -> bool:
         """Whether an item waits for its slot."""

@@ -68,3 +68,13 @@ SERVICE_EVENT_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
                                reliability=ReliabilityPolicy.RELIABLE)
 # The browser view of the node (``mouse_view``), in the node's namespace.
 VIEW_NODE_NAME = 'mouse_view'
+# The node as an RViz interactive marker (``mouse_marker``), in the node's namespace: the
+# interactive marker server's topic namespace (one segment: RViz lists servers by the first),
+# its three endpoints, and the QoS RViz's client uses for both topics.
+MARKER_NODE_NAME = 'mouse_marker'
+MARKER_NAMESPACE = 'mouse_marker'
+MARKER_UPDATE_TOPIC = MARKER_NAMESPACE + '/update'
+MARKER_FEEDBACK_TOPIC = MARKER_NAMESPACE + '/feedback'
+MARKER_SERVICE = MARKER_NAMESPACE + '/get_interactive_markers'
+MARKER_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
+                        reliability=ReliabilityPolicy.RELIABLE)

@@ -1,0 +1,123 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""The RViz marker's pure parts: what a drag sends, and the updates that keep RViz's copy."""
+
+import math
+
+import pytest
+from scipy.spatial.transform import Rotation
+from visualization_msgs.msg import InteractiveMarkerControl
+
+from mouse_constraint_ros.marker.drag import MarkerDrag
+from mouse_constraint_ros.marker.updates import (MARKER_NAME, MarkerUpdates, MAX_POSE_RATE,
+                                                 pose_of)
+from mouse_constraint_ros.view.geometry import Pose, world_point
+from mouse_constraint_ros.view.gestures import Action, GRAB, RELEASE, TARGET
+
+BOX = (0.4, 0.2, 0.1)
+ANCHOR = (0.2, 0.1, 0.05)
+SHOWN = Pose((0.0, 0.0, 1.0), tuple(Rotation.from_euler('z', 0.3).as_quat()))
+NOW = Pose((0.05, 0.0, 0.98), tuple(Rotation.from_euler('zy', [0.35, 0.1]).as_quat()))
+LOCAL = (0.1, -0.1, 0.02)  # a point of the -y face, body frame
+
+
+def test_a_press_on_the_body_grabs_the_pressed_point_carried_to_the_latest_pose():
+    """The hit point of the shown pose, at the node's pose now; moves carry it with the marker."""
+    drag = MarkerDrag()
+    hit = world_point(SHOWN, LOCAL)
+    [grab] = drag.press('/rviz', shown=SHOWN, hit=hit, now=NOW, anchor=ANCHOR)
+    assert grab.kind == GRAB and grab.point == pytest.approx(world_point(NOW, LOCAL), abs=1e-12)
+    moved = Pose((0.3, 0.2, 1.1), SHOWN.orientation)
+    [target] = drag.move('/rviz', moved)
+    assert target.kind == TARGET
+    assert target.point == pytest.approx(world_point(moved, LOCAL), abs=1e-12)
+    assert drag.release('/rviz', hold=False) == [Action(RELEASE)]
+    assert not drag.dragging
+
+
+def test_a_held_release_keeps_the_target_and_a_failed_pick_drags_the_anchor():
+    """Hold: no release. No hit point (RViz's pick failed): no grab, the anchor is dragged."""
+    drag = MarkerDrag()
+    assert drag.press('/rviz', shown=SHOWN, hit=None, now=NOW, anchor=ANCHOR) == []
+    moved = Pose((0.3, 0.2, 1.1), SHOWN.orientation)
+    assert drag.move('/rviz', moved) == [Action(TARGET, world_point(moved, ANCHOR))]
+    assert drag.release('/rviz', hold=True) == []
+    # A point that is not finite is no hit either.
+    assert drag.press('/rviz', shown=SHOWN, hit=(math.nan, 0.0, 1.0), now=NOW,
+                      anchor=ANCHOR) == []
+    assert drag.dragging
+
+
+def test_one_drag_at_a_time_and_nothing_without_a_press_or_from_nan():
+    """Another client's feedback mid-drag, a move or release without a press, NaN: nothing."""
+    drag = MarkerDrag()
+    moved = Pose((0.3, 0.2, 1.1), SHOWN.orientation)
+    assert drag.move('/rviz', moved) == [] and drag.release('/rviz', hold=False) == []
+    nan_pose = Pose((math.nan, 0.0, 1.0), SHOWN.orientation)
+    assert drag.press('/rviz', shown=nan_pose, hit=None, now=NOW, anchor=ANCHOR) == []
+    assert not drag.dragging
+    drag.press('/rviz', shown=SHOWN, hit=world_point(SHOWN, LOCAL), now=NOW, anchor=ANCHOR)
+    assert drag.press('/other', shown=SHOWN, hit=None, now=NOW, anchor=ANCHOR) == []
+    assert drag.move('/other', moved) == [] and drag.release('/other', hold=False) == []
+    assert drag.move('/rviz', nan_pose) == []
+    assert drag.client == '/rviz'
+
+
+def _updates_at(updates: MarkerUpdates, poses, times):
+    sent = []
+    for pose, now in zip(poses, times):
+        sent += updates.pose(pose, now) + updates.flush(now)
+    return sent
+
+
+def test_updates_are_numbered_one_after_the_other_and_poses_go_at_most_30_a_second():
+    """The whole marker first; then a pose per 1/30 s at most, only when it moved."""
+    updates = MarkerUpdates('/mouse_marker')
+    assert updates.current() == [] and updates.pose(SHOWN, 0.0) == []
+    [first] = updates.marker(frame_id='world', box_size=BOX, pose=SHOWN)
+    [marker] = first.markers
+    assert (first.seq_num, marker.name, marker.header.frame_id) == (1, MARKER_NAME, 'world')
+    [control] = marker.controls
+    assert control.interaction_mode == InteractiveMarkerControl.MOVE_3D
+    assert (control.markers[0].scale.x, control.markers[0].scale.y) == BOX[:2]
+    # A body moving at 1 kHz for 1 s: at most one pose per 1/30 s.
+    times = [k * 0.001 for k in range(1, 1001)]
+    poses = [Pose((t, 0.0, 1.0), SHOWN.orientation) for t in times]
+    sent = _updates_at(updates, poses, times)
+    assert 29 <= len(sent) <= MAX_POSE_RATE
+    assert [u.seq_num for u in sent] == list(range(2, 2 + len(sent)))
+    assert all(len(u.poses) == 1 and not u.markers for u in sent)
+    # At rest: the newest pose held back goes when its slot comes, then nothing more.
+    rest = [1.0 + k * 0.01 for k in range(100)]
+    [last] = _updates_at(updates, [poses[-1]] * 100, rest)
+    assert last.seq_num == sent[-1].seq_num + 1 and pose_of(last.poses[0].pose) == poses[-1]
+    assert _updates_at(updates, [poses[-1]] * 100, [2.0 + t for t in rest]) == []
+    assert pose_of(updates.current()[0].pose) == poses[-1]
+
+
+def test_during_a_drag_no_pose_goes_and_at_its_end_the_marker_snaps_back():
+    """Mid-drag: no poses, the whole marker deferred; the end: one update, next in number."""
+    updates = MarkerUpdates('/mouse_marker')
+    updates.marker(frame_id='world', box_size=BOX, pose=SHOWN)
+    updates.dragging = True
+    moved = [Pose((k * 0.01, 0.0, 1.0), SHOWN.orientation) for k in range(1, 50)]
+    assert _updates_at(updates, moved, [k * 0.05 for k in range(1, 50)]) == []
+    assert updates.marker(frame_id='world', box_size=(0.5, 0.2, 0.1), pose=NOW) == []
+    [end] = updates.drag_ended(moved[-1])
+    assert end.seq_num == 2 and end.markers[0].controls[0].markers[0].scale.x == 0.5
+    assert pose_of(end.markers[0].pose) == moved[-1]
+    updates.dragging = True
+    [back] = updates.drag_ended(NOW)
+    assert back.seq_num == 3 and pose_of(back.poses[0].pose) == NOW

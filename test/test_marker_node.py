@@ -1,0 +1,261 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+``mouse_marker`` against the real node at 1 kHz, driven by a fake RViz as RViz drives it.
+
+``FakeRviz`` is what RViz's InteractiveMarkers display with the Interact tool does on the
+wire (rviz2 Jazzy, interactive_markers' client): it asks ``get_interactive_markers``, takes the
+updates that follow the answer's number one after the other (a gap would reset it), and
+publishes feedback with depth 100 and ``client_id`` ``/rviz``: at a press POSE_UPDATE then
+MOUSE_DOWN with the picked point, one POSE_UPDATE per frame (30 a second) while the marker
+moves on, at the release POSE_UPDATE then MOUSE_UP. Wall-clock timers run here (the marker's
+rate is the path under test), the node at 1 kHz beside it in this process.
+"""
+
+import math
+from pathlib import Path
+import signal
+import subprocess
+import sys
+import time
+from typing import List, Optional
+
+from geometry_msgs.msg import PointStamped
+import numpy as np
+import pytest
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from visualization_msgs.msg import (InteractiveMarkerFeedback, InteractiveMarkerUpdate)
+from visualization_msgs.srv import GetInteractiveMarkers
+
+from mouse_constraint_ros.marker.node import MAX_TARGET_RATE, MouseMarkerNode
+from mouse_constraint_ros.marker.updates import MARKER_NAME, MAX_POSE_RATE, pose_message, pose_of
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
+from mouse_constraint_ros.view.geometry import Pose, world_point
+from mouse_constraint_ros.wire.interface import (MARKER_FEEDBACK_TOPIC, MARKER_QOS,
+                                                 MARKER_SERVICE, MARKER_UPDATE_TOPIC)
+
+BIN = Path(sys.executable).parent
+FRAME_PERIOD = 1.0 / 30.0
+LOCAL = (0.1, -0.1, 0.02)  # the pressed point: on the box's -y face, body frame
+AT_REST = {'gravity': [0.0, 0.0, 0.0], 'hold_initial_anchor': False}
+
+
+class FakeRviz:
+    """RViz's interactive marker client on the wire, client id ``/rviz`` (see the module)."""
+
+    def __init__(self, node: Node, client_id: str = '/rviz') -> None:
+        """Subscribe to the updates, create the feedback publisher and the service client."""
+        self.client_id = client_id
+        self.updates: List[InteractiveMarkerUpdate] = []
+        self.gaps = 0
+        self.sequence: Optional[int] = None
+        self.marker_pose: Optional[Pose] = None
+        self.frame_id = ''
+        self.feedback = node.create_publisher(InteractiveMarkerFeedback, MARKER_FEEDBACK_TOPIC,
+                                              MARKER_QOS)
+        node.create_subscription(InteractiveMarkerUpdate, MARKER_UPDATE_TOPIC, self._on_update,
+                                 MARKER_QOS)
+        self.client = node.create_client(GetInteractiveMarkers, MARKER_SERVICE)
+        self.received_at: List[float] = []
+
+    def initialize(self, ros, timeout: float = 20.0) -> None:
+        """Ask for the marker as it is, as RViz does when the display starts, until it has one."""
+        deadline = time.monotonic() + timeout
+        assert ros.spin_until(self.client.service_is_ready, timeout=timeout)
+        while True:
+            future = self.client.call_async(GetInteractiveMarkers.Request())
+            assert ros.spin_until(future.done, timeout=10.0)
+            response = future.result()
+            if response.markers:
+                break
+            assert time.monotonic() < deadline, 'the server has no marker'
+            ros.spin_for(0.2)
+        self.sequence = response.sequence_number
+        [marker] = response.markers
+        self.marker_pose, self.frame_id = pose_of(marker.pose), marker.header.frame_id
+
+    def _on_update(self, update: InteractiveMarkerUpdate) -> None:
+        self.updates.append(update)
+        self.received_at.append(time.monotonic())
+        if self.sequence is None or update.seq_num <= self.sequence:
+            return
+        if update.seq_num != self.sequence + 1:
+            self.gaps += 1
+        self.sequence = update.seq_num
+        for marker in update.markers:
+            self.marker_pose = pose_of(marker.pose)
+        for pose in update.poses:
+            self.marker_pose = pose_of(pose.pose)
+
+    def send(self, event: int, pose: Pose, point=None) -> None:
+        """Publish one feedback event of the body's marker."""
+        feedback = InteractiveMarkerFeedback(
+            client_id=self.client_id, marker_name=MARKER_NAME, control_name='drag',
+            event_type=event, pose=pose_message(pose), mouse_point_valid=point is not None)
+        feedback.header.frame_id = self.frame_id
+        if point is not None:
+            feedback.mouse_point.x, feedback.mouse_point.y, feedback.mouse_point.z = point
+        self.feedback.publish(feedback)
+
+    def press(self, pose: Pose, point) -> None:
+        """Press on the marker shown at ``pose``, the pick at ``point`` (None: it failed)."""
+        self.send(InteractiveMarkerFeedback.POSE_UPDATE, pose, point)
+        self.send(InteractiveMarkerFeedback.MOUSE_DOWN, pose, point)
+
+    def release(self, pose: Pose) -> None:
+        """Let go of the marker at ``pose``."""
+        self.send(InteractiveMarkerFeedback.POSE_UPDATE, pose)
+        self.send(InteractiveMarkerFeedback.MOUSE_UP, pose)
+
+
+def _nodes(ros, **parameters):
+    node = ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
+        Parameter(name, value=value) for name, value in {**AT_REST, **parameters}.items()]))
+    marker = ros.add(MouseMarkerNode(context=ros.context))
+    rviz = FakeRviz(ros.probe)
+    assert ros.spin_until(lambda: marker.follower.parameters_known
+                          and marker.updates.sequence > 0
+                          and marker.release_client.service_is_ready()
+                          and rviz.feedback.get_subscription_count() > 0, timeout=15.0)
+    rviz.initialize(ros)
+    return node, marker, rviz
+
+
+def _drag(ros, rviz: FakeRviz, start: Pose, offsets) -> Pose:
+    """Move the marker from ``start`` by each offset, one frame apart; return the last pose."""
+    pose = start
+    for offset in offsets:
+        pose = Pose(tuple(np.add(start.position, offset)), start.orientation)
+        rviz.send(InteractiveMarkerFeedback.POSE_UPDATE, pose)
+        ros.spin_for(FRAME_PERIOD)
+    return pose
+
+
+def test_rviz_grabs_drags_and_releases_the_body(ros):
+    """
+    Press on the body: grabbed there; drag: the grabbed point follows the marker; let go: free.
+
+    The anchor is within 5 mm of the grabbed point moved with the marker after 0.5 s held
+    still; released, the body falls. The server's updates reach RViz one after the other, at
+    most 30 a second while the node publishes at 1 kHz, none during the drag, and the marker
+    is back on the body after it.
+    """
+    node, marker, rviz = _nodes(ros, gravity=[0.0, 0.0, -9.80665], hold_initial_anchor=True)
+    ros.spin_for(1.0)
+    shown = rviz.marker_pose
+    rviz.press(shown, world_point(shown, LOCAL))
+    # The pressed point, carried to the latest pose the server had; the swinging body moves on
+    # a little before the node takes it.
+    assert ros.spin_until(lambda: np.allclose(node.get_parameter('anchor').value, LOCAL,
+                                              atol=5e-3))
+    pressed_updates = len(rviz.updates)
+    path = [(0.01 * k, 0.0, 0.005 * k) for k in range(1, 31)]  # 0.3 m in x, 0.15 m up, 1 s
+    end = _drag(ros, rviz, shown, path)
+    ros.spin_for(0.5)
+    grabbed = world_point(end, LOCAL)
+    anchor = node.simulation.state.world_point(tuple(node.get_parameter('anchor').value))
+    assert np.linalg.norm(np.subtract(anchor, grabbed)) < 0.005
+    assert len(rviz.updates) == pressed_updates  # RViz would hold them until the release
+    rviz.release(end)
+    assert ros.spin_until(lambda: node.simulation.target is None)
+    height = node.simulation.state.position[2]
+    assert ros.spin_until(lambda: len(rviz.updates) > pressed_updates)
+    ros.spin_for(0.5)
+    # Falling: at least half of the 1.2 m a free body falls in 0.5 s.
+    assert node.simulation.state.position[2] < height - 0.5 * (0.5 * 9.8 * 0.5 ** 2)
+    assert rviz.gaps == 0
+    # The marker back on the body, and following it at 30 a second at most as it falls.
+    assert np.linalg.norm(np.subtract(rviz.marker_pose.position,
+                                      node.simulation.state.position)) < 0.1
+    window = [t for t in rviz.received_at if t >= rviz.received_at[-1] - 0.4]
+    assert 3 <= len(window) <= 0.4 * MAX_POSE_RATE + 1
+
+
+def test_a_held_release_keeps_the_body_and_a_failed_pick_drags_the_anchor(ros):
+    """hold_on_release: the body stays at the last target. A pick without a point: no grab."""
+    node, marker, rviz = _nodes(ros)
+    marker.set_parameters([Parameter('hold_on_release', value=True)])
+    anchor = tuple(node.get_parameter('anchor').value)
+    shown = rviz.marker_pose
+    rviz.press(shown, None)
+    end = _drag(ros, rviz, shown, [(0.0, 0.0, 0.01 * k) for k in range(1, 11)])
+    rviz.release(end)
+    ros.spin_for(1.0)
+    assert tuple(node.get_parameter('anchor').value) == anchor
+    assert node.simulation.target == pytest.approx(world_point(end, anchor), abs=1e-9)
+
+
+def test_other_clients_floods_and_nan_are_passed_over(ros):
+    """
+    A second client mid-drag, a release without a press, a flood, a NaN pose: no harm.
+
+    The flood (2000 pose updates at once) sends targets at most MAX_TARGET_RATE a second; the
+    NaN pose sends none; the other client's feedback none; the drag goes on.
+    """
+    node, marker, rviz = _nodes(ros)
+    other = FakeRviz(ros.probe, client_id='/rviz_other')
+    other.frame_id = rviz.frame_id
+    targets: List[PointStamped] = ros.collect(PointStamped, 'target', depth=10000)
+    shown = rviz.marker_pose
+    other.release(shown)  # a release without a press
+    ros.spin_for(0.3)
+    assert node.simulation.target is None and not marker.drag.dragging
+    rviz.press(shown, world_point(shown, LOCAL))
+    assert ros.spin_until(lambda: marker.drag.dragging)
+    other.press(shown, world_point(shown, LOCAL))
+    other.send(InteractiveMarkerFeedback.POSE_UPDATE,
+               Pose((9.0, 9.0, 9.0), shown.orientation))
+    nan = Pose((math.nan, 0.0, 1.0), shown.orientation)
+    rviz.send(InteractiveMarkerFeedback.POSE_UPDATE, nan)
+    ros.spin_for(0.3)
+    assert marker.drag.client == '/rviz'
+    assert all(math.isfinite(t.point.x) and t.point.x < 1.0 for t in targets)
+    before, start = len(targets), time.monotonic()
+    for k in range(2000):
+        rviz.send(InteractiveMarkerFeedback.POSE_UPDATE,
+                  Pose(tuple(np.add(shown.position, (1e-4 * k, 0.0, 0.0))), shown.orientation))
+    # RViz's depth 100 keeps the newest feedback of a burst: the newest target goes out last.
+    last = world_point(Pose(tuple(np.add(shown.position, (0.1999, 0.0, 0.0))),
+                            shown.orientation), LOCAL)
+    assert ros.spin_until(lambda: len(targets) > before and np.allclose(
+        (targets[-1].point.x, targets[-1].point.y, targets[-1].point.z), last, atol=1e-9),
+        timeout=20.0)
+    flood = len(targets) - before
+    assert flood <= (time.monotonic() - start) * MAX_TARGET_RATE + 2
+    rviz.release(shown)
+    assert ros.spin_until(lambda: node.simulation.target is None)
+
+
+@pytest.mark.system
+def test_the_command_serves_the_marker_until_ctrl_c(ros):
+    """``mouse_marker`` as a process beside the node: RViz gets the marker; SIGINT: exit 0."""
+    help_text = subprocess.run([str(BIN / 'mouse_marker'), '--help'], capture_output=True,
+                               text=True, timeout=60)
+    assert help_text.returncode == 0 and help_text.stdout.startswith('usage: mouse_marker')
+    ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
+        Parameter(name, value=value) for name, value in AT_REST.items()]))
+    process = subprocess.Popen([str(BIN / 'mouse_marker'), '--hold'], stdout=subprocess.PIPE,
+                               stderr=subprocess.STDOUT, text=True)
+    try:
+        rviz = FakeRviz(ros.probe)
+        rviz.initialize(ros)
+        assert rviz.frame_id == 'world' and rviz.marker_pose is not None
+    finally:
+        process.send_signal(signal.SIGINT)
+        output, _ = process.communicate(timeout=20)
+    assert process.returncode == 0, output
+    assert "as the interactive marker 'body' on /mouse_marker/update" in output
+    assert 'Traceback' not in output
