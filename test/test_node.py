@@ -300,7 +300,7 @@ def test_ros2_param_load_takes_the_shipped_file_with_its_inf_quoted(ros, tmp_pat
     ``ros2 param load``'s path (rclpy's parameter_dict_from_yaml_file, then one set each).
 
     The shipped file as it is: every value lands but the ``.inf`` ones, which come back as the
-    string 'inf'. Rewritten by the README's sed command (``.inf`` quoted), every one lands.
+    string 'inf'. Rewritten by docs/reliability.md's sed command (``.inf`` quoted), all land.
     """
     import math
     from pathlib import Path
@@ -308,8 +308,8 @@ def test_ros2_param_load_takes_the_shipped_file_with_its_inf_quoted(ros, tmp_pat
 
     from rclpy.parameter import parameter_dict_from_yaml_file
 
-    readme = (Path(__file__).parent.parent / 'README.md').read_text()
-    assert r"""sed "s/: \.inf\b/: '.inf'/" config/params.yaml > params_load.yaml""" in readme
+    page = (Path(__file__).parent.parent / 'docs' / 'reliability.md').read_text()
+    assert r"""sed "s/: \.inf\b/: '.inf'/" config/params.yaml > params_load.yaml""" in page
     shipped = Path(__file__).parent.parent / 'config' / 'params.yaml'
     quoted = tmp_path / 'params_load.yaml'
     quoted.write_text(re.sub(r': \.inf\b', ": '.inf'", shipped.read_text()))

@@ -29,7 +29,10 @@ and ``PushThrottle``:
 - targets go out at most ``MAX_TARGET_RATE`` a second, the newest held back going when its slot
   comes: RViz sends one per frame (30 a second), a client gone wrong as many as it likes;
 - ``hold_on_release`` (a parameter of this node, false by default) keeps the body held where
-  the drag ends instead of calling ``~/release``.
+  the drag ends instead of calling ``~/release``;
+- a drag whose RViz closes or crashes ends as its release would, when no feedback publisher is
+  left on the graph (looked for every ``PRESENCE_PERIOD``): RViz sends nothing while the mouse
+  is held still, so silence alone cannot tell.
 
 This is a server of its own, not ``interactive_markers``' Python server: that one is not on
 PyPI (RViz's apt packages bring it), drops the feedback of a marker's first second and can
@@ -112,7 +115,7 @@ class MouseMarkerNode(Node):
         # On the steady clock: the marker stays live while a simulated clock stands still.
         steady = Clock(clock_type=ClockType.STEADY_TIME)
         self._timers = [self.create_timer(period, callback, clock=steady) for period, callback in (
-            (WORK_PERIOD, self._work), (PRESENCE_PERIOD, self.follower.look))]
+            (WORK_PERIOD, self._work), (PRESENCE_PERIOD, self._look))]
         self.follower.look()
 
     @property
@@ -158,6 +161,23 @@ class MouseMarkerNode(Node):
         if held is not None:
             self.target_publisher.publish(held)
 
+    def _look(self) -> None:
+        """Look for the node, and end a drag whose client has left the graph."""
+        self.follower.look()
+        client = self.drag.client
+        if client is not None and self.count_publishers(MARKER_FEEDBACK_TOPIC) == 0:
+            self.get_logger().warning(f'{client} left mid-drag (no feedback publisher): '
+                                      'the drag ends')
+            self._end_drag(client, self.get_clock().now().nanoseconds)
+
+    def _end_drag(self, client: str, stamp_ns: int) -> None:
+        """End ``client``'s drag: release (or hold) the body, and the marker back onto it."""
+        dragging = self.drag.dragging
+        actions = self.drag.release(client, hold=bool(self.get_parameter(HOLD_PARAMETER).value))
+        self._send(actions, stamp_ns)
+        if dragging and not self.drag.dragging:
+            self._publish(self.updates.drag_ended(self._latest))
+
     def _on_get_markers(self, _request, response):
         response.sequence_number = self.updates.sequence
         response.markers = self.updates.current(self.get_clock().now().nanoseconds)
@@ -183,13 +203,8 @@ class MouseMarkerNode(Node):
         elif kind == InteractiveMarkerFeedback.POSE_UPDATE:
             actions = self.drag.move(client, pose)
         elif kind == InteractiveMarkerFeedback.MOUSE_UP:
-            dragging = self.drag.dragging
-            actions = self.drag.release(
-                client, hold=bool(self.get_parameter(HOLD_PARAMETER).value))
-            if dragging and not self.drag.dragging:
-                self._send(actions, stamp)
-                self._publish(self.updates.drag_ended(self._latest))
-                return
+            self._end_drag(client, stamp)
+            return
         else:
             return
         self._send(actions, stamp)
