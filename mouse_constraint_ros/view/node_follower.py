@@ -19,8 +19,9 @@ A client's view of the ``mouse_constraint`` node: whether it is there, and its p
 (``look``, on the owner's timer) counts the publishers of the pose topic, says in one log line
 when the node comes or goes, and reads the parameters a client draws with (``ViewParameters``)
 with the node's ``get_parameters`` whenever it comes (back); between looks it follows
-``/parameter_events``. It says there is no node only after looking ``discovery_seconds``:
-discovery takes a second or two, in which a running node is not seen yet.
+``/parameter_events``. It says there is no node only after looking ``discovery_seconds``: a
+running node is seen at once when the first discovery announcements meet, else at Fast DDS's
+next periodic announcement, up to 3 s after the client starts.
 """
 
 import time
@@ -36,8 +37,9 @@ from ..wire.interface import NODE_NAME
 
 # The parameters a client draws with.
 PARAMETER_NAMES = list(ViewParameters._fields)
-# How long after its start a client looks for the node before it says there is none (s).
-DISCOVERY_SECONDS = 3.0
+# How long after its start a client looks for the node before it says there is none (s): one
+# period of Fast DDS's participant announcements (3 s), and the client's own start.
+DISCOVERY_SECONDS = 5.0
 
 
 class NodeFollower:

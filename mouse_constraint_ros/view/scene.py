@@ -130,12 +130,14 @@ class ViewScene:
         if shown is None:
             return
         view = framing(shown.position, self._box_size, float(client.camera.fov))
+        # The start first: whoever sees the page's camera turned (from another thread: this
+        # runs in viser's) sees its "Reset View" turned too.
+        initial = self._server.initial_camera
+        initial.near, initial.position, initial.look_at = view.near, view.position, view.look_at
         with client.atomic():  # the position first: viser moves the look-at point with it
             client.camera.near = view.near
             client.camera.position = view.position
             client.camera.look_at = view.look_at
-        initial = self._server.initial_camera
-        initial.near, initial.position, initial.look_at = view.near, view.position, view.look_at
 
     def show_pose(self, pose: Pose, anchor: Vector3) -> None:
         """
