@@ -78,7 +78,7 @@ def test_a_port_out_of_range_is_a_usage_error(port):
     ('no.such.host.invalid', 'Name or service not known'),
 ])
 def test_an_address_not_of_this_machine_ends_the_view_in_one_line(host, reason):
-    """A host it cannot bind: one line naming it and why, exit 2 (it used to wait for ever)."""
+    """A host it cannot bind: one line naming it and why, exit 2, never a wait for ever."""
     line = _refusal(_run_view('--host', host, '--port', '8173'))
     assert line.startswith(f'mouse_view: cannot serve on {host}') and line.endswith(reason)
 

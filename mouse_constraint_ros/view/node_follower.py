@@ -40,6 +40,8 @@ PARAMETER_NAMES = list(ViewParameters._fields)
 # How long after its start a client looks for the node before it says there is none (s): one
 # period of Fast DDS's participant announcements (3 s), and the client's own start.
 DISCOVERY_SECONDS = 5.0
+# A question for the parameters unanswered this long is asked again (s).
+ASK_AGAIN_SECONDS = 2.0
 
 
 class NodeFollower:
@@ -65,7 +67,8 @@ class NodeFollower:
         self.target_node = f'{node.get_namespace().rstrip("/")}/{NODE_NAME}'
         self.parameters = ViewParameters()
         self.present: Optional[bool] = None  # None: still looking
-        self.parameters_known = False
+        self.parameters_known = False  # answered by the node since it came
+        self._asked_at: Optional[float] = None  # when the question in flight went
         self._get_parameters = node.create_client(GetParameters, f'{NODE_NAME}/get_parameters')
         node.create_subscription(ParameterEvent, '/parameter_events', self._on_event,
                                  qos_profile_parameter_events)
@@ -79,19 +82,22 @@ class NodeFollower:
             self._node.get_logger().info(
                 f'{self.target_node} publishes on {self._topic}' if present else
                 f'no node on {self._topic}: waiting for it')
+        now = self._clock()
         if not present:
-            self.parameters_known = False
-        elif not self.parameters_known and self._get_parameters.service_is_ready():
-            self.parameters_known = True
+            self.parameters_known, self._asked_at = False, None
+        elif (not self.parameters_known and self._get_parameters.service_is_ready()
+              and (self._asked_at is None or now - self._asked_at > ASK_AGAIN_SECONDS)):
+            self._asked_at = now
             self._get_parameters.call_async(
                 GetParameters.Request(names=PARAMETER_NAMES)).add_done_callback(self._answered)
         self.present = present
 
     def _answered(self, done) -> None:
+        self._asked_at = None
         response = done.result()
         if response is None or len(response.values) != len(PARAMETER_NAMES):
-            self.parameters_known = False  # Asked again at the next look.
-            return
+            return  # Asked again at the next look.
+        self.parameters_known = True  # before the owner hears of them: it may draw with them
         self._set(zip(PARAMETER_NAMES, response.values))
 
     def _on_event(self, event: ParameterEvent) -> None:
