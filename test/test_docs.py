@@ -115,3 +115,22 @@ def test_the_worked_example_gives_each_terminal_one_role():
     """Terminals are introduced in order, each once: the node, the view, commands, recorder."""
     numbers = [int(n) for n in re.findall(r'[Tt]erminal (\d+)', _section('A worked example'))]
     assert numbers == list(range(1, len(numbers) + 1)) and len(numbers) >= 4
+
+
+def _anchors(page: Path) -> set:
+    """Return the anchors of ``page``'s headings, as GitHub makes them."""
+    titles = re.findall(r'^#+ (.+)$', page.read_text(), re.M)
+    return {re.sub(r'[^\w\- ]', '', t.strip().lower()).replace(' ', '-') for t in titles}
+
+
+def test_every_link_between_the_pages_resolves():
+    """A link from README or docs/ to a file of the repository finds it, and its heading."""
+    broken = []
+    for page in [README, ROOT / 'CONTRIBUTING.md', *sorted((ROOT / 'docs').glob('*.md'))]:
+        for target, anchor in re.findall(r'\]\(([\w./-]*?)(?:#([\w-]+))?\)', page.read_text()):
+            if target.startswith(('http', 'mailto')):
+                continue
+            path = (page.parent / target) if target else page
+            if not path.exists() or (anchor and anchor not in _anchors(path)):
+                broken.append(f'{page.name}: {target}#{anchor}')
+    assert not broken

@@ -931,7 +931,7 @@ def test_a_recording_says_which_ticks_it_lacks(tmp_path):
             process.kill()
         ros.shutdown()
     assert process.returncode == 0, stderr
-    assert '15 of 501 ticks missing from the recording (longest gap 0.011 s' in stderr
+    assert '15 of 501 ticks missing from the recording (longest gap 0.011 s' in stderr, stderr
     with open(tmp_path / 'lacking.csv') as stream:
         header = [line for line in stream if line.startswith('#')]
     assert '# ticks_missing: 15\n' in header and '# ticks_recorded: 486\n' in header
