@@ -45,11 +45,21 @@ class _Target(NamedTuple):
 
 
 class TargetPath:
-    """The targets received, each with its time on the poses' clock, and the breaks between."""
+    """
+    The targets received, each with its time on the poses' clock, and the breaks between.
+
+    The targets are kept in the order they came, with their times beside them: a stream whose
+    times never go back (every unstamped one, and stamped ones in order) is searched by
+    bisection, one row in O(log n) however fast the targets come; one whose times do go back
+    somewhere (noted as they come) is sorted first.
+    """
 
     def __init__(self) -> None:
         """Start with no target."""
         self._targets: List[_Target] = []
+        self._indices: List[int] = []  # the targets' message indices, increasing
+        self._times: List[int] = []  # their times
+        self._back: List[int] = []  # the indices of targets earlier than the one before
         self._breaks: List[int] = []
 
     @staticmethod
@@ -75,7 +85,11 @@ class TargetPath:
         if time_ns is None:
             self.add_break(index)
             return
+        if self._times and time_ns < self._times[-1]:
+            self._back.append(index)
         self._targets.append(_Target(index, time_ns, point))
+        self._indices.append(index)
+        self._times.append(time_ns)
 
     def add_break(self, index: int) -> None:
         """Note that message ``index`` (a grab, a change, a reset, a release) ends a stream."""
@@ -89,16 +103,23 @@ class TargetPath:
             received between the breaks around it.
         """
         after = bisect.bisect_right(self._breaks, held)
-        low = self._breaks[after - 1] if after else -1
-        high = self._breaks[after] if after < len(self._breaks) else None
-        stream = sorted((t for t in self._targets
-                         if low < t.index and (high is None or t.index < high)),
-                        key=lambda t: (t.time_ns, t.index))
-        times = [t.time_ns for t in stream]
-        k = bisect.bisect_left(times, time_ns)  # times[k - 1] < time_ns <= times[k]
-        if k == 0 or k == len(stream):
+        lo = bisect.bisect_right(self._indices, self._breaks[after - 1]) if after else 0
+        hi = (bisect.bisect_left(self._indices, self._breaks[after])
+              if after < len(self._breaks) else len(self._indices))
+        if lo >= hi:
             return None
-        first, second = stream[k - 1], stream[k]
+        back = bisect.bisect_right(self._back, self._indices[lo])
+        if back < len(self._back) and self._back[back] <= self._indices[hi - 1]:
+            stream = sorted(self._targets[lo:hi], key=lambda t: (t.time_ns, t.index))
+            k = bisect.bisect_left([t.time_ns for t in stream], time_ns)
+            if k == 0 or k == len(stream):
+                return None
+            first, second = stream[k - 1], stream[k]
+        else:  # In time order: times[k - 1] < time_ns <= times[k].
+            k = bisect.bisect_left(self._times, time_ns, lo, hi)
+            if k == lo or k == hi:
+                return None
+            first, second = self._targets[k - 1], self._targets[k]
         span = second.time_ns - first.time_ns
         if span > STREAM_GAP_NS:
             return None
@@ -108,9 +129,10 @@ class TargetPath:
     def forget_before(self, time_ns: int) -> None:
         """Drop what no tick from ``time_ns`` on can need: targets a stream gap earlier."""
         keep = time_ns - 2 * STREAM_GAP_NS
-        first = next((i for i, t in enumerate(self._targets) if t.time_ns >= keep),
-                     len(self._targets))
+        first = next((i for i, t in enumerate(self._times) if t >= keep), len(self._times))
         if first > 1:
-            oldest = self._targets[first - 1].index
-            del self._targets[:first - 1]
+            oldest = self._indices[first - 1]
+            for kept in (self._targets, self._indices, self._times):
+                del kept[:first - 1]
             self._breaks = [b for b in self._breaks if b >= oldest]
+            self._back = [b for b in self._back if b > oldest]
