@@ -917,6 +917,8 @@ def test_a_recording_says_which_ticks_it_lacks(tmp_path):
             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         assert ros.spin_until(lambda: poses.get_subscription_count() > 0
                               and twists.get_subscription_count() > 0, timeout=20.0)
+        # The recorder's readers match these writers too: none of the burst is lost.
+        assert ros.discovered_by('/lacking/mouse_record')
         kept = [n for n in range(700) if not (100 <= n < 110 or 300 <= n < 305)]
         for n in kept:
             for publisher, kind in ((poses, 'pose'), (twists, 'twist')):

@@ -17,6 +17,7 @@
 import time
 from typing import Callable, List
 
+from rcl_interfaces.srv import ListParameters
 import rclpy
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
@@ -74,6 +75,30 @@ class RosHarness:
         future = client.call_async(request)
         assert self.spin_until(future.done)
         return future.result()
+
+    def discovered_by(self, node_name: str, timeout: float = 20.0) -> bool:
+        """
+        Return whether ``node_name`` answered the probe within ``timeout`` seconds.
+
+        A publisher's subscription count says that the probe matched the other process's
+        reader, not that this reader matched the probe's writer; until it has, Fast DDS's
+        volatile reader drops what the writer sends, and a burst loses its first messages.
+        A reply from ``node_name``'s parameter service says it has: the request's writer is
+        announced after every endpoint the probe made before, in order, on one reliable
+        discovery stream. A request sent before that match is lost too, so it goes again
+        every second.
+        """
+        client = self.probe.create_client(ListParameters, f'{node_name}/list_parameters')
+        deadline = time.monotonic() + timeout
+        try:
+            while time.monotonic() < deadline:
+                future = client.call_async(ListParameters.Request())
+                if self.spin_until(future.done, timeout=1.0):
+                    return True
+                client.remove_pending_request(future)
+            return False
+        finally:
+            self.probe.destroy_client(client)
 
     def collect(self, message_type, topic: str, depth: int = 1000) -> list:
         """Subscribe the probe to ``topic``; return the list that received messages fill."""
