@@ -81,8 +81,9 @@ class RosHarness:
         Return whether ``node_name`` answered the probe within ``timeout`` seconds.
 
         A publisher's subscription count says that the probe matched the other process's
-        reader, not that this reader matched the probe's writer; until it has, Fast DDS's
-        volatile reader drops what the writer sends, and a burst loses its first messages.
+        reader, not that this reader matched the probe's writer; until it has, what the writer
+        sends reaches that reader late (resent once it matched: after messages of other topics
+        sent later) or not at all, and a burst's first messages are out of order or lost.
         A reply from ``node_name``'s parameter service says it has: the request's writer is
         announced after every endpoint the probe made before, in order, on one reliable
         discovery stream. A request sent before that match is lost too, so it goes again
