@@ -359,6 +359,34 @@ def test_tick_rows_join_pose_and_twist_and_follow_the_target_path():
     assert all(row.body_anchor == (1.0, 0.0, 0.0) and row.grab is None for row in rows)
 
 
+def test_tick_rows_read_a_stopped_stream_at_its_last_target_before_it_arrives():
+    """
+    A stamped stream that stops: the ticks between its last stamp and its arrival read it.
+
+    Targets along x at 1 m/s, stamped every 20 ms, each received 3 ms after its stamp (after
+    the poses of three later ticks); the stream stops at x = 0.1 m. From the first target's
+    arrival on, each row's target is where the pointer was at its tick: on the line between
+    two targets, then the last target from its stamp on, before it arrived too, never the
+    target before it (20 mm back).
+    """
+    ms, start = 1_000_000, 5_000_000_000
+    stamps = [start + 20 * ms * k for k in range(6)]
+    received = []
+    for tick in range(130):
+        ns = start + tick * ms
+        received += [state('pose', ns), state('twist', ns)]
+        for k, stamp in enumerate(stamps):
+            if ns == stamp + 3 * ms:
+                message = point_message((0.02 * k, 0.0, 1.0), 'world', stamp)
+                received.append(Received('target', ns, serialize_message(message)))
+    rows = tick_rows(received, {'anchor': (0.0, 0.0, 0.0)})
+    targets = {(row.stamp_ns - start) // ms: row.target for row in rows}
+    assert sorted(targets) == list(range(130))
+    assert all(targets[tick] is None for tick in range(4))
+    for tick in range(4, 130):
+        assert targets[tick] == pytest.approx((0.001 * min(tick, 100), 0.0, 1.0), abs=1e-12)
+
+
 def anchor_event(node_name: str, anchor, stamp_ns: int = 0, name: str = 'anchor') -> Received:
     """Return a /parameter_events message of ``node_name`` that changes its anchor."""
     value = ParameterValue(type=ParameterType.PARAMETER_DOUBLE_ARRAY,

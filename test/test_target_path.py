@@ -32,13 +32,15 @@ class SortedSearch:
         self.targets, self.breaks = [], []
 
     def at(self, time_ns: int, held: int):
-        """Return the point at ``time_ns`` on the line between the two targets around it."""
+        """Return the point at ``time_ns`` between the two targets around it, or the last."""
         after = bisect.bisect_right(self.breaks, held)
         low = self.breaks[after - 1] if after else -1
         high = self.breaks[after] if after < len(self.breaks) else None
         stream = sorted((t for t in self.targets if low < t[0] and (high is None or t[0] < high)),
                         key=lambda t: (t[1], t[0]))
         k = bisect.bisect_left([t[1] for t in stream], time_ns)
+        if k == len(stream) and stream:
+            return stream[-1][2]
         if k == 0 or k == len(stream) or stream[k][1] - stream[k - 1][1] > STREAM_GAP_NS:
             return None
         (_, t0, p0), (_, t1, p1) = stream[k - 1], stream[k]

@@ -20,8 +20,8 @@ row's body-frame anchor is the node's when it ran that tick (``NodeView``): a ch
 the first pose received after it, and from any pose stamped later than the node's stamp of the
 change (a tick stamped after it ran after it, whatever the order of arrival on two topics). A
 row's target is where the target path is at the tick's time (``TargetPath``): within a stream
-of targets the point between the two around it, else the target the node holds; the anchor
-error is the anchor's distance to it.
+of targets the point between the two around it, from its last target on that target, before
+its first the target the node holds; the anchor error is the anchor's distance to it.
 
 ``RowStream`` makes the rows while recording: a row is made once poses stamped ``SETTLE_NS``
 after it came (the changes it waits for and the next target of a stream are in by then), and

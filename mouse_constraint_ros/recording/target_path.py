@@ -22,8 +22,11 @@ one on that clock (within ``SAME_CLOCK_NS`` of the latest pose's stamp), else th
 latest pose received before it (the tick after which it came). Targets at most
 ``STREAM_GAP_NS`` apart with nothing else between them (no grab, parameter change, reset or
 release) are a stream; between two of them the path is the straight line, and a tick's time
-between them gives the point on it. Outside a stream (a lone click, before the first target of a
-stream, after its last) the path is the target the node holds.
+between them gives the point on it. From a stream's last target on (a lone click is a stream of
+one) the path is that target: the pointer stopped there, whether or not the target had reached
+the node by that tick (a stream's last point comes a delivery after its stamp). Before a
+stream's first target, and across a pause longer than a stream's gap, there is no path, and the
+row's target is the one the node holds.
 """
 
 import bisect
@@ -97,7 +100,9 @@ class TargetPath:
 
     def at(self, time_ns: int, held: int) -> Optional[Vector3]:
         """
-        Return the stream's point at ``time_ns``, or None outside a stream.
+        Return the stream's point at ``time_ns``: its last target's from that target's time on.
+
+        None before the stream's first target, and within a pause of over ``STREAM_GAP_NS``.
 
         :param held: the message index of the target the node holds: the stream is the targets
             received between the breaks around it.
@@ -112,13 +117,17 @@ class TargetPath:
         if back < len(self._back) and self._back[back] <= self._indices[hi - 1]:
             stream = sorted(self._targets[lo:hi], key=lambda t: (t.time_ns, t.index))
             k = bisect.bisect_left([t.time_ns for t in stream], time_ns)
-            if k == 0 or k == len(stream):
+            if k == 0:
                 return None
+            if k == len(stream):
+                return stream[-1].point
             first, second = stream[k - 1], stream[k]
         else:  # In time order: times[k - 1] < time_ns <= times[k].
             k = bisect.bisect_left(self._times, time_ns, lo, hi)
-            if k == lo or k == hi:
+            if k == lo:
                 return None
+            if k == hi:
+                return self._targets[hi - 1].point
             first, second = self._targets[k - 1], self._targets[k]
         span = second.time_ns - first.time_ns
         if span > STREAM_GAP_NS:
