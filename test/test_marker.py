@@ -21,6 +21,7 @@ from scipy.spatial.transform import Rotation
 from visualization_msgs.msg import InteractiveMarkerControl
 
 from mouse_constraint_ros.marker.drag import MarkerDrag
+from mouse_constraint_ros.marker.presence import departed, node_name, watched
 from mouse_constraint_ros.marker.updates import (MARKER_NAME, MarkerUpdates, MAX_POSE_RATE,
                                                  pose_of)
 from mouse_constraint_ros.view.geometry import Pose, world_point
@@ -121,3 +122,22 @@ def test_during_a_drag_no_pose_goes_and_at_its_end_the_marker_snaps_back():
     updates.dragging = True
     [back] = updates.drag_ended(NOW)
     assert back.seq_num == 3 and pose_of(back.poses[0].pose) == NOW
+
+
+def test_a_drag_hangs_on_its_own_rviz_or_on_every_client_when_none_is_named_so():
+    """The dragging RViz's publishers by node name; unnamed, all; one of them gone ends it."""
+    assert node_name('/', 'rviz') == '/rviz' and node_name('/lab', 'rviz') == '/lab/rviz'
+    a, b, c = ('/rviz', (1,)), ('/rviz_b', (2,)), ('/rviz', (3,))
+    assert watched('/rviz', [a, b]) == {(1,)}
+    # Two clients of one name are not told apart: the drag hangs on both.
+    assert watched('/rviz', [a, b, c]) == {(1,), (3,)}
+    # A client that signs with another id: every publisher on the graph.
+    assert watched('someone', [a, b]) == {(1,), (2,)}
+    hung_on = watched('/rviz', [a, b])
+    assert not departed(hung_on, [a, b]) and not departed(hung_on, [a])
+    assert not departed(hung_on, [a, ('/rviz_new', (4,))])
+    assert departed(hung_on, [b]) and departed(hung_on, [])
+    assert departed(watched('/rviz', [a, b, c]), [a, b])
+    # None known at the press: the drag ends when no feedback publisher is left.
+    assert watched('/rviz', []) == frozenset()
+    assert not departed(frozenset(), [b]) and departed(frozenset(), [])

@@ -269,6 +269,45 @@ def test_a_drag_ends_when_its_rviz_leaves(ros):
     assert not marker.drag.dragging
 
 
+def test_a_drag_ends_when_its_rviz_leaves_while_another_stays(ros):
+    """
+    Two RViz by node name: the dragging one closes mid-drag and the drag ends; the other stays.
+
+    Each RViz signs its feedback with its node's name, so the server knows which publisher the
+    drag hangs on; the other leaving ends nothing.
+    """
+    node, marker, _probe_rviz = _nodes(ros)
+    rviz_nodes, clients = {}, {}
+    for name in ('rviz_a', 'rviz_b'):
+        rviz_nodes[name] = ros.add(Node(name, context=ros.context))
+        clients[name] = FakeRviz(rviz_nodes[name], client_id=f'/{name}')
+        assert ros.spin_until(lambda: clients[name].feedback.get_subscription_count() > 0,
+                              timeout=15.0)
+        clients[name].initialize(ros)
+    dragging, other = clients['rviz_a'], clients['rviz_b']
+    shown = dragging.marker_pose
+    dragging.press(shown, world_point(shown, LOCAL))
+    assert ros.spin_until(lambda: marker.drag.client == '/rviz_a')
+    _drag(ros, dragging, shown, [(0.0, 0.0, 0.01 * k) for k in range(1, 6)])
+    ros.spin_for(1.0)  # held still: no feedback, still dragged
+    assert marker.drag.dragging and node.simulation.target is not None
+    gone = rviz_nodes['rviz_a']  # closed: it leaves the graph
+    ros.nodes.remove(gone)
+    ros.executor.remove_node(gone)
+    gone.destroy_node()
+    start = time.monotonic()
+    assert ros.spin_until(lambda: node.simulation.target is None, timeout=10.0)
+    assert time.monotonic() - start < 4 * PRESENCE_PERIOD + 1.0
+    assert not marker.drag.dragging
+    # The other drags now; the probe's client (not a node of its name) is left alone.
+    shown = other.marker_pose
+    other.press(shown, world_point(shown, LOCAL))
+    assert ros.spin_until(lambda: marker.drag.client == '/rviz_b')
+    ros.probe.destroy_publisher(_probe_rviz.feedback)
+    ros.spin_for(4 * PRESENCE_PERIOD + 1.0)
+    assert marker.drag.client == '/rviz_b' and node.simulation.target is not None
+
+
 @pytest.mark.system
 def test_the_command_serves_the_marker_until_ctrl_c(ros):
     """``mouse_marker`` as a process beside the node: RViz gets the marker; SIGINT: exit 0."""

@@ -17,5 +17,6 @@
 
 - ``drag``: what a press, a move and a release of the marker send to the node (no ROS);
 - ``updates``: the interactive marker and the updates that keep RViz's copy of it;
+- ``presence``: which feedback publishers a drag hangs on, and whether one left;
 - ``node``: the ``mouse_marker`` node's wiring; ``command``: its arguments and ``main``.
 """

@@ -30,9 +30,10 @@ and ``PushThrottle``:
   comes: RViz sends one per frame (30 a second), a client gone wrong as many as it likes;
 - ``hold_on_release`` (a parameter of this node, false by default) keeps the body held where
   the drag ends instead of calling ``~/release``;
-- a drag whose RViz closes or crashes ends as its release would, when no feedback publisher is
-  left on the graph (looked for every ``PRESENCE_PERIOD``): RViz sends nothing while the mouse
-  is held still, so silence alone cannot tell.
+- a drag whose RViz closes or crashes ends as its release would, when a feedback publisher it
+  hangs on (``presence``: the dragging RViz's own) has left the graph (looked for every
+  ``PRESENCE_PERIOD``): RViz sends nothing while the mouse is held still, so silence alone
+  cannot tell.
 
 This is a server of its own, not ``interactive_markers``' Python server: that one is not on
 PyPI (RViz's apt packages bring it), drops the feedback of a marker's first second and can
@@ -41,7 +42,7 @@ endpoints and a counter.
 """
 
 import time
-from typing import Callable, List, Optional
+from typing import Callable, FrozenSet, List, Optional, Tuple
 
 from geometry_msgs.msg import PointStamped, PoseStamped
 from rcl_interfaces.msg import ParameterDescriptor
@@ -54,6 +55,7 @@ from visualization_msgs.msg import InteractiveMarkerFeedback, InteractiveMarkerU
 from visualization_msgs.srv import GetInteractiveMarkers
 
 from .drag import MarkerDrag
+from .presence import departed, Endpoint, node_name, watched
 from .updates import MARKER_NAME, MarkerUpdates, pose_of
 from ..view.geometry import Pose
 from ..view.gestures import Action, GRAB, RELEASE
@@ -102,8 +104,10 @@ class MouseMarkerNode(Node):
         self.release_client = self.create_client(Trigger, NODE_NAME + RELEASE_SERVICE[1:])
         self.update_publisher = self.create_publisher(InteractiveMarkerUpdate,
                                                       MARKER_UPDATE_TOPIC, MARKER_QOS)
-        self.create_subscription(InteractiveMarkerFeedback, MARKER_FEEDBACK_TOPIC,
-                                 self._on_feedback, MARKER_QOS)
+        self.feedback_subscription = self.create_subscription(
+            InteractiveMarkerFeedback, MARKER_FEEDBACK_TOPIC, self._on_feedback, MARKER_QOS)
+        # The feedback publishers the drag hangs on (``presence``), set at its press.
+        self._hung_on: FrozenSet[Tuple[int, ...]] = frozenset()
         self.create_service(GetInteractiveMarkers, MARKER_SERVICE, self._on_get_markers)
         # Never spun: its pose subscription is only taken from (NewestMessage).
         self.reader = Node(f'{MARKER_NODE_NAME}_reader', context=self.context,
@@ -161,13 +165,18 @@ class MouseMarkerNode(Node):
         if held is not None:
             self.target_publisher.publish(held)
 
+    def _feedback_publishers(self) -> List[Endpoint]:
+        return [(node_name(info.node_namespace, info.node_name), tuple(info.endpoint_gid))
+                for info in self.get_publishers_info_by_topic(
+                    self.feedback_subscription.topic_name)]
+
     def _look(self) -> None:
         """Look for the node, and end a drag whose client has left the graph."""
         self.follower.look()
         client = self.drag.client
-        if client is not None and self.count_publishers(MARKER_FEEDBACK_TOPIC) == 0:
-            self.get_logger().warning(f'{client} left mid-drag (no feedback publisher): '
-                                      'the drag ends')
+        if client is not None and departed(self._hung_on, self._feedback_publishers()):
+            self.get_logger().warning(f'{client} left mid-drag (its feedback publisher is '
+                                      'gone): the drag ends')
             self._end_drag(client, self.get_clock().now().nanoseconds)
 
     def _end_drag(self, client: str, stamp_ns: int) -> None:
@@ -197,8 +206,11 @@ class MouseMarkerNode(Node):
                 return
             point = feedback.mouse_point
             hit = (point.x, point.y, point.z) if feedback.mouse_point_valid else None
+            was = self.drag.client
             actions = self.drag.press(client, shown=pose, hit=hit, now=now,
                                       anchor=self.follower.parameters.anchor)
+            if was is None and self.drag.client is not None:
+                self._hung_on = watched(client, self._feedback_publishers())
             self.updates.dragging = self.drag.dragging
         elif kind == InteractiveMarkerFeedback.POSE_UPDATE:
             actions = self.drag.move(client, pose)
