@@ -15,8 +15,9 @@
 """Helpers for tests that run nodes in-process: contexts, spinning, and collecting messages."""
 
 import time
-from typing import Callable, List
+from typing import Callable, List, Sequence
 
+import numpy as np
 from rcl_interfaces.srv import ListParameters
 import rclpy
 from rclpy.executors import SingleThreadedExecutor
@@ -114,6 +115,24 @@ class RosHarness:
         for node in self.nodes:
             node.destroy_node()
         rclpy.try_shutdown(context=self.context)
+
+
+def assert_on_grid(stamps: Sequence[int], period_ns: int, dropped: int) -> None:
+    """
+    Assert ``stamps`` whole periods apart, each period skipped a tick the node says it dropped.
+
+    On its own timer, a node whose process stalls past its catch-up bound (0.1 s) drops the
+    ticks it missed and counts them (``dropped_ticks``, and a warning): the grid holds however
+    loaded the machine is, and a gap the node did not count fails. Without a drop, every step
+    is one period.
+
+    :param dropped: the ticks the node dropped while ``stamps`` went out (or more).
+    """
+    steps = np.diff(np.asarray(stamps, dtype=np.int64))
+    assert steps.size > 0 and np.all(steps >= period_ns) and np.all(steps % period_ns == 0), \
+        f'steps off a grid of {period_ns} ns: {sorted(set(steps.tolist()))}'
+    skipped = int((steps // period_ns - 1).sum())
+    assert skipped <= dropped, f'{skipped} ticks missing, {dropped} dropped by the node'
 
 
 def stamp_of(message) -> int:
