@@ -62,6 +62,7 @@ from mouse_constraint_ros.node.parameters import node_config
 from mouse_constraint_ros.physics import MouseSimulation
 from mouse_constraint_ros.physics import RigidBody
 from mouse_constraint_ros.physics.target_stream import STREAM_GAP
+from mouse_constraint_ros.wire.interface import node_name
 from mouse_constraint_ros.wire.messages import point_message
 from test_support import hardening_tools as tools
 from test_support.processes import ChildProcess
@@ -312,7 +313,7 @@ FLOOD_RATE = 20000.0
 
 def graph(ros) -> list:
     """Return the nodes in this test's domain (for failure messages: a foreign graph shows)."""
-    return sorted(f'{namespace.rstrip("/")}/{name}'
+    return sorted(node_name(namespace, name)
                   for name, namespace in ros.probe.get_node_names_and_namespaces())
 
 

@@ -55,7 +55,7 @@ from visualization_msgs.msg import InteractiveMarkerFeedback, InteractiveMarkerU
 from visualization_msgs.srv import GetInteractiveMarkers
 
 from .drag import MarkerDrag
-from .presence import departed, Endpoint, node_name, watched
+from .presence import departed, Endpoint, watched
 from .updates import MARKER_NAME, MarkerUpdates, pose_of
 from ..view.geometry import Pose
 from ..view.gestures import Action, GRAB, RELEASE
@@ -64,8 +64,8 @@ from ..view.node_follower import DISCOVERY_SECONDS, NodeFollower
 from ..view.node_readouts import ViewParameters
 from ..view.push_throttle import PushThrottle
 from ..wire.interface import (GRAB_TOPIC, MARKER_FEEDBACK_TOPIC, MARKER_NODE_NAME, MARKER_QOS,
-                              MARKER_SERVICE, MARKER_UPDATE_TOPIC, NODE_NAME, POSE_TOPIC,
-                              RELEASE_SERVICE, TARGET_QOS, TARGET_TOPIC)
+                              MARKER_SERVICE, MARKER_UPDATE_TOPIC, NODE_NAME, node_name,
+                              POSE_TOPIC, RELEASE_SERVICE, TARGET_QOS, TARGET_TOPIC)
 from ..wire.messages import point_message
 
 # Only the newest pose matters: depth 1, best effort (a reliable publisher serves it).

@@ -29,11 +29,6 @@ from typing import FrozenSet, Iterable, Tuple
 Endpoint = Tuple[str, Tuple[int, ...]]
 
 
-def node_name(namespace: str, name: str) -> str:
-    """Return the fully qualified name of the node ``name`` in ``namespace``."""
-    return f'{namespace.rstrip("/")}/{name}'
-
-
 def watched(client_id: str, endpoints: Iterable[Endpoint]) -> FrozenSet[Tuple[int, ...]]:
     """Return the gids a drag by ``client_id`` hangs on, among the publishers ``endpoints``."""
     endpoints = list(endpoints)

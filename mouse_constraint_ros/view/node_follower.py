@@ -33,7 +33,7 @@ from rclpy.node import Node
 from rclpy.qos import qos_profile_parameter_events
 
 from .node_readouts import ViewParameters
-from ..wire.interface import NODE_NAME
+from ..wire.interface import NODE_NAME, node_name
 
 # The parameters a client draws with.
 PARAMETER_NAMES = list(ViewParameters._fields)
@@ -64,7 +64,7 @@ class NodeFollower:
         self._on_parameters = on_parameters
         self._clock = clock
         self._discovered_by = clock() + discovery_seconds
-        self.target_node = f'{node.get_namespace().rstrip("/")}/{NODE_NAME}'
+        self.target_node = node_name(node.get_namespace(), NODE_NAME)
         self.parameters = ViewParameters()
         self.present: Optional[bool] = None  # None: still looking
         self.parameters_known = False  # answered by the node since it came

@@ -78,3 +78,8 @@ MARKER_FEEDBACK_TOPIC = MARKER_NAMESPACE + '/feedback'
 MARKER_SERVICE = MARKER_NAMESPACE + '/get_interactive_markers'
 MARKER_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
                         reliability=ReliabilityPolicy.RELIABLE)
+
+
+def node_name(namespace: str, name: str) -> str:
+    """Return the fully qualified name of the node ``name`` in ``namespace`` (``/`` or ``/ns``)."""
+    return f'{namespace.rstrip("/")}/{name}'
