@@ -45,6 +45,7 @@ from mouse_constraint_ros.marker.node import (MAX_TARGET_RATE, MouseMarkerNode,
                                               PRESENCE_PERIOD)
 from mouse_constraint_ros.marker.updates import MARKER_NAME, MAX_POSE_RATE, pose_message, pose_of
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
+from mouse_constraint_ros.timing.spin import call_until_answered, StopRequest
 from mouse_constraint_ros.view.geometry import Pose, world_point
 from mouse_constraint_ros.wire.interface import (MARKER_FEEDBACK_TOPIC, MARKER_QOS,
                                                  MARKER_SERVICE, MARKER_UPDATE_TOPIC)
@@ -74,16 +75,21 @@ class FakeRviz:
         self.received_at: List[float] = []
 
     def initialize(self, ros, timeout: float = 20.0) -> None:
-        """Ask for the marker as it is, as RViz does when the display starts, until it has one."""
+        """
+        Ask for the marker as it is, as RViz does when the display starts, until it has one.
+
+        As RViz's client, it asks again when no answer came within a second (its request
+        timeout; ``call_until_answered``): a server in another process may not yet have matched
+        the request's writer when the client sees the service.
+        """
         deadline = time.monotonic() + timeout
         assert ros.spin_until(self.client.service_is_ready, timeout=timeout)
         while True:
-            future = self.client.call_async(GetInteractiveMarkers.Request())
-            assert ros.spin_until(future.done, timeout=10.0)
-            response = future.result()
+            response = call_until_answered(self.client, GetInteractiveMarkers.Request(),
+                                           ros.executor, StopRequest(), deadline=deadline)
+            assert response is not None and time.monotonic() < deadline, 'no marker served'
             if response.markers:
                 break
-            assert time.monotonic() < deadline, 'the server has no marker'
             ros.spin_for(0.2)
         self.sequence = response.sequence_number
         [marker] = response.markers

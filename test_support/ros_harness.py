@@ -26,6 +26,7 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
 
 from mouse_constraint_ros.testing.lockstep import drain
+from mouse_constraint_ros.timing.spin import call_until_answered, StopRequest
 from mouse_constraint_ros.wire.messages import stamp_nanoseconds
 
 
@@ -88,17 +89,13 @@ class RosHarness:
         A reply from ``node_name``'s parameter service says it has: the request's writer is
         announced after every endpoint the probe made before, in order, on one reliable
         discovery stream. A request sent before that match is lost too, so it goes again
-        every second.
+        (``call_until_answered``).
         """
         client = self.probe.create_client(ListParameters, f'{node_name}/list_parameters')
-        deadline = time.monotonic() + timeout
         try:
-            while time.monotonic() < deadline:
-                future = client.call_async(ListParameters.Request())
-                if self.spin_until(future.done, timeout=1.0):
-                    return True
-                client.remove_pending_request(future)
-            return False
+            return call_until_answered(client, ListParameters.Request(), self.executor,
+                                       StopRequest(),
+                                       deadline=time.monotonic() + timeout) is not None
         finally:
             self.probe.destroy_client(client)
 

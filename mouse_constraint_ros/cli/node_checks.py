@@ -30,7 +30,7 @@ from rclpy.node import Node
 from ..inputs.grab import grab
 from ..inputs.target_gate import TargetGate
 from ..physics import BodyState
-from ..timing.spin import StopRequest, wait_until
+from ..timing.spin import call_until_answered, StopRequest, wait_until
 from ..wire.interface import POSE_TOPIC, STATE_QOS
 
 # The node's parameters a target is checked against, and those a grab is checked against too.
@@ -52,10 +52,11 @@ def fetch_parameters(node: Node, executor, target_node: str, types: dict, deadli
     try:
         if not wait_until(executor, stop, client.service_is_ready, deadline=deadline):
             raise RuntimeError(f'no parameter service {client.srv_name}')
-        future = client.call_async(GetParameters.Request(names=list(types)))
-        if not wait_until(executor, stop, future.done, deadline=deadline):
+        response = call_until_answered(client, GetParameters.Request(names=list(types)),
+                                       executor, stop, deadline=deadline)
+        if response is None:
             raise RuntimeError(f'{client.srv_name} did not answer')
-        values = future.result().values
+        values = response.values
         if [value.type for value in values] != list(types.values()):
             raise RuntimeError(f'{target_node} has not the parameters {", ".join(types)} '
                                'of mouse_constraint')

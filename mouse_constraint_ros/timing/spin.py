@@ -25,6 +25,10 @@ the process with no clean-up.
 spins an executor with ``spin_once`` until a condition holds, a stop is requested, a deadline
 passes or the context is shut down, and returns which (a ``SpinEnd``). ``wait_until`` is the
 same loop for waits inside a command, where a stop is an ``Interrupted`` and a deadline False.
+``call_until_answered`` waits so for a service's answer and sends the request again each
+``ASK_AGAIN_SECONDS`` it goes unanswered: a client sees a service in another process as ready
+once it has matched the server's endpoints, which may not yet have matched the client's, and a
+request sent then is lost (the service stays silent however long the client waits).
 
 Not ``executor.spin()``: in this rclpy (7.1.6) the EventsExecutor's ``spin()`` busy-waits at a
 full core and never returns to Python. Nor ``spin_until_future_complete``, which saves a little
@@ -38,11 +42,14 @@ import time
 from types import FrameType
 from typing import Callable, Optional
 
+from rclpy.client import Client
 from rclpy.executors import Executor, ExternalShutdownException
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 # Longest one spin_once blocks before the loop looks at the stop flag and the clock again (s).
 POLL_PERIOD = 0.05
+# A request unanswered this long (s) is sent again (call_until_answered).
+ASK_AGAIN_SECONDS = 1.0
 
 
 class StopRequest:
@@ -137,3 +144,24 @@ def wait_until(executor: Executor, stop: StopRequest, condition: Callable[[], bo
     if end is SpinEnd.SHUTDOWN:
         raise ExternalShutdownException()
     return end is SpinEnd.CONDITION
+
+
+def call_until_answered(client: Client, request, executor: Executor, stop: StopRequest, *,
+                        deadline: float) -> Optional[object]:
+    """
+    Return the service's response to ``request``, sent again while it goes unanswered.
+
+    A request for which no response came within ``ASK_AGAIN_SECONDS`` is dropped and sent again,
+    until ``deadline`` (``time.monotonic()``); for requests that may be served twice.
+
+    :returns: the response, or None when none came by ``deadline``.
+    :raises Interrupted: when ``stop`` is requested meanwhile.
+    """
+    while True:
+        future = client.call_async(request)
+        again = min(deadline, time.monotonic() + ASK_AGAIN_SECONDS)
+        if wait_until(executor, stop, future.done, deadline=again):
+            return future.result()
+        client.remove_pending_request(future)
+        if time.monotonic() >= deadline:
+            return None

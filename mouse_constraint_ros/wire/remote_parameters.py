@@ -17,6 +17,8 @@ Reading another node's parameters through its ``get_parameters`` service, for th
 
 ``fetch_parameters`` spins the command's executor (``spin.wait_until``) while it waits, so that
 Ctrl-C is seen, and gives plain Python values, checked against the types asked for.
+It asks with ``spin.call_until_answered``, which sends the request again while it goes
+unanswered: reading parameters twice does no harm.
 """
 
 import time
@@ -27,7 +29,7 @@ from rcl_interfaces.srv import GetParameters
 from rclpy.executors import Executor
 from rclpy.node import Node
 
-from ..timing.spin import StopRequest, wait_until
+from ..timing.spin import call_until_answered, StopRequest, wait_until
 
 # The ParameterValue field of each type a command asks for.
 _FIELDS = {ParameterType.PARAMETER_BOOL: 'bool_value',
@@ -57,10 +59,11 @@ def fetch_parameters(node: Node, executor: Executor, stop: StopRequest, *, targe
                           deadline=time.monotonic() + timeout):
             raise RuntimeError(f'no parameter service {client.srv_name} after {timeout:g} s')
         names = list(types)
-        future = client.call_async(GetParameters.Request(names=names))
-        if not wait_until(executor, stop, future.done, deadline=time.monotonic() + timeout):
+        response = call_until_answered(client, GetParameters.Request(names=names), executor,
+                                       stop, deadline=time.monotonic() + timeout)
+        if response is None:
             raise RuntimeError(f'{client.srv_name} did not answer in {timeout:g} s')
-        values = future.result().values
+        values = response.values
         if len(values) != len(names):
             raise RuntimeError(f'{target_node} answered {len(values)} of {len(names)} '
                                'parameters')
