@@ -407,7 +407,9 @@ def test_factor_zero_with_a_publish_rate_publishes_every_tenth_tick(ros, namespa
     assert np.count_nonzero(gaps == every * period) >= 0.95 * len(gaps)
     assert all(value % period == 0 for value in clock_values)
     publishing = {value for value in clock_values if value % (every * period) == 0}
-    assert publishing and publishing <= set(stamps.tolist())
+    # Each is a pose stamp, but for the few poses the flooded subscriber missed (in the gaps).
+    carried = publishing & set(stamps.tolist())
+    assert publishing and len(carried) >= 0.95 * len(publishing), sorted(publishing - carried)
 
 
 @pytest.mark.parametrize('name, value', [

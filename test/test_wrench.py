@@ -36,6 +36,7 @@ from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.physics import BodyState, MouseSimulation, RigidBody, Settings
 from mouse_constraint_ros.testing import InputRefused
 from mouse_constraint_ros.wire import messages
+from test_support.ros_harness import spin_until
 
 MASS = 2.0
 BOX = (0.4, 0.2, 0.1)
@@ -299,16 +300,17 @@ def test_markers_show_the_applied_force(simulated_body_factory):
 
     body.wrench((0.0, 0.0, 9.0))
     body.step()
-    # Markers come on their own timer (wall time): step until one shows the tick's wrench.
+    # Markers come on their own timer (wall time): wait for two more without stepping, so that
+    # the wrench cannot time out meanwhile however slow the timer is.
     count = len(arrays)
-    body.step_until(lambda: len(arrays) > count + 1, max_ticks=100_000)
+    assert spin_until(body.executor, lambda: len(arrays) > count + 1)
     assert arrow().action == Marker.ADD
     start, end = ((p.x, p.y, p.z) for p in arrow().points)
     length = max(BOX) * 9.0 / wrench_reference(body.node.simulation.settings)
     assert end[2] - start[2] == pytest.approx(length)
     body.step_until(lambda: body.node.simulation.wrench == NO_WRENCH, max_ticks=100)
     count = len(arrays)
-    body.step_until(lambda: len(arrays) > count + 1, max_ticks=100_000)
+    assert spin_until(body.executor, lambda: len(arrays) > count + 1)
     assert arrow().action == Marker.DELETE
 
 

@@ -59,12 +59,7 @@ class RosHarness:
 
     def spin_until(self, condition: Callable[[], bool], timeout: float = 10.0) -> bool:
         """Spin until ``condition()`` holds or ``timeout`` seconds pass; return whether it held."""
-        deadline = time.monotonic() + timeout
-        while not condition():
-            if time.monotonic() > deadline:
-                return False
-            self.executor.spin_once(timeout_sec=0.01)
-        return True
+        return spin_until(self.executor, condition, timeout)
 
     def drain(self) -> None:
         """Run every ready callback, and those they make ready, until none is."""
@@ -112,6 +107,21 @@ class RosHarness:
         for node in self.nodes:
             node.destroy_node()
         rclpy.try_shutdown(context=self.context)
+
+
+def spin_until(executor, condition: Callable[[], bool], timeout: float = 10.0) -> bool:
+    """
+    Spin ``executor`` on wall time until ``condition()`` holds; return whether it did in time.
+
+    For what comes on wall-clock timers (the node's markers) while a ``SimulatedBody`` is not
+    stepped: its simulated time stands still meanwhile.
+    """
+    deadline = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > deadline:
+            return False
+        executor.spin_once(timeout_sec=0.01)
+    return True
 
 
 def assert_on_grid(stamps: Sequence[int], period_ns: int, dropped: int) -> None:
