@@ -184,9 +184,20 @@ def _camera_known(client) -> bool:
         return False
 
 
+def _page(server):
+    """
+    Return the page's client: the newest connection.
+
+    A page whose first websocket failed to open connects again; the camera aimed with is the one
+    of the connection that draws the page.
+    """
+    clients = server.get_clients()
+    return clients[max(clients)]
+
+
 def _assert_framed(server, view) -> None:
     """Check the loaded page looks at the body, which spans a quarter of its height or more."""
-    client = next(iter(server.get_clients().values()))
+    client = _page(server)
     wait_for(lambda: view.scene.shown is not None and np.allclose(
         client.camera.look_at, view.scene.shown.position, atol=0.05), 60.0,
         'the page turned to the body')
@@ -211,7 +222,7 @@ def _aim(server, view):
     The camera is turned to the body again first: a press before the page has drawn the body
     orbits it.
     """
-    client = next(iter(server.get_clients().values()))
+    client = _page(server)
     view.scene.frame(client)
     time.sleep(0.5)
     camera = PinholeCamera(client.camera)
