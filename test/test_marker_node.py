@@ -282,7 +282,7 @@ def test_a_drag_ends_when_its_rviz_leaves_while_another_stays(ros):
     Each RViz signs its feedback with its node's name, so the server knows which publisher the
     drag hangs on; the other leaving ends nothing.
     """
-    node, marker, _probe_rviz = _nodes(ros)
+    node, marker, probe_rviz = _nodes(ros)
     rviz_nodes, clients = {}, {}
     for name in ('rviz_a', 'rviz_b'):
         rviz_nodes[name] = ros.add(Node(name, context=ros.context))
@@ -309,7 +309,7 @@ def test_a_drag_ends_when_its_rviz_leaves_while_another_stays(ros):
     shown = other.marker_pose
     other.press(shown, world_point(shown, LOCAL))
     assert ros.spin_until(lambda: marker.drag.client == '/rviz_b')
-    ros.probe.destroy_publisher(_probe_rviz.feedback)
+    ros.probe.destroy_publisher(probe_rviz.feedback)
     ros.spin_for(4 * PRESENCE_PERIOD + 1.0)
     assert marker.drag.client == '/rviz_b' and node.simulation.target is not None
 

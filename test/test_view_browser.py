@@ -188,8 +188,8 @@ def _page(server):
     """
     Return the page's client: the newest connection.
 
-    A page whose first websocket failed to open connects again; the camera aimed with is the one
-    of the connection that draws the page.
+    A page that connected again (a websocket handshake failed) leaves an older connection whose
+    camera is not the one drawn; aim with the newest.
     """
     clients = server.get_clients()
     return clients[max(clients)]
