@@ -65,7 +65,7 @@ def test_every_tick_publishes_pose_and_twist_with_its_simulated_stamp(simulated_
                t.header.stamp.sec * 10 ** 9 + t.header.stamp.nanosec) for p, t in ticks]
     assert stamps == [(n * 5_000_000, n * 5_000_000) for n in range(1, 401)]
     assert {m.header.frame_id for pair in ticks for m in pair} == {'world'}
-    assert body.time == 2.0 and body.node.ticks_run == 400
+    assert body.time == 2.0 and body.node.ticker.record.ticks_run == 400
 
 
 def test_pose_and_twist_agree(simulated_body_factory):

@@ -57,7 +57,7 @@ def test_messages_arrive_at_the_rate_with_grid_stamps(ros):
     stamps = np.array([stamp_of(m) for m in poses])
     # Every message and no gap: consecutive stamps one period apart (but for the ticks the node
     # counted as dropped, should the machine stall it past its catch-up bound).
-    assert_on_grid(stamps, 5_000_000, node.dropped_ticks)
+    assert_on_grid(stamps, 5_000_000, node.ticker.record.dropped_ticks)
     assert stamps[0] <= first_wall + 5_000_000
     assert len(poses) > 100
     assert [stamp_of(m) for m in twists[:len(poses)]] == list(stamps[:len(twists)])
@@ -69,14 +69,14 @@ def test_the_timer_follows_a_new_rate_at_run_time(ros):
     node = start_node(ros, rate_hz=100.0)
     poses = ros.collect(PoseStamped, 'pose')
     assert ros.spin_until(lambda: len(poses) > 5)
-    assert node.tick_timer.timer_period_ns == 10_000_000
+    assert node.ticker.timer.timer_period_ns == 10_000_000
     assert node.set_parameters([Parameter('rate_hz', value=400.0)])[0].successful
-    assert node.tick_timer.timer_period_ns == 2_500_000
+    assert node.ticker.timer.timer_period_ns == 2_500_000
     count = len(poses)
     assert ros.spin_until(lambda: len(poses) > count + 310)
     # The last 300 poses all come after the restart, whatever was in flight.
     stamps = np.array([stamp_of(m) for m in poses[-300:]])
-    assert_on_grid(stamps, 2_500_000, node.dropped_ticks)
+    assert_on_grid(stamps, 2_500_000, node.ticker.record.dropped_ticks)
 
 
 def test_sim_time_driven_by_clock(ros):
@@ -94,12 +94,12 @@ def test_sim_time_driven_by_clock(ros):
     clock.advance_to(start + 57 * 10_000_000)
     stamps = np.array([stamp_of(m) for m in poses])
     np.testing.assert_array_equal(stamps[50:], start + np.arange(50, 58) * 10_000_000)
-    assert node.late_ticks == 7
+    assert node.ticker.record.late_ticks == 7
     # Later than the catch-up bound (0.1 s = 10 ticks): the older ticks are dropped.
     count = len(poses)
     clock.advance_to(start + 100 * 10_000_000)
     stamps = np.array([stamp_of(m) for m in poses[count:]])
-    assert node.dropped_ticks == 33
+    assert node.ticker.record.dropped_ticks == 33
     np.testing.assert_array_equal(stamps, start + np.arange(91, 101) * 10_000_000)
     # The clock jumps back (a replay restarts): no burst, the grid restarts there.
     count = len(poses)
@@ -108,7 +108,7 @@ def test_sim_time_driven_by_clock(ros):
     new = [stamp_of(m) for m in poses[count:]]
     # rclpy may or may not fire the timer on the backward jump itself; either way one tick each.
     assert new in ([start, start + 10_000_000], [start + 10_000_000])
-    assert node.clock_restarts == 1
+    assert node.ticker.record.clock_restarts == 1
 
 
 def test_each_warning_reason_has_its_own_throttle(ros, capfd):
@@ -121,7 +121,7 @@ def test_each_warning_reason_has_its_own_throttle(ros, capfd):
     target.publish(point_message((0.1, 0.2, 1.0), 'map', 0))
     assert ros.spin_until(lambda: node.refusals[0] == 1)
     clock.advance_to(10 ** 12 + 500_000_000)  # 50 ticks due, 10 run, 40 dropped
-    assert node.dropped_ticks == 40
+    assert node.ticker.record.dropped_ticks == 40
     err = capfd.readouterr().err
     assert "ignoring target in frame 'map'" in err
     assert 'cannot keep 100 Hz: dropped 40 ticks' in err, err
@@ -149,7 +149,7 @@ def test_without_clock_the_node_says_it_waits_then_runs_when_one_comes(ros, capf
     assert status.level == DiagnosticStatus.WARN
     assert f'waiting for /clock on {topic}' in status.message
     assert {stamp_of(a) for a in arrays} == {0}
-    assert poses == [] and node.ticks_run == 0
+    assert poses == [] and node.ticker.record.ticks_run == 0
     assert ros.spin_until(lambda: f'waiting for /clock on {topic}' in capfd.readouterr().err,
                           timeout=10.0)
     clock = SimClock(ros, node)
@@ -172,11 +172,11 @@ def test_switching_use_sim_time_off_restarts_the_grid_without_drops(ros, capfd):
     clock = SimClock(ros, node)
     for k in range(20):
         clock.advance_to(5 * 10 ** 9 + k * 10_000_000)
-    assert node.ticks_run == 20
+    assert node.ticker.record.ticks_run == 20
     assert node.set_parameters([Parameter('use_sim_time', value=False)])[0].successful
     count = len(poses)
     assert ros.spin_until(lambda: len(poses) > count + 20, timeout=10.0)
-    assert node.dropped_ticks == 0 and node.clock_restarts == 1
+    assert node.ticker.record.dropped_ticks == 0 and node.ticker.record.clock_restarts == 1
     assert stamp_of(poses[-1]) > 10 ** 18  # system time now
     count = len(arrays)
     assert ros.spin_until(lambda: len(arrays) > count + 2, timeout=10.0)

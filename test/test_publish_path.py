@@ -109,11 +109,11 @@ def test_a_callback_runs_one_publish_period_of_ticks_within_the_batch_bound(
 def test_the_node_timer_fires_once_per_batch_and_follows_the_publish_rate(ros):
     """100 Hz at 1 kHz: a 10 ms timer (10 ticks a call); back to every tick: 1 ms."""
     node = sim_node(ros, rate_hz=1000.0, publish_rate_hz=100.0)
-    assert node.tick_timer.timer_period_ns == 10_000_000
+    assert node.ticker.timer.timer_period_ns == 10_000_000
     assert node.set_parameters([Parameter('publish_rate_hz', value=0.0)])[0].successful
-    assert node.tick_timer.timer_period_ns == 1_000_000
+    assert node.ticker.timer.timer_period_ns == 1_000_000
     assert node.set_parameters([Parameter('publish_rate_hz', value=300.0)])[0].successful
-    assert node.tick_timer.timer_period_ns == 3_000_000
+    assert node.ticker.timer.timer_period_ns == 3_000_000
 
 
 @pytest.mark.parametrize('publish_rate_hz', [-1.0, 1000.5, math.nan])
@@ -280,7 +280,7 @@ def test_publish_rate_publishes_every_tenth_tick_on_the_grid(ros):
     for k in range(1, 31):
         clock.advance_to(START + k * period)
     ticks_per_publish = int(rate / publish_rate)
-    assert node.ticks_run == 30 * ticks_per_publish + 1
+    assert node.ticker.record.ticks_run == 30 * ticks_per_publish + 1
     # Tick 0 publishes: the first stamp is the grid's origin.
     origin = stamp_of(poses[0])
     stamps = [stamp_of(m) for m in poses]
@@ -311,7 +311,7 @@ def test_publish_rate_changes_at_run_time_and_a_rate_that_does_not_divide(ros):
         clock.advance_to(START + (10 + 10 * k) * tick_ns)
     expected = [n for n in range(11, 611) if PublishTicks(rate, 300.0).due(n)]
     assert [stamp_of(m) for m in poses[count:]] == [origin + n * tick_ns for n in expected]
-    assert node.ticks_run == 611
+    assert node.ticker.record.ticks_run == 611
     # Above rate_hz is refused; 0.0 is every tick again.
     result = node.set_parameters([Parameter('publish_rate_hz', value=2000.0)])[0]
     assert not result.successful and 'publish_rate_hz' in result.reason
@@ -340,7 +340,7 @@ def test_a_stepped_node_publishes_on_the_ticks_of_the_publish_rate(simulated_bod
     body.add_tick_callback(published)
     body.step(100)
     assert stamps == [n * 1_000_000 for n in range(10, 101, 10)]
-    assert body.node.ticks_run == 100
+    assert body.node.ticker.record.ticks_run == 100
     body.set_parameters(publish_rate_hz=300.0)
     del stamps[:]
     body.step(100)

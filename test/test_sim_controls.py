@@ -266,7 +266,7 @@ def test_pause_without_publish_clock_holds_the_physics_and_restarts_the_grid(ros
     wall = time.monotonic() - started
     after = np.array([stamp_ns(p.header.stamp) for p in poses[held:]])
     assert after[0] - paused_at > 0.5 * S
-    assert_on_grid(after, round(1e9 / rate), node.dropped_ticks)
+    assert_on_grid(after, round(1e9 / rate), node.ticker.record.dropped_ticks)
     # Ticks go on (a loaded machine may run fewer of them) and none catches up the paused time:
     # the stamps after the resume span no more than the wall time since it.
     assert len(after) > 0.1 * wall * rate
@@ -295,13 +295,13 @@ def test_pause_step_and_resume_in_lockstep(simulated_body_factory):
     assert call(pause, SetBool.Request(data=True)).message == 'paused at 0.050000 s simulated'
     state, pose = body.node.simulation.state, body.pose.message
     body.step(100)
-    assert body.node.paused and body.time == 0.05
+    assert body.node.ticker.paused and body.time == 0.05
     assert body.node.simulation.state is state and body.pose.message is pose
     assert call(step, Trigger.Request()).message == 'one tick of 0.005 s, to 0.055000 s simulated'
     assert body.time == pytest.approx(0.055, abs=1e-12) and body.pose.time == body.time
     assert call(pause, SetBool.Request(data=False)).message == 'running from 0.055000 s simulated'
     body.step(10)
-    assert body.time == pytest.approx(0.105, abs=1e-12) and body.node.ticks_run == 21
+    assert body.time == pytest.approx(0.105, abs=1e-12) and body.node.ticker.record.ticks_run == 21
 
 
 def test_a_reset_while_paused_publishes_the_state_it_leaves(simulated_body_factory):
@@ -315,10 +315,10 @@ def test_a_reset_while_paused_publishes_the_state_it_leaves(simulated_body_facto
     future = pause.call_async(SetBool.Request(data=True))
     body.drain()
     assert future.result().success
-    fallen, count, ticks = body.pose, len(poses), body.node.ticks_run
+    fallen, count, ticks = body.pose, len(poses), body.node.ticker.record.ticks_run
     assert fallen.position[2] < 0.99
     body.reset()
-    assert len(poses) == count + 1 and body.node.ticks_run == ticks
+    assert len(poses) == count + 1 and body.node.ticker.record.ticks_run == ticks
     reset = poses[-1]
     assert (reset.pose.position.x, reset.pose.position.y, reset.pose.position.z) == (
         0.0, 0.0, 1.0)

@@ -203,4 +203,4 @@ def test_tf_and_odometry_follow_the_publish_rate(simulated_body_factory):
     assert [stamp_of(m) for m in poses] == expected
     assert [stamp_of(m) for m in odometry] == expected
     assert [stamp_of(t) for t in broadcaster.sent] == expected
-    assert body.node.ticks_run == 200
+    assert body.node.ticker.record.ticks_run == 200

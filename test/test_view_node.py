@@ -151,12 +151,12 @@ def test_the_page_follows_the_nodes_parameters_and_buttons(ros, server):
     node.set_parameters([Parameter('box_size', value=[0.5, 0.3, 0.2])])
     assert ros.spin_until(lambda: tuple(view.scene.body.dimensions) == (0.5, 0.3, 0.2))
     view.toggle_pause()
-    assert ros.spin_until(lambda: node.paused)
+    assert ros.spin_until(lambda: node.ticker.paused)
     view.call('~/step')
     assert ros.spin_until(lambda: view.scene.reply.content.startswith(
         '/mouse_constraint/step: one tick of 0.001 s'))
     view.toggle_pause()
-    assert ros.spin_until(lambda: not node.paused)
+    assert ros.spin_until(lambda: not node.ticker.paused)
     view.call('~/reset')
     assert ros.spin_until(
         lambda: view.scene.reply.content == '/mouse_constraint/reset: back to the initial state, '

@@ -350,7 +350,7 @@ def record_pushed_ticks(node) -> list:
     step = simulation.step
 
     def recording_step(dt):
-        ticks.append((simulation.wrench != NO_WRENCH, node.dropped_ticks))
+        ticks.append((simulation.wrench != NO_WRENCH, node.ticker.record.dropped_ticks))
         return step(dt)
 
     simulation.step = recording_step

@@ -180,5 +180,5 @@ class SimClock:
 
 def ran_for_now(node) -> bool:
     """Return whether the node's tick timer has run for its clock's reading (or is paused)."""
-    timer = node.tick_timer
+    timer = node.ticker.timer
     return timer is None or timer.is_canceled() or timer.time_until_next_call() > 0

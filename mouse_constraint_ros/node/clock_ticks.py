@@ -17,8 +17,9 @@ The driver of the tick when the node is the clock (``publish_clock``): simulated
 
 ``SimulatedClock`` keeps the simulated time on the tick grid and says how many ticks are due
 at a wall time; ``ClockPacer`` runs them from a timer on the steady clock, each ``Tick.run``
-publishing ``/clock`` first. A node that is stepped by its caller (``stepped``) has no pacing
-timer: each ``step`` runs one tick of the simulated clock, and nothing else advances it.
+publishing ``/clock`` first. A node that is stepped by its caller has no pacing timer: each
+``step`` runs one tick of the simulated clock, and nothing else advances it. ``ticker.Ticker``
+owns this driver and says when it runs.
 
 The simulated clock is made once: turning ``publish_clock`` off and on again goes on from the
 simulated time reached.
@@ -27,7 +28,6 @@ simulated time reached.
 import time
 from typing import Optional
 
-from rclpy.clock import Clock
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock as ClockMessage
 
@@ -39,34 +39,26 @@ from ..wire.interface import CLOCK_QOS, CLOCK_TOPIC
 
 class ClockTicks:
     """
-    Runs ``tick`` on the simulated clock, paced by a steady-clock timer or by ``step`` calls.
+    Runs a tick on the simulated clock, paced by a steady-clock timer or by ``step`` calls.
 
     :param node: the node that publishes /clock and owns the timer.
-    :param tick: the tick to run; it publishes /clock while this driver runs.
-    :param steady_clock: the clock of the pacing timer.
-    :param rate_hz: the tick rate.
+    :param ticker: the owner of time (its steady clock).
+    :param rate_hz: the tick rate the simulated clock starts with.
     :param real_time_factor: simulated seconds per wall second (0: as fast as it runs).
-    :param stepped: no pacing timer: only ``step`` runs ticks.
     """
 
-    def __init__(self, node: Node, tick: Tick, *, steady_clock: Clock, rate_hz: float,
-                 real_time_factor: float, stepped: bool) -> None:
+    def __init__(self, node: Node, ticker, *, rate_hz: float, real_time_factor: float) -> None:
         """Create the simulated clock at 0; it runs once ``start`` is called."""
         self._node = node
-        self._tick = tick
-        self._steady_clock = steady_clock
-        self.stepped = stepped
+        self._ticker = ticker
         self.sim_clock = SimulatedClock(rate_hz, real_time_factor,
                                         max_lag=MAX_CATCH_UP_SECONDS)
         # What the pacing achieved between two diagnostics calls.
         self.pacing = PacingMeter()
+        self._tick: Optional[Tick] = None
+        self._publisher = None
         self._timer = None
         self._pacer: Optional[ClockPacer] = None
-
-    @property
-    def on(self) -> bool:
-        """Return whether the node is the clock: /clock is published, stamps are simulated."""
-        return self._tick.clock_publisher is not None
 
     @property
     def now_ns(self) -> int:
@@ -78,30 +70,34 @@ class ClockTicks:
         """Return the pacing timer, or None (stopped, or stepped by the caller)."""
         return self._timer
 
-    def start(self) -> None:
-        """Publish /clock from the next tick on and pace the ticks (unless stepped)."""
-        if self._tick.clock_publisher is None:
-            self._tick.clock_publisher = self._node.create_publisher(
-                ClockMessage, CLOCK_TOPIC, CLOCK_QOS)
-        self._start_timer()
+    def start(self, tick: Tick, *, paced: bool) -> None:
+        """Run ``tick``, which publishes /clock from now on; pace it by a timer if ``paced``."""
+        if self._publisher is None:
+            self._publisher = self._node.create_publisher(ClockMessage, CLOCK_TOPIC, CLOCK_QOS)
+        self._tick = tick
+        tick.clock_publisher = self._publisher
+        self._destroy_timer()
+        if paced:
+            self._start_timer()
 
     def stop(self) -> None:
         """Stop pacing and publishing /clock: the node's clock drives the ticks again."""
         self._destroy_timer()
-        publisher, self._tick.clock_publisher = self._tick.clock_publisher, None
+        if self._tick is not None:
+            self._tick.clock_publisher = None
+        publisher, self._publisher = self._publisher, None
         if publisher is not None:
             self._node.destroy_publisher(publisher)
 
-    def set_rate(self, rate_hz: float) -> None:
-        """Go on from the simulated time reached on a grid of ``rate_hz``."""
+    def set_pacing(self, rate_hz: float, real_time_factor: float) -> None:
+        """Go on from the simulated time reached on a new grid of ``rate_hz``, paced anew."""
         self.sim_clock.set_rate(rate_hz)
-        if self.on:
-            self._start_timer()
+        self.set_real_time_factor(real_time_factor)
 
     def set_real_time_factor(self, factor: float) -> None:
         """Pace by ``factor`` from now on."""
         self.sim_clock.set_real_time_factor(factor)
-        if self.on:
+        if self._timer is not None:
             self._start_timer()
 
     def step(self, *, on_grid: bool = True) -> int:
@@ -118,12 +114,10 @@ class ClockTicks:
 
     def _start_timer(self) -> None:
         self._destroy_timer()
-        if self.stepped:
-            return
         clock = self.sim_clock
         self._pacer = ClockPacer(clock.rate_hz, clock.real_time_factor)
         self._timer = self._node.create_timer(self._pacer.period, self._on_timer,
-                                              clock=self._steady_clock)
+                                              clock=self._ticker.steady_clock)
 
     def _destroy_timer(self) -> None:
         if self._timer is not None:

@@ -20,20 +20,15 @@ Nothing here is on the per-tick path. The messages are built by the ``markers`` 
 """
 
 import math
-import time
-from typing import Callable
+from typing import Optional
 
 from diagnostic_msgs.msg import DiagnosticArray
-from rclpy.clock import Clock
 from rclpy.node import Node
 from visualization_msgs.msg import MarkerArray
 
-from .clock_ticks import ClockTicks
 from .parameters import NodeConfig
-from .simulator_controls import SimulatorControls
 from .target_input import TargetInput
-from .tick_loop import NodeClockTicks
-from .tick_record import TickRecord
+from .ticker import Ticker
 from .wrench_input import WrenchInput
 from ..monitoring.diagnostics import (constraint_status, diagnostic_array, INITIAL_ANCHOR,
                                       NO_TARGET, Pacing, publishing_values, rate_status,
@@ -47,38 +42,26 @@ from ..wire.state_publishers import StatePublishers
 
 class Monitors:
     """
-    The marker and diagnostics publishers and their timers.
+    The marker and diagnostics publishers and their timers; idle until ``configure``.
 
     :param node: the node that owns publishers and timers, and names the statuses.
-    :param config: the node's configuration (``configure`` replaces it).
-    :param steady_clock: the clock of the diagnostics timer.
-    :param now_ns: the node's time (ns).
+    :param ticker: the owner of time: the node's time, the ticks' record, pause and pacing.
     :param simulation: the body shown and judged.
-    :param record: the ticks' record (counts, the latest stamp).
     :param target: the target input (kind and age of the target).
     :param wrench: the wrench input (the applied wrench's age).
-    :param controls: the simulator controls (paused, resumed).
-    :param node_clock_ticks: the node-clock driver (what its clock waits for).
-    :param clock_ticks: the simulated-clock driver (on, pacing achieved).
     :param state_publishers: what is published (TF status, odometry topic).
     """
 
-    def __init__(self, *, node: Node, config: NodeConfig, steady_clock: Clock,
-                 now_ns: Callable[[], int], simulation: MouseSimulation, record: TickRecord,
-                 target: TargetInput, wrench: WrenchInput, controls: SimulatorControls,
-                 node_clock_ticks: NodeClockTicks, clock_ticks: ClockTicks,
+    def __init__(self, *, node: Node, ticker: Ticker, simulation: MouseSimulation,
+                 target: TargetInput, wrench: WrenchInput,
                  state_publishers: StatePublishers) -> None:
-        """Create the publishers and start the timers at the configured rates."""
+        """Create the publishers; the timers start with the first configuration."""
         self._node = node
-        self._steady_clock = steady_clock
-        self._now_ns = now_ns
+        self._ticker = ticker
+        self._record = ticker.record
         self._simulation = simulation
-        self._record = record
         self._target = target
         self._wrench = wrench
-        self._controls = controls
-        self._node_clock_ticks = node_clock_ticks
-        self._clock_ticks = clock_ticks
         self._state_publishers = state_publishers
         self._marker_publisher = node.create_publisher(MarkerArray, MARKERS_TOPIC, MONITOR_DEPTH)
         self._diagnostics_publisher = node.create_publisher(
@@ -86,10 +69,10 @@ class Monitors:
         # The first window opens at the first diagnostics call, once the node spins.
         self._tick_window = TickWindow()
         self._window_source = self._clock_source()
-        self._window_resumes = controls.resumes
+        self._window_resumes = ticker.resumes
         self._timers = []
         self._rates = None
-        self.configure(config)
+        self._config: Optional[NodeConfig] = None
 
     def configure(self, config: NodeConfig) -> None:
         """
@@ -110,11 +93,11 @@ class Monitors:
             self._node.create_timer(1.0 / rate, callback, clock=clock)
             for rate, callback, clock in (
                 (config.marker_rate_hz, self.publish_markers, None),
-                (config.diagnostics_rate_hz, self.publish_diagnostics, self._steady_clock))
+                (config.diagnostics_rate_hz, self.publish_diagnostics, self._ticker.steady_clock))
             if rate > 0.0]
 
     def _clock_source(self):
-        return (self._node.get_clock().ros_time_is_active, self._clock_ticks.on)
+        return (self._node.get_clock().ros_time_is_active, self._ticker.is_clock)
 
     def publish_markers(self) -> None:
         """Publish the markers of the latest tick, with its stamp."""
@@ -137,16 +120,16 @@ class Monitors:
         The status names start with the fully qualified node name, unique in a ROS graph, as
         diagnostic_aggregator needs.
         """
-        now = self._now_ns()
-        config, simulation, controls = self._config, self._simulation, self._controls
+        now = self._ticker.now_ns()
+        config, simulation, ticker = self._config, self._simulation, self._ticker
         counters = self._record.counters()
         source = self._clock_source()
-        if source != self._window_source or controls.resumes != self._window_resumes:
+        if source != self._window_source or ticker.resumes != self._window_resumes:
             # Another clock, or a pause in between: a window across it would measure nothing.
-            self._window_source, self._window_resumes = source, controls.resumes
+            self._window_source, self._window_resumes = source, ticker.resumes
             self._tick_window = TickWindow()
         # Paused, the ticks stop on purpose: no rate to judge (the window restarts on resume).
-        window = (None if controls.paused else
+        window = (None if ticker.paused else
                   self._tick_window.sample(now, counters, config.rate_hz))
         thresholds = Thresholds(anchor_warn=config.diagnostics_anchor_warn,
                                 anchor_error=config.diagnostics_anchor_error)
@@ -157,10 +140,10 @@ class Monitors:
         else:
             kind = NO_TARGET if simulation.target is None else INITIAL_ANCHOR
         name = hardware_id = self._node.get_fully_qualified_name()
-        waiting = None if self._clock_ticks.on else self._node_clock_ticks.waiting_for_clock()
         rate = rate_status(f'{name}: rate', hardware_id, rate_hz=config.rate_hz, window=window,
                            totals=counters, thresholds=thresholds,
-                           drop_cause=self._record.drop_cause, waiting_for=waiting)
+                           drop_cause=self._record.drop_cause,
+                           waiting_for=ticker.waiting_for_clock())
         publishers = self._state_publishers
         rate.values.extend(publishing_values(
             config.publish_rate_hz, publishers.tf_status,
@@ -181,12 +164,11 @@ class Monitors:
         ]))
 
     def _simulator_status(self, name: str, hardware_id: str, now: int):
-        config, clock_ticks = self._config, self._clock_ticks
-        achieved, slipped = clock_ticks.pacing.sample(time.monotonic_ns(), clock_ticks.sim_clock)
-        publishing = clock_ticks.on
+        config, ticker = self._config, self._ticker
+        achieved, slipped = ticker.pacing()
         force, torque = self._simulation.wrench
-        pacing = Pacing(publishing, self._controls.paused, config.real_time_factor,
-                        achieved if publishing else None, slipped, now * 1e-9)
+        pacing = Pacing(ticker.is_clock, ticker.paused, config.real_time_factor, achieved,
+                        slipped, now * 1e-9)
         return simulator_status(name, hardware_id, pacing=pacing, force=force, torque=torque,
                                 wrench_age=self._wrench.age(now),
                                 wrench_timeout=config.wrench_timeout)

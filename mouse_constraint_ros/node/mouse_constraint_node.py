@@ -16,12 +16,13 @@
 The ``mouse_constraint`` node: parameters, topics, services and timers, wired to its parts.
 
 It holds no physics, no policy and no loop of its own. A ``MouseSimulation`` does the
-stepping; ``Tick`` is one tick (inputs applied, physics stepped, outputs sent), which three
-drivers run: ``NodeClockTicks`` on the node's own clock, ``ClockTicks`` on the simulated clock
-with ``publish_clock``, and a caller that steps the node itself (``stepped``, ``step``).
-``TargetInput`` and ``WrenchInput`` take the input, ``SimulatorControls`` answers pause, step,
-reset and release, ``Monitors`` publishes markers and /diagnostics, ``parameters`` validates the
-configuration and ``parameter_changes`` declares it; ``startup`` words the refusals.
+stepping; ``Tick`` is one tick (inputs applied, physics stepped, outputs sent); ``Ticker`` owns
+time: which driver runs the ticks (the node's clock, the simulated clock, or a caller stepping
+the node), paused or running, the rates. ``TargetInput`` and ``WrenchInput`` take the input,
+``SimulatorControls`` answers pause, step, reset and release, ``Monitors`` publishes markers and
+/diagnostics, ``AnchorParameter`` sets the node's own anchor for a grab or a reset,
+``parameters`` validates the configuration and ``parameter_changes`` declares it; ``startup``
+words the refusals. A change of parameters goes whole to every part it concerns.
 
 Start-up refuses what it cannot run with one FATAL line tagged with the node's real name and
 exit 1 (``startup``); unknown keys in the parameters given to the node are warned about.
@@ -33,7 +34,6 @@ from typing import Any, List, NoReturn, Optional, Tuple
 from geometry_msgs.msg import PointStamped, WrenchStamped
 from rcl_interfaces.msg import SetParametersResult
 import rclpy
-from rclpy.clock import Clock, ClockType
 from rclpy.experimental import EventsExecutor
 from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
@@ -42,9 +42,9 @@ from rclpy.service_introspection import ServiceIntrospectionState
 from rclpy.signals import SignalHandlerOptions
 from std_srvs.srv import SetBool, Trigger
 
-from .clock_ticks import ClockTicks
+from .anchor_parameter import AnchorParameter
 from .monitors import Monitors
-from .parameter_changes import changed, declare, publishing
+from .parameter_changes import declare, publishing
 from .parameters import node_config, NodeConfig, PARAMETERS
 from .simulator_controls import SimulatorControls
 # CLOCK_LOOP and StartupRefusal: importable from the node, where its refusals come from.
@@ -52,14 +52,13 @@ from .startup import (CLOCK_LOOP, clock_loop, describe, rcl_reason,  # noqa: F40
                       requested_logger_name, StartupRefusal, unknown_parameter_warnings)
 from .target_input import TargetInput
 from .tick import Tick
-from .tick_loop import NodeClockTicks
 from .tick_record import TickRecord
+from .ticker import Ticker
 from .usage import asks_for_help, usage_text
 from .wrench_input import WrenchInput
 from ..inputs.target_gate import Refusal
 from ..inputs.throttle import RefusalLog, Throttle
 from ..physics import MouseSimulation
-from ..physics.algebra import Vector3
 from ..physics.validation import shown
 from ..timing.guarded_time_source import guard_time_source
 from ..timing.spin import spin_until, StopRequest
@@ -71,8 +70,6 @@ from ..wire.state_publishers import (BroadcasterFactory, DEFAULT_BROADCASTER, St
 
 # Throttle period of the warnings about bad input and missed rate (s).
 WARN_PERIOD = 2.0
-# Period (s, steady clock) of the check that a simulated clock has started.
-CLOCK_WATCH_PERIOD = 1.0
 # The node's transform_broadcaster when none is given: tf2_ros's, where importable.
 _DEFAULT_BROADCASTER = object()
 # Why a node stepped by its caller must be the clock.
@@ -104,8 +101,8 @@ class MouseConstraintNode(Node):
             ``sendTransform(TransformStamped)`` that sends before it returns); by default
             ``tf2_ros.TransformBroadcaster``, or none when tf2_ros is not importable; None: no
             TF.
-        :param stepped: no timer runs the ticks: each ``step`` call runs one tick of the
-            simulated clock, which the node publishes on /clock (``publish_clock`` must be
+        :param stepped: no timer runs the ticks: each ``ticker.step()`` call runs one tick of
+            the simulated clock, which the node publishes on /clock (``publish_clock`` must be
             true). ``mouse_constraint_ros.testing`` steps the node so.
         :param kwargs: passed to ``rclpy.node.Node``.
         :raises StartupRefusal: (a ValueError) a parameter or the configuration is invalid; the
@@ -117,23 +114,18 @@ class MouseConstraintNode(Node):
         # warnings are logged from the same line of Throttle.
         self._notes = Throttle(lambda text: self.get_logger().info(text), period=WARN_PERIOD)
         guard_time_source(self, lambda text: self._throttle('clock ignored', lambda: text))
+        self._stepped = stepped
         try:
             declare(self, PARAMETERS)
             config = node_config(self._parameter_values())
         except ValueError as error:
             self._refuse(str(error))
         self._warn_about_unknown_parameters()
-        loop = clock_loop(config.publish_clock, self.get_parameter('use_sim_time').value)
-        if loop is not None:
-            self._refuse(loop)
-        if stepped and not config.publish_clock:
-            self._refuse(STEPPED_NEEDS_CLOCK)
+        refusal = self._clock_refusal(config, self.get_parameter('use_sim_time').value)
+        if refusal is not None:
+            self._refuse(refusal)
         self._config = config
-        self._stepped = stepped
-        # The anchor of the parameters (start or ros2 param set), which ~/reset restores.
-        self._configured_anchor = config.settings.constraint.anchor
-        # True while the node sets its own anchor parameter for a grab or a reset.
-        self._setting_anchor = False
+        self._anchor = AnchorParameter(self, config.settings.constraint.anchor)
         self._build(config, transform_broadcaster)
         self._wire()
         self.add_on_set_parameters_callback(self._on_set_parameters)
@@ -142,11 +134,11 @@ class MouseConstraintNode(Node):
             self.get_logger().info(f'TF {self._state_publishers.tf_status}')
 
     def _build(self, config: NodeConfig, transform_broadcaster) -> None:
-        """Make the parts, each given what it reads and writes."""
+        """Make the parts, each given what it reads and writes, and start the ticks."""
         simulation = self._simulation = MouseSimulation(config.settings, config.initial_state)
-        record = self._record = TickRecord()
-        # Timers that must run while a simulated clock stands still or has not started.
-        steady_clock = Clock(clock_type=ClockType.STEADY_TIME)
+        record = TickRecord()
+        ticker = self.ticker = Ticker(self, config=config, record=record, stepped=self._stepped,
+                                      warn=self._throttle)
         if transform_broadcaster is _DEFAULT_BROADCASTER:
             factory, unavailable = DEFAULT_BROADCASTER, TF_UNAVAILABLE
         else:
@@ -156,33 +148,21 @@ class MouseConstraintNode(Node):
         refusals = self._refusals = RefusalLog(self._throttle)
         log = self.get_logger().info
         self._target = TargetInput(simulation=simulation, config=config, record=record,
-                                   now_ns=self._now_ns, set_anchor=self._set_anchor,
+                                   now_ns=ticker.now_ns, set_anchor=self._anchor.set_to,
                                    refuse=refusals, log=log)
-        self._wrench = WrenchInput(simulation=simulation, config=config, now_ns=self._now_ns,
+        self._wrench = WrenchInput(simulation=simulation, config=config, now_ns=ticker.now_ns,
                                    refuse=refusals, log=log)
-        tick = self._tick = Tick(simulation=simulation, target=self._target, wrench=self._wrench,
-                                 state_publishers=self._state_publishers, record=record)
-        tick.configure(rate_hz=config.rate_hz, publish_rate_hz=config.publish_rate_hz)
-        self._node_clock_ticks = NodeClockTicks(
-            self, tick, record, paused=lambda: self._controls.paused,
-            substeps=lambda: self._config.settings.substeps, warn=self._throttle)
-        self._clock_ticks = ClockTicks(self, tick, steady_clock=steady_clock,
-                                       rate_hz=config.rate_hz,
-                                       real_time_factor=config.real_time_factor,
-                                       stepped=self._stepped)
+        ticker.start(Tick(simulation=simulation, target=self._target, wrench=self._wrench,
+                          state_publishers=self._state_publishers, record=record))
         self._controls = SimulatorControls(
-            simulation=simulation, tick=tick, record=record,
-            node_clock_ticks=self._node_clock_ticks, clock_ticks=self._clock_ticks,
-            target=self._target, wrench=self._wrench, now_ns=self._now_ns,
-            restore_anchor=self._restore_anchor,
+            ticker=ticker, simulation=simulation, target=self._target, wrench=self._wrench,
+            restore_anchor=lambda: self._anchor.restore(
+                self._config.settings.constraint.anchor),
             hold_initial_anchor=lambda: self._config.hold_initial_anchor)
-        self._start_ticks(config)
-        self._monitors = Monitors(
-            node=self, config=config, steady_clock=steady_clock, now_ns=self._now_ns,
-            simulation=simulation, record=record, target=self._target, wrench=self._wrench,
-            controls=self._controls, node_clock_ticks=self._node_clock_ticks,
-            clock_ticks=self._clock_ticks, state_publishers=self._state_publishers)
-        self.create_timer(CLOCK_WATCH_PERIOD, self._watch_clock, clock=steady_clock)
+        self._monitors = Monitors(node=self, ticker=ticker, simulation=simulation,
+                                  target=self._target, wrench=self._wrench,
+                                  state_publishers=self._state_publishers)
+        self._monitors.configure(config)
 
     def _wire(self) -> None:
         """Create the subscriptions and services, each calling its part."""
@@ -199,14 +179,12 @@ class MouseConstraintNode(Node):
         self.create_service(SetBool, PAUSE_SERVICE, controls.on_pause)
         self.create_service(Trigger, STEP_SERVICE, controls.on_step)
 
-    def _start_ticks(self, config: NodeConfig) -> None:
-        """Run the ticks on the simulated clock (publish_clock) or on the node's clock."""
-        if config.publish_clock:
-            self._node_clock_ticks.stop()
-            self._clock_ticks.start()
-        else:
-            self._clock_ticks.stop()
-            self._node_clock_ticks.start(config.rate_hz, config.publish_rate_hz)
+    def _clock_refusal(self, config: NodeConfig, use_sim_time: bool) -> Optional[str]:
+        """Return why the node cannot keep time so, or None."""
+        refusal = clock_loop(config.publish_clock, use_sim_time)
+        if refusal is None and self._stepped and not config.publish_clock:
+            refusal = STEPPED_NEEDS_CLOCK
+        return refusal
 
     def _refuse(self, reason: str) -> NoReturn:
         """Destroy the half-built node and raise StartupRefusal with its logger's name."""
@@ -231,108 +209,9 @@ class MouseConstraintNode(Node):
         return self._simulation
 
     @property
-    def ticks_run(self) -> int:
-        """Return how many ticks ran since start."""
-        return self._record.ticks_run
-
-    @property
-    def late_ticks(self) -> int:
-        """Return how many ticks ran late (in a catch-up) since start."""
-        return self._record.late_ticks
-
-    @property
-    def dropped_ticks(self) -> int:
-        """Return how many ticks were dropped since start."""
-        return self._record.dropped_ticks
-
-    @property
-    def clock_restarts(self) -> int:
-        """Return how many times the tick grid restarted on a new or jumping clock."""
-        return self._record.clock_restarts
-
-    @property
-    def time_ns(self) -> int:
-        """Return the node's time (ns): the simulated clock's with publish_clock, else its own."""
-        return self._now_ns()
-
-    @property
-    def paused(self) -> bool:
-        """Return whether the physics is paused by ``~/pause``."""
-        return self._controls.paused
-
-    @property
     def refusals(self) -> Tuple[int, Optional[Refusal]]:
         """Return how many targets, grabs and wrenches were refused, and the last refusal."""
         return self._refusals.count, self._refusals.last
-
-    @property
-    def tick_timer(self):
-        """Return the timer that runs the ticks now, or None for a node stepped by its caller."""
-        if self._clock_ticks.on:
-            return self._clock_ticks.timer
-        return self._node_clock_ticks.timer
-
-    def step(self) -> bool:
-        """
-        Run one tick of the simulated clock now, unless paused; return whether it ran.
-
-        Only a node made with ``stepped=True``: nothing else runs its ticks.
-
-        :raises RuntimeError: the node runs its own ticks.
-        """
-        if not self._stepped:
-            raise RuntimeError('step() runs the ticks of a node made with stepped=True; this '
-                               'one runs them on a timer of its own')
-        if self._controls.paused:
-            return False
-        self._clock_ticks.step()
-        return True
-
-    def _now_ns(self) -> int:
-        """Return the node's time: the simulated clock with publish_clock, else its clock."""
-        clock_ticks = self._clock_ticks
-        if clock_ticks.on:
-            return clock_ticks.now_ns
-        return self.get_clock().now().nanoseconds
-
-    def waiting_for_clock(self) -> Optional[str]:
-        """
-        Return ``'/clock on <topic>'`` while use_sim_time is on and no clock message came.
-
-        The node's clock reads zero until then and no timer on it fires: no tick, no pose.
-        """
-        if self._clock_ticks.on:
-            return None
-        return self._node_clock_ticks.waiting_for_clock()
-
-    def _watch_clock(self) -> None:
-        waiting = self.waiting_for_clock()
-        if waiting is not None:
-            self._throttle('clock', lambda: (
-                f'waiting for {waiting}: use_sim_time is true and no clock message has come; '
-                'no tick runs until one does'))
-
-    def _set_anchor(self, anchor: Vector3) -> Optional[str]:
-        """
-        Set the node's own ``anchor`` parameter, validated as any change; None or the reason.
-
-        The parameter callback builds the configuration with it, so later changes of other
-        parameters keep it; it does not count as the configured anchor.
-        """
-        self._setting_anchor = True
-        try:
-            [result] = self.set_parameters([Parameter('anchor', value=list(anchor))])
-        finally:
-            self._setting_anchor = False
-        return None if result.successful else result.reason
-
-    def _restore_anchor(self) -> Optional[Tuple[Vector3, str]]:
-        """Set the configured anchor again; None, or (that anchor, why it could not be)."""
-        configured = self._configured_anchor
-        if self._config.settings.constraint.anchor == configured:
-            return None
-        reason = self._set_anchor(configured)
-        return None if reason is None else (configured, reason)
 
     def _on_set_parameters(self, changes: List[Parameter]) -> SetParametersResult:
         """Apply a set of changes whole to every part it concerns, or refuse it whole."""
@@ -342,53 +221,38 @@ class MouseConstraintNode(Node):
             return SetParametersResult(successful=False, reason=str(error))
         use_sim_time = next((p.value for p in changes if p.name == 'use_sim_time'),
                             self.get_parameter('use_sim_time').value)
-        refusal = clock_loop(config.publish_clock, use_sim_time)
-        if refusal is None and self._stepped and not config.publish_clock:
-            refusal = STEPPED_NEEDS_CLOCK
+        refusal = self._clock_refusal(config, use_sim_time)
         if refusal is not None:
             return SetParametersResult(successful=False, reason=refusal)
         previous, self._config = self._config, config
-        if not self._setting_anchor and any(p.name == 'anchor' for p in changes):
-            self._configured_anchor = config.settings.constraint.anchor
+        anchor = config.settings.constraint.anchor
+        self._anchor.changed(changes, anchor)
         self._simulation.configure(config.settings, config.initial_state)
         self._target.configure(config)
         self._wrench.configure(config)
-        self._apply_timing(previous, config)
+        if publishing(config) != publishing(previous):
+            self._configure_publishers(config)
+        if self.ticker.configure(config):
+            # Another time base: the ages of target and wrench start again in it.
+            now = self.ticker.now_ns()
+            self._target.restart_age(now)
+            self._wrench.restart_age(now)
         self._monitors.configure(config)
-        if self._setting_anchor:
+        if self._anchor.setting:
             # A grab or a reset: one short line, at most every WARN_PERIOD (grabs can flood).
-            anchor = config.settings.constraint.anchor
             self._notes('anchor', lambda: f'anchor {shown(anchor)} m (body frame), set by the '
                                           'node')
         else:
             self.get_logger().info('parameters changed: ' + describe(config))
         return SetParametersResult(successful=True)
 
-    def _apply_timing(self, previous: NodeConfig, config: NodeConfig) -> None:
-        """Apply what changed of the publishers, the rates and the clock."""
-        what = changed(previous, config)
-        if what.publishing:
-            publishers = self._state_publishers
-            tf_status = publishers.tf_status
-            publishers.configure(**publishing(config))
-            if publishers.tf_status != tf_status:
-                self.get_logger().info(f'TF {publishers.tf_status}')
-        self._tick.configure(rate_hz=config.rate_hz, publish_rate_hz=config.publish_rate_hz)
-        clock_ticks = self._clock_ticks
-        if what.clock:
-            clock_ticks.sim_clock.set_rate(config.rate_hz)
-            clock_ticks.sim_clock.set_real_time_factor(config.real_time_factor)
-            self._start_ticks(config)
-            if config.publish_clock != previous.publish_clock:
-                # Another time base: the ages of target and wrench start again in it.
-                now = self._now_ns()
-                self._target.restart_age(now)
-                self._wrench.restart_age(now)
-        elif what.real_time_factor:
-            clock_ticks.set_real_time_factor(config.real_time_factor)
-        elif what.publish_rate and not config.publish_clock:
-            # The same grid on a timer of the new batch: no restart, no tick lost.
-            self._node_clock_ticks.retime(config.publish_rate_hz)
+    def _configure_publishers(self, config: NodeConfig) -> None:
+        """Give the state publishers their part of ``config``; say when TF turns on or off."""
+        publishers = self._state_publishers
+        tf_status = publishers.tf_status
+        publishers.configure(**publishing(config))
+        if publishers.tf_status != tf_status:
+            self.get_logger().info(f'TF {publishers.tf_status}')
 
 
 def main(args: Optional[List[str]] = None) -> int:

@@ -13,14 +13,14 @@
 # limitations under the License.
 
 """
-The node's parameters in rclpy: their declaration with ranges, and what a change touches.
+The node's parameters in rclpy: their declaration with ranges, and the state publishers' share.
 
 ``parameters`` validates a whole configuration; here each parameter is declared with its
-description and range (``declare``), and ``changed`` says which parts of the node a new
-configuration concerns, so that the node reconfigures only those.
+description and range (``declare``); ``publishing`` is what the state publishers are
+configured with, so that the node gives them a change only when their share changed.
 """
 
-from typing import Iterable, NamedTuple
+from typing import Iterable
 
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.exceptions import ParameterException
@@ -63,22 +63,3 @@ def publishing(config: NodeConfig) -> dict:
     """Return what the state publishers are configured with."""
     return {'frame_id': config.frame_id, 'body_frame_id': config.body_frame_id,
             'publish_tf': config.publish_tf, 'publish_odometry': config.publish_odometry}
-
-
-class Changed(NamedTuple):
-    """Which parts of the node a new configuration concerns."""
-
-    publishing: bool
-    clock: bool
-    real_time_factor: bool
-    publish_rate: bool
-
-
-def changed(previous: NodeConfig, config: NodeConfig) -> Changed:
-    """Return which parts of the node differ between ``previous`` and ``config``."""
-    clock = (config.rate_hz, config.publish_clock) != (previous.rate_hz, previous.publish_clock)
-    return Changed(
-        publishing=publishing(config) != publishing(previous),
-        clock=clock,
-        real_time_factor=not clock and config.real_time_factor != previous.real_time_factor,
-        publish_rate=not clock and config.publish_rate_hz != previous.publish_rate_hz)

@@ -15,104 +15,68 @@
 """
 The node's simulator services: ``~/pause``, ``~/step``, ``~/reset`` and ``~/release``.
 
-Pausing holds both drivers of the tick: the node's timer runs no tick while paused, the
-simulated clock stands still; resuming catches nothing up (a new grid on the node's clock, the
-simulated clock paced from where it stood). ``~/step`` runs one tick while paused. ``~/reset``
-restores the configured anchor (through the node's own ``anchor`` parameter), the initial state
-and the initial hold, and drops the wrench; while paused it publishes the state it leaves at
-once. The replies are ``service_replies``'.
+Pause, resume and the single step are the ``Ticker``'s: pausing holds every driver of the tick,
+resuming catches nothing up, ``~/step`` runs one tick while paused. ``~/reset`` restores the
+configured anchor (through the node's own ``anchor`` parameter), the initial state and the
+initial hold, and drops the wrench; while paused it publishes the state it leaves at once. The
+replies are ``service_replies``'.
 """
 
 from typing import Callable, Optional
 
 from std_srvs.srv import SetBool, Trigger
 
-from .clock_ticks import ClockTicks
 from .service_replies import (pause_reply, release_reply, reset_refusal, reset_reply, step_refusal,
                               step_reply)
 from .target_input import TargetInput
-from .tick import Tick
-from .tick_loop import NodeClockTicks
-from .tick_record import TickRecord
+from .ticker import Ticker
 from .wrench_input import WrenchInput
 from ..physics import MouseSimulation
 
 
 class SimulatorControls:
     """
-    The pause state and the four services' callbacks.
+    The four services' callbacks.
 
+    :param ticker: the owner of time: pause, resume and the single step.
     :param simulation: the body that ``~/reset`` returns to its initial state.
-    :param tick: runs the single tick of ``~/step``.
-    :param record: the ticks' record (the tick length, for the reply).
-    :param node_clock_ticks: the driver on the node's clock.
-    :param clock_ticks: the driver on the simulated clock.
     :param target: the target input (released, or holding the initial anchor after a reset).
     :param wrench: the wrench input (dropped on reset).
-    :param now_ns: the node's time (ns).
     :param restore_anchor: restores the configured anchor; returns None, or why it could not and
         what it was as ``(anchor, reason)``.
     :param hold_initial_anchor: returns whether a reset holds the initial anchor.
     """
 
-    def __init__(self, *, simulation: MouseSimulation, tick: Tick, record: TickRecord,
-                 node_clock_ticks: NodeClockTicks, clock_ticks: ClockTicks,
-                 target: TargetInput, wrench: WrenchInput, now_ns: Callable[[], int],
-                 restore_anchor: Callable[[], Optional[tuple]],
+    def __init__(self, *, ticker: Ticker, simulation: MouseSimulation, target: TargetInput,
+                 wrench: WrenchInput, restore_anchor: Callable[[], Optional[tuple]],
                  hold_initial_anchor: Callable[[], bool]) -> None:
-        """Start running (not paused)."""
+        """Answer for ``ticker`` and ``simulation``."""
+        self._ticker = ticker
         self._simulation = simulation
-        self._tick = tick
-        self._record = record
-        self._node_clock_ticks = node_clock_ticks
-        self._clock_ticks = clock_ticks
         self._target = target
         self._wrench = wrench
-        self._now_ns = now_ns
         self._restore_anchor = restore_anchor
         self._hold_initial_anchor = hold_initial_anchor
-        self.paused = False
-        # How many times the physics resumed: a rate window across a pause measures nothing.
-        self.resumes = 0
 
     def on_pause(self, request: SetBool.Request, response: SetBool.Response):
-        """
-        Pause (true) or resume (false) the physics.
-
-        Resuming catches nothing up: the simulated clock paces on from where it stood, the
-        node-clock grid starts again at the next timer call.
-        """
+        """Pause (true) or resume (false) the physics; resuming catches nothing up."""
         pause = bool(request.data)
         response.success = True
-        response.message = pause_reply(pause, self.paused, self._simulation.time)
-        if pause == self.paused:
-            return response
-        self.paused = pause
-        sim_clock = self._clock_ticks.sim_clock
-        if pause:
-            sim_clock.pause()
-        else:
-            sim_clock.resume()
-            self._node_clock_ticks.resume()
-            self.resumes += 1
+        response.message = pause_reply(pause, self._ticker.paused, self._simulation.time)
+        self._ticker.set_paused(pause)
         return response
 
     def on_step(self, _request: Trigger.Request, response: Trigger.Response):
         """While paused: run exactly one tick and publish it; refused while running."""
-        clock_ticks = self._clock_ticks
-        waiting = None if clock_ticks.on else self._node_clock_ticks.waiting_for_clock()
-        refusal = step_refusal(self.paused, waiting)
+        ticker = self._ticker
+        refusal = step_refusal(ticker.paused, ticker.waiting_for_clock())
         if refusal is not None:
             response.success = False
             response.message = refusal
             return response
-        if clock_ticks.on:
-            stamp = clock_ticks.step(on_grid=False)
-        else:
-            stamp = self._node_clock_ticks.step_stamp()
-            self._tick.run(stamp)
+        ticker.step_once()
         response.success = True
-        response.message = step_reply(self._record.dt, self._simulation.time)
+        response.message = step_reply(ticker.record.dt, self._simulation.time)
         return response
 
     def on_reset(self, _request: Trigger.Request, response: Trigger.Response):
@@ -125,10 +89,10 @@ class SimulatorControls:
         self._simulation.reset()
         self._target.hold_initial_anchor()
         self._wrench.clear()
-        if self.paused:
+        if self._ticker.paused:
             # No tick will publish it until the node runs again: every subscriber shows the
             # old pose meanwhile. Published at once, stamped with the latest tick.
-            self._tick.publish_state()
+            self._ticker.publish_state()
         response.success = True
         response.message = reset_reply(self._hold_initial_anchor())
         return response

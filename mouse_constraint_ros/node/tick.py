@@ -20,8 +20,8 @@ go, the wrench scheduled up to t is put in effect or expires), steps the physics
 publishes ``/clock`` when the node is the clock, and pose, twist, TF and odometry on the ticks
 that publish (``PublishTicks``), all stamped t. Three drivers call ``Tick.run``: the node's
 timer on its own clock (``tick_loop.NodeClockTicks``), the simulated clock's pacer
-(``clock_ticks.ClockTicks``), and a caller that steps the node itself
-(``MouseConstraintNode.step``, which ``mouse_constraint_ros.testing`` drives in lockstep).
+(``clock_ticks.ClockTicks``), and a caller that steps the node itself (``Ticker.step``, which
+``mouse_constraint_ros.testing`` drives in lockstep); ``ticker.Ticker`` says which runs.
 
 The tick writes its stamp and count in the ``TickRecord`` that the inputs and monitors read.
 """
@@ -60,7 +60,8 @@ class Tick:
         self._state_publishers = state_publishers
         self._record = record
         self._publish_ticks = PublishTicks(1000.0, 0.0)
-        # /clock, published by the tick while the node is the clock (``ClockTicks`` sets it).
+        # /clock, published by the tick while the node is the clock (set by ``ClockTicks``); which
+        # driver runs, and whether the node is the clock, is ``Ticker``'s to say.
         self.clock_publisher: Optional[Publisher] = None
         self._clock_message = ClockMessage()
 

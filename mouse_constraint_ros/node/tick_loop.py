@@ -17,8 +17,9 @@ The driver of the tick on the node's own clock: a timer, the due ticks, the budg
 
 ``TickGrid`` says which ticks are due on the node's clock (system time, or ``/clock`` with
 ``use_sim_time``), ``TickBudget`` which of them one callback runs, and ``ticks_per_callback``
-how many ticks one timer period holds at the publish rate; each runs ``Tick.run``. With
-``publish_clock`` the node is the clock and ``clock_ticks.ClockTicks`` drives instead.
+how many ticks one timer period holds at the publish rate; each runs ``Tick.run``.
+``ticker.Ticker`` owns this driver and says when it runs; with ``publish_clock`` the node is the
+clock and ``clock_ticks.ClockTicks`` drives instead.
 """
 
 from typing import Callable, Optional
@@ -35,29 +36,24 @@ from ..timing.tick_grid import (CATCH_UP_CAUSE, clock_change_text, clock_jump_te
 
 class NodeClockTicks:
     """
-    Runs ``tick`` on the grid of the node's clock, from a timer of the node.
+    Runs a tick on the grid of the node's clock, from a timer of the node.
 
     :param node: the node whose clock and timers are used.
-    :param tick: the tick to run.
+    :param ticker: the owner of time: the rate, the pause, the substeps of a tick.
     :param record: the ticks' record: late and dropped ticks and clock restarts are counted.
-    :param paused: returns whether the physics is paused (the timer then runs no tick).
-    :param substeps: returns the substeps per tick (named in the budget's drop cause).
     :param warn: ``warn(key, message())``, throttled per key.
     """
 
-    def __init__(self, node: Node, tick: Tick, record: TickRecord, *,
-                 paused: Callable[[], bool], substeps: Callable[[], int],
+    def __init__(self, node: Node, ticker, record: TickRecord, *,
                  warn: Callable[[str, Callable[[], str]], None]) -> None:
         """Create no timer until ``start``."""
         self._node = node
-        self._tick = tick
+        self._ticker = ticker
         self._record = record
-        self._paused = paused
-        self._substeps = substeps
         self._warn = warn
         self._budget = TickBudget()
+        self._tick: Optional[Tick] = None
         self._timer = None
-        self._rate_hz = 0.0
         self.grid: Optional[TickGrid] = None
         # Which clock the grid runs on: simulated (True) or system time.
         self._grid_sim_time = node.get_clock().ros_time_is_active
@@ -67,17 +63,17 @@ class NodeClockTicks:
         """Return the tick timer, or None while stopped."""
         return self._timer
 
-    def start(self, rate_hz: float, publish_rate_hz: float) -> None:
-        """Start a new grid at ``rate_hz`` on a timer of one batch of ticks."""
-        self._rate_hz = rate_hz
+    def start(self, tick: Tick, rate_hz: float, publish_rate_hz: float) -> None:
+        """Run ``tick`` on a new grid at ``rate_hz``, from a timer of one batch of ticks."""
+        self._tick = tick
         self.grid = TickGrid.for_rate(rate_hz)
-        self.retime(publish_rate_hz)
+        self.retime(rate_hz, publish_rate_hz)
 
-    def retime(self, publish_rate_hz: float) -> None:
+    def retime(self, rate_hz: float, publish_rate_hz: float) -> None:
         """Go on with the same grid on a timer of the batch ``publish_rate_hz`` gives."""
         self._destroy_timer()
-        batch = ticks_per_callback(self._rate_hz, publish_rate_hz)
-        self._timer = self._node.create_timer(batch / self._rate_hz, self._on_timer)
+        batch = ticks_per_callback(rate_hz, publish_rate_hz)
+        self._timer = self._node.create_timer(batch / rate_hz, self._on_timer)
 
     def stop(self) -> None:
         """Destroy the timer: no tick runs until ``start``."""
@@ -86,11 +82,7 @@ class NodeClockTicks:
     def resume(self) -> None:
         """Run again from a new grid at the next timer call: the paused time is not caught up."""
         if self.grid is not None:
-            self.grid = TickGrid.for_rate(self._rate_hz)
-
-    def step_stamp(self) -> int:
-        """Return the stamp of a single step asked for now: the node's clock."""
-        return self._node.get_clock().now().nanoseconds
+            self.grid = TickGrid.for_rate(self._ticker.rate_hz)
 
     def waiting_for_clock(self) -> Optional[str]:
         """
@@ -109,7 +101,7 @@ class NodeClockTicks:
             self._timer = None
 
     def _on_timer(self) -> None:
-        if self._paused():
+        if self._ticker.paused:
             return
         node, record, grid = self._node, self._record, self.grid
         clock = node.get_clock()
@@ -134,11 +126,12 @@ class NodeClockTicks:
             budget = self._budget
             ran = budget.run(self._tick.run, grid.stamp, first, count)
             if ran < count:
-                self._drop(count - ran, budget.cause(self._substeps()))
+                self._drop(count - ran, budget.cause(self._ticker.substeps))
             if ran > 1:
                 record.late_ticks += ran - 1
 
     def _drop(self, count: int, cause: str) -> None:
         record = self._record
         record.drop(count, cause)
-        self._warn('rate', lambda: drop_text(self._rate_hz, count, record.dropped_ticks, cause))
+        self._warn('rate', lambda: drop_text(self._ticker.rate_hz, count, record.dropped_ticks,
+                                             cause))

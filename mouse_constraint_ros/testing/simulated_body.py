@@ -253,7 +253,7 @@ class SimulatedBody:
     @property
     def time(self) -> float:
         """Return the latest tick's simulated time in seconds: 0 before the first."""
-        return self.node.time_ns * 1e-9
+        return self.node.ticker.now_ns() * 1e-9
 
     @property
     def pose(self) -> Optional[BodyPose]:
@@ -317,7 +317,7 @@ class SimulatedBody:
         node, callbacks = self.node, self._tick_callbacks
         self.drain()
         for _ in range(int(ticks)):
-            node.step()
+            node.ticker.step()
             self.drain()
             for callback in callbacks:
                 callback(self)
@@ -334,7 +334,7 @@ class SimulatedBody:
             self.step()
             if predicate():
                 return ticks
-        paused = ' (the node is paused)' if self.node.paused else ''
+        paused = ' (the node is paused)' if self.node.ticker.paused else ''
         raise NeverHeld(f'{_predicate_text(predicate)} did not hold within {max_ticks} ticks: '
                         f'simulated time {self.time:.6f} s{paused}')
 
