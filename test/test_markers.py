@@ -194,3 +194,21 @@ def test_marker_rate_zero_publishes_none_until_set(ros):
     assert node.set_parameters([Parameter('marker_rate_hz', value=50.0)])[0].successful
     assert ros.spin_until(lambda: len(arrays) > 5, timeout=5.0)
     assert not node.set_parameters([Parameter('marker_rate_hz', value=-1.0)])[0].successful
+
+
+def test_no_marker_array_is_built_while_nothing_subscribes(ros, monkeypatch):
+    """Without a subscription the timer builds nothing; a subscriber gets arrays at once."""
+    built = []
+
+    def counted(**kwargs):
+        built.append(kwargs['stamp_ns'])
+        return marker_array(**kwargs)
+
+    monkeypatch.setattr('mouse_constraint_ros.node.monitors.marker_array', counted)
+    ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
+        Parameter('rate_hz', value=200.0), Parameter('marker_rate_hz', value=50.0)]))
+    ros.spin_for(0.5)
+    assert built == []
+    arrays = ros.collect(MarkerArray, '/mouse_constraint/markers')
+    assert ros.spin_until(lambda: len(arrays) > 2, timeout=5.0)
+    assert len(built) >= len(arrays)

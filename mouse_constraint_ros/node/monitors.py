@@ -100,9 +100,17 @@ class Monitors:
         return (self._node.get_clock().ros_time_is_active, self._ticker.is_clock)
 
     def publish_markers(self) -> None:
-        """Publish the markers of the latest tick, with its stamp."""
+        """
+        Publish the markers of the latest tick, with its stamp, while anything subscribes.
+
+        With no subscription the array is not built: DDS would send it nowhere, and building
+        and converting it costs more than a tick of the physics (docs/benchmarks.md).
+        """
+        publisher = self._marker_publisher
+        if publisher.get_subscription_count() == 0:
+            return
         simulation, config = self._simulation, self._config
-        self._marker_publisher.publish(marker_array(
+        publisher.publish(marker_array(
             frame_id=config.frame_id, stamp_ns=self._record.stamp_ns,
             box_size=config.box_size, state=simulation.state,
             anchor=simulation.anchor_position(), target=simulation.target,
