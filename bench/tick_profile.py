@@ -27,8 +27,10 @@ Each sample of the main thread is put in the first part whose frame it holds, lo
 the leaf up: the physics step, the grid and clock reads, the stamp and field filling, the
 publish calls split into the Python -> C message conversion, rmw's CDR serialization in C, and
 the DDS write, the marker and diagnostics callbacks, the rest of the timer callback, and the
-executor turn (everything else in the spin loop). A part's microseconds per tick are its share
-of the samples times the main thread's CPU time per tick over the window (/proc), so they
+executor turn (everything else in the spin loop). Samples of the executor waiting for its next
+event (a condition variable or epoll wait) are not CPU time: they are counted apart and left
+out. A part's microseconds per tick are its share of the samples on a CPU times the main
+thread's CPU time per tick over the window (/proc), so they
 assume py-spy's samples fall on the CPU time evenly: py-spy also samples a thread that is
 runnable but waiting for a CPU, which on a busy machine weighs the parts after a wake-up (the
 DDS write wakes the reader) more. The other threads' CPU per tick is shown beside it. For
@@ -52,9 +54,13 @@ BENCH = Path(__file__).resolve().parent
 ROOT = BENCH.parent
 CLOCK_TICKS = os.sysconf('SC_CLK_TCK')
 
+# The executor waiting for its next event: py-spy samples the thread there although it is not
+# on a CPU; these samples are counted apart and left out of the CPU shares.
+WAITING = 'waiting for the next event (not CPU)'
 # (part, frame markers): a sample goes to the first part, leaf first, one of whose markers is
 # in a frame of its stack.
 PARTS: List[Tuple[str, Tuple[str, ...]]] = [
+    (WAITING, ('pthread_cond_timedwait', 'pthread_cond_wait', 'epoll_wait', 'futex_wait')),
     ('CDR serialization (C, in rmw)', ('TypeSupport::serialize', 'getEstimatedSerializedSize',
                                        'cdr_serialize')),
     ('DDS write (rcl_publish, Fast DDS)', ('rcl_publish',)),
@@ -65,7 +71,7 @@ PARTS: List[Tuple[str, Tuple[str, ...]]] = [
     ('stamp and field filling', ('set_stamp', 'fill_pose', 'fill_twist')),
     ('grid and clock reads', ('tick_grid.py', 'Clock.now', 'time_until_next_call',
                               '_release_if_timed_out', 'Time.nanoseconds')),
-    ('markers and diagnostics (own timers)', ('_publish_markers', '_publish_diagnostics')),
+    ('markers and diagnostics (own timers)', ('publish_markers', 'publish_diagnostics')),
     ('timer callback, rest', ('_on_timer',)),
     ('executor turn and spin loop', ('spin_once', 'main (')),
 ]
@@ -181,14 +187,15 @@ def main(argv=None) -> int:
     main_cpu = after[node.pid][1] - before[node.pid][1]
     other_cpu = sum(cpu - before[tid][1] for tid, (_, cpu) in after.items()
                     if tid != node.pid and tid in before)
+    waiting = samples.pop(WAITING, 0)
     total = sum(samples.values())
     per_tick = 1e6 * main_cpu / ticks
     print(f'{ticks} ticks (poses received) in {wall:.1f} s; main thread {per_tick:.1f} us CPU '
-          f'per tick, other threads {1e6 * other_cpu / ticks:.1f} us; {total} samples; '
-          f'load {os.getloadavg()[0]:.2f}')
+          f'per tick, other threads {1e6 * other_cpu / ticks:.1f} us; {total} samples on a '
+          f'CPU, {waiting} waiting; load {os.getloadavg()[0]:.2f}')
     print('| part | samples % | us per tick |')
     print('| --- | ---: | ---: |')
-    for name in [name for name, _ in PARTS] + [UNSORTED]:
+    for name in [name for name, _ in PARTS if name != WAITING] + [UNSORTED]:
         share = samples.get(name, 0) / total if total else 0.0
         print(f'| {name} | {100 * share:.1f} | {share * per_tick:.1f} |')
     return 0
