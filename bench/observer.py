@@ -37,11 +37,13 @@ print ``ready`` once the node's publishers are matched.
 """
 
 import argparse
+import contextlib
 import math
 import random
 import struct
 import sys
 import time
+from typing import Iterator, Tuple
 
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
@@ -55,6 +57,8 @@ from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
 from std_srvs.srv import Trigger
 from visualization_msgs.msg import MarkerArray
+
+from test_support.ros_harness import spin_until
 
 # Deep enough that a slow spell of the observer never loses messages on its side.
 RECORD_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000,
@@ -76,16 +80,6 @@ def say(text: str) -> None:
     """Write one line on stdout for the bench process that reads it."""
     sys.stdout.write(text + '\n')
     sys.stdout.flush()
-
-
-def wait_until(executor, condition, timeout: float) -> bool:
-    """Spin until ``condition()`` holds or ``timeout`` seconds pass; return whether it held."""
-    deadline = time.monotonic() + timeout
-    while not condition():
-        if time.monotonic() > deadline:
-            return False
-        executor.spin_once(timeout_sec=0.01)
-    return True
 
 
 def spin_for(executor, seconds: float) -> None:
@@ -112,12 +106,12 @@ def observe_rate(node: Node, executor, options) -> dict:
     others = []
     also = [node.create_subscription(TwistStamped, topic, others.append, qos, raw=True)
             for topic in options.also]
-    if not wait_until(executor, lambda: all(s.get_publisher_count() > 0
+    if not spin_until(executor, lambda: all(s.get_publisher_count() > 0
                                             for s in [subscription, *also]), 30.0):
         raise SystemExit(f'no publisher on {options.topic} and {options.also}')
     say('ready')
     # A publisher that matched but never publishes still gets its window, with nothing in it.
-    if wait_until(executor, lambda: received, options.first_timeout):
+    if spin_until(executor, lambda: received, options.first_timeout):
         first = deserialize_message(received[0][1], PoseStamped)
         check = first.header.stamp.sec * 1_000_000_000 + first.header.stamp.nanosec
         if stamp_of(received[0][1]) != check:
@@ -146,7 +140,7 @@ def observe_latency(node: Node, executor, options) -> dict:
     node.create_subscription(TwistStamped, 'twist', lambda raw: twists.append(
         (time.time_ns(), raw)), RECORD_QOS, raw=True)
     publisher = node.create_publisher(PointStamped, 'target', TARGET_QOS)
-    if not wait_until(executor, lambda: publisher.get_subscription_count() > 0 and poses
+    if not spin_until(executor, lambda: publisher.get_subscription_count() > 0 and poses
                       and twists, 30.0):
         raise SystemExit('the node did not show up')
     say('ready')
@@ -211,7 +205,7 @@ def observe_exercise(node: Node, executor, options) -> dict:
     reset = node.create_client(Trigger, 'mouse_constraint/reset')
     release = node.create_client(Trigger, 'mouse_constraint/release')
     set_parameters = node.create_client(SetParameters, 'mouse_constraint/set_parameters')
-    if not wait_until(executor, lambda: publisher.get_subscription_count() > 0
+    if not spin_until(executor, lambda: publisher.get_subscription_count() > 0
                       and reset.service_is_ready() and set_parameters.service_is_ready(), 30.0):
         raise SystemExit('the node did not show up')
     say('ready')
@@ -270,6 +264,20 @@ def observe_exercise(node: Node, executor, options) -> dict:
             **{f'received_{k}': np.int64(v) for k, v in counts.items()}}
 
 
+@contextlib.contextmanager
+def observer_node() -> Iterator[Tuple[Node, EventsExecutor]]:
+    """Yield the observer's node on its executor; destroy it and shut rclpy down after."""
+    rclpy.init()
+    node = Node('bench_observer')
+    executor = EventsExecutor(context=node.context)
+    executor.add_node(node)
+    try:
+        yield node, executor
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
     parser.add_argument('mode', choices=('rate', 'latency', 'exercise'))
@@ -305,17 +313,10 @@ def main(argv=None) -> int:
     parser.add_argument('--frame', default='world')
     parser.add_argument('--seed', type=int, default=1)
     options = parser.parse_args(argv)
-    rclpy.init()
-    node = Node('bench_observer')
-    executor = EventsExecutor(context=node.context)
-    executor.add_node(node)
-    try:
-        observe = {'rate': observe_rate, 'latency': observe_latency,
-                   'exercise': observe_exercise}[options.mode]
+    observe = {'rate': observe_rate, 'latency': observe_latency,
+               'exercise': observe_exercise}[options.mode]
+    with observer_node() as (node, executor):
         np.savez(options.out, **observe(node, executor, options))
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
     return 0
 
 

@@ -23,12 +23,9 @@ followed smoothly; a corner pressed into the floor is not flung; a flat elastic 
 where it fell. ``python -m bench.late_streams`` prints every row.
 """
 
-import math
-
 import numpy as np
 import pytest
 
-from mouse_constraint_ros.physics import BodyState
 from test_support import floor_scenarios, late_streams
 
 
@@ -86,12 +83,7 @@ def test_a_corner_pressed_into_the_floor_and_lifted_is_not_flung():
 def test_a_flat_elastic_drop_stays_where_it_fell():
     """Restitution 1, threshold 0, dropped flat from 0.5 m for 30 s: lateral drift <= 1 mm."""
     world = floor_scenarios.world()
-    simulation = world.simulation(BodyState((0.0, 0.0, world.half_height + 0.5)),
-                                  restitution=1.0, restitution_threshold=0.0)
-    drift = 0.0
-    for _ in range(round(30.0 / world.dt)):
-        x, y, _ = simulation.step(world.dt).position
-        drift = max(drift, math.hypot(x, y))
+    drift, simulation = floor_scenarios.elastic_drift(world, height=0.5, seconds=30.0)
     assert drift <= 1e-3
     # And it still bounces: a perfect bounce, the discrete step's energy kept within bounds.
     assert simulation.state.position[2] > world.half_height or np.linalg.norm(

@@ -24,8 +24,8 @@ from mouse_constraint_ros.marker.drag import MarkerDrag
 from mouse_constraint_ros.marker.presence import departed, watched
 from mouse_constraint_ros.marker.updates import (MARKER_NAME, MarkerUpdates, MAX_POSE_RATE,
                                                  pose_of)
-from mouse_constraint_ros.view.geometry import Pose, world_point
-from mouse_constraint_ros.view.gestures import Action, GRAB, RELEASE, TARGET
+from mouse_constraint_ros.pointer.geometry import Pose, world_point
+from mouse_constraint_ros.pointer.gestures import Action, GRAB, RELEASE, TARGET
 from mouse_constraint_ros.wire.interface import node_name
 
 BOX = (0.4, 0.2, 0.1)

@@ -45,8 +45,8 @@ from mouse_constraint_ros.marker.node import (MAX_TARGET_RATE, MouseMarkerNode,
                                               PRESENCE_PERIOD)
 from mouse_constraint_ros.marker.updates import MARKER_NAME, MAX_POSE_RATE, pose_message, pose_of
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
+from mouse_constraint_ros.pointer.geometry import Pose, world_point
 from mouse_constraint_ros.timing.spin import call_until_answered, StopRequest
-from mouse_constraint_ros.view.geometry import Pose, world_point
 from mouse_constraint_ros.wire.interface import (MARKER_FEEDBACK_TOPIC, MARKER_QOS,
                                                  MARKER_SERVICE, MARKER_UPDATE_TOPIC)
 

@@ -19,7 +19,7 @@ from rcl_interfaces.srv import GetParameters
 from rclpy.parameter import Parameter
 
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
-from mouse_constraint_ros.view.node_follower import NodeFollower
+from mouse_constraint_ros.pointer.node_follower import NodeFollower
 
 
 def test_the_parameters_are_known_once_the_node_answered(ros):

@@ -16,7 +16,8 @@
 The executables' one spin loop: it ends on a condition, a stop, a deadline or a shutdown.
 
 Both executors the package uses are tried: the EventsExecutor (node, recorder) and the
-SingleThreadedExecutor (``mouse_target``).
+SingleThreadedExecutor (``mouse_target``). ``NodeRun``, the ending of the serving executables'
+``main``, serves a node so and tears it down in order however its block is left.
 """
 
 import os
@@ -25,11 +26,13 @@ import threading
 import time
 
 import pytest
+import rclpy
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.experimental import EventsExecutor
 from rclpy.node import Node
 
 from mouse_constraint_ros.timing.spin import Interrupted
+from mouse_constraint_ros.timing.spin import NodeRun
 from mouse_constraint_ros.timing.spin import spin_until
 from mouse_constraint_ros.timing.spin import SpinEnd
 from mouse_constraint_ros.timing.spin import STOP_SIGNALS
@@ -118,3 +121,55 @@ def test_wait_until_says_whether_the_condition_held_and_raises_on_a_stop(spinnin
     ros.context.shutdown()
     with pytest.raises(ExternalShutdownException):
         wait_until(executor, StopRequest(), lambda: False, deadline=deadline + 60.0)
+
+
+class TornDown(Node):
+    """A node that notes in ``order`` when it is destroyed."""
+
+    def __init__(self, order: list, **kwargs) -> None:
+        """Create the node; ``order`` receives 'node' when it is destroyed."""
+        super().__init__('node_run_test', **kwargs)
+        self.order = order
+
+    def destroy_node(self) -> None:
+        """Note the destruction, then destroy."""
+        self.order.append('node')
+        super().destroy_node()
+
+
+def test_a_node_run_serves_until_a_signal_then_tears_down_in_order(ros):
+    """SIGTERM from a callback: exit 0; then handlers back, node destroyed, closers, shutdown."""
+    before = {signum: signal.getsignal(signum) for signum in STOP_SIGNALS}
+    order = []
+
+    def closer() -> None:
+        handlers = {signum: signal.getsignal(signum) for signum in STOP_SIGNALS}
+        order.append(('closer', handlers == before, ros.context.ok()))
+
+    with NodeRun(context=ros.context) as run:
+        run.node = TornDown(order, context=ros.context)
+        run.close(closer)
+        run.node.create_timer(0.05, lambda: os.kill(os.getpid(), signal.SIGTERM))
+        assert run.serve() == 0
+    assert run.stop.signal == signal.SIGTERM
+    assert order == ['node', ('closer', True, True)]
+    assert not ros.context.ok()
+
+
+def test_a_node_run_ends_with_the_context_and_tears_down_on_an_exception(ros):
+    """A shutdown from elsewhere is a normal end; an exception leaves the block torn down too."""
+    order = []
+    with NodeRun(context=ros.context) as run:
+        run.node = TornDown(order, context=ros.context)
+        run.node.create_timer(0.05, ros.context.shutdown)
+        assert run.serve() == 0
+        assert not run.stop
+    assert order == ['node']
+    second = rclpy.Context()
+    rclpy.init(context=second)
+    with pytest.raises(RuntimeError, match='refused'):
+        with NodeRun(context=second) as run:
+            run.node = TornDown(order, context=second)
+            raise RuntimeError('refused')
+    assert order == ['node', 'node']
+    assert not second.ok()

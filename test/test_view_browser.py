@@ -43,8 +43,8 @@ from scipy.spatial.transform import Rotation
 pytest.importorskip('viser', reason='mouse_view needs viser: pip install -r requirements/view.txt')
 from mouse_constraint_ros.inputs.grab import box_distance
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
+from mouse_constraint_ros.pointer.geometry import camera_plane_point, FRAME_FRACTION, world_point
 from mouse_constraint_ros.view.command import page_address
-from mouse_constraint_ros.view.geometry import camera_plane_point, FRAME_FRACTION, world_point
 from mouse_constraint_ros.view.node import MouseViewNode
 from mouse_constraint_ros.view.scene import ViewScene
 from mouse_constraint_ros.view.server import start

@@ -37,9 +37,9 @@ pytest.importorskip('viser', reason='mouse_view needs viser: pip install -r requ
 from websockets.exceptions import ConnectionClosedError, InvalidStatus
 
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
+from mouse_constraint_ros.pointer.geometry import world_point
 from mouse_constraint_ros.timing.spin import Interrupted, StopRequest
 from mouse_constraint_ros.view import server as view_server
-from mouse_constraint_ros.view.geometry import world_point
 from mouse_constraint_ros.view.node import MouseViewNode
 from mouse_constraint_ros.view.scene import ViewScene
 from test_support import processes, viser_client

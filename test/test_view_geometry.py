@@ -23,11 +23,11 @@ from scipy.spatial.transform import Rotation
 
 from mouse_constraint_ros.inputs.grab import grab
 from mouse_constraint_ros.physics import BodyState
-from mouse_constraint_ros.view.geometry import (camera_plane_point, FRAME_FRACTION, framing,
-                                                material_point, Pose, ray_box_hit, world_point,
-                                                wxyz)
-from mouse_constraint_ros.view.gestures import (Action, Camera, Gestures, GRAB, HOLD_MODIFIER,
-                                                RELEASE, TARGET)
+from mouse_constraint_ros.pointer.geometry import (camera_plane_point, FRAME_FRACTION, framing,
+                                                   material_point, Pose, ray_box_hit, world_point,
+                                                   wxyz)
+from mouse_constraint_ros.pointer.gestures import (Action, Camera, Gestures, GRAB, HOLD_MODIFIER,
+                                                   RELEASE, TARGET)
 
 BOX = (0.4, 0.2, 0.1)
 TURNED = Pose((0.3, -0.2, 1.0), tuple(Rotation.from_euler('zyx', [0.7, -0.3, 0.4]).as_quat()))

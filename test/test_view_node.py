@@ -34,10 +34,10 @@ from rclpy.parameter import Parameter
 # mouse_view serves its page with viser (requirements/view.txt; no rosdep key: package.xml).
 pytest.importorskip('viser', reason='mouse_view needs viser: pip install -r requirements/view.txt')
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
-from mouse_constraint_ros.view.geometry import framing, world_point
-from mouse_constraint_ros.view.gestures import HOLD_MODIFIER
+from mouse_constraint_ros.pointer.geometry import framing, world_point
+from mouse_constraint_ros.pointer.gestures import HOLD_MODIFIER
+from mouse_constraint_ros.pointer.push_throttle import MAX_PUSH_RATE
 from mouse_constraint_ros.view.node import MouseViewNode
-from mouse_constraint_ros.view.push_throttle import MAX_PUSH_RATE
 from mouse_constraint_ros.view.scene import FLOOR_GAP, FLOOR_THICKNESS, ViewScene
 from mouse_constraint_ros.view.server import start
 from test_support import viser_client

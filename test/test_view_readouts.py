@@ -25,9 +25,9 @@ pytest.importorskip('viser', reason='mouse_view needs viser: pip install -r requ
 from mouse_constraint_ros.monitoring.diagnostics import (constraint_status, diagnostic_array,
                                                          Pacing, rate_status, simulator_status,
                                                          TickCounters, USER_TARGET, Window)
+from mouse_constraint_ros.pointer.node_readouts import number_text, Readouts, ViewParameters
+from mouse_constraint_ros.pointer.push_throttle import MAX_PUSH_RATE, PushThrottle
 from mouse_constraint_ros.view.command import host_warning, page_address
-from mouse_constraint_ros.view.node_readouts import number_text, Readouts, ViewParameters
-from mouse_constraint_ros.view.push_throttle import MAX_PUSH_RATE, PushThrottle
 
 
 def test_a_1khz_stream_is_pushed_at_60_hz_and_its_last_pose_is_not_lost():

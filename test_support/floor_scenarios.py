@@ -16,9 +16,10 @@
 The floor's scenarios on the shipped configuration's body and rate, shared by tests and bench.
 
 ``rest`` puts the box on the floor, ``slide`` pushes it along it, ``drop`` lets it fall flat,
-``held_down`` pulls its grabbed corner into the floor and ``tumble`` drops it spinning and
-records its energy. The body (mass, box_size), rate, substeps and gravity are read from
-config/params.yaml, and the floor's settings from it where it has them (else the core's).
+``elastic_drift`` lets it bounce flat for good, ``held_down`` pulls its grabbed corner into the
+floor and ``tumble`` drops it spinning and records its energy. The body (mass, box_size), rate,
+substeps and gravity are read from config/params.yaml, and the floor's settings from it where
+it has them (else the core's).
 """
 
 import dataclasses
@@ -174,6 +175,23 @@ def drop(w: World, *, height: float = 0.5, restitution: float = 0.5,
     falling = np.nonzero(np.diff(after) < 0.0)[0]
     end = falling[0] + 1 if len(falling) else len(after)
     return float(after[:end].max()), list(bottom)
+
+
+def elastic_drift(w: World, *, height: float = 0.5,
+                  seconds: float = 30.0) -> Tuple[float, MouseSimulation]:
+    """
+    Drop the box flat from ``height`` m, restitution 1 and no threshold: it bounces for good.
+
+    Return the farthest its COM strayed sideways from where it fell (m) over ``seconds``, and
+    the simulation at the end.
+    """
+    sim = w.simulation(BodyState((0.0, 0.0, w.floor.height + w.half_height + height)),
+                       restitution=1.0, restitution_threshold=0.0)
+    drift = 0.0
+    for _ in range(round(seconds / w.dt)):
+        x, y, _ = sim.step(w.dt).position
+        drift = max(drift, math.hypot(x, y))
+    return drift, sim
 
 
 def held_down(w: World, *, depth_below: float = 0.5, seconds: float = 3.0) -> float:

@@ -114,7 +114,8 @@ def spin_until(executor, condition: Callable[[], bool], timeout: float = 10.0) -
     Spin ``executor`` on wall time until ``condition()`` holds; return whether it did in time.
 
     For what comes on wall-clock timers (the node's markers) while a ``SimulatedBody`` is not
-    stepped: its simulated time stands still meanwhile.
+    stepped: its simulated time stands still meanwhile; and for the bench's observer process,
+    which waits so for the node it watches.
     """
     deadline = time.monotonic() + timeout
     while not condition():

@@ -27,13 +27,12 @@ import sys
 from typing import List, Optional
 
 import rclpy
-from rclpy.experimental import EventsExecutor
 from rclpy.parameter import Parameter
 from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
 from .node import HOLD_PARAMETER, MouseMarkerNode
-from ..timing.spin import spin_until, StopRequest
+from ..timing.spin import NodeRun
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -55,22 +54,13 @@ def main(args: Optional[List[str]] = None) -> int:
     argv = sys.argv if args is None else args
     options = build_parser().parse_args(remove_ros_args(argv)[1:])
     rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
-    node = None
-    try:
-        with StopRequest() as stop:
-            overrides = [Parameter(HOLD_PARAMETER, value=True)] if options.hold else []
-            node = MouseMarkerNode(parameter_overrides=overrides)
-            node.get_logger().info(
-                f'serving the body of {node.follower.target_node} as the interactive marker '
-                f"'body' on {node.update_publisher.topic_name}")
-            executor = EventsExecutor(context=node.context)
-            executor.add_node(node)
-            spin_until(executor, stop)
-    finally:
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
-    return 0
+    with NodeRun() as run:
+        overrides = [Parameter(HOLD_PARAMETER, value=True)] if options.hold else []
+        node = run.node = MouseMarkerNode(parameter_overrides=overrides)
+        node.get_logger().info(
+            f'serving the body of {node.follower.target_node} as the interactive marker '
+            f"'body' on {node.update_publisher.topic_name}")
+        return run.serve()
 
 
 if __name__ == '__main__':

@@ -39,8 +39,8 @@ import math
 from typing import List, Optional, Sequence
 
 from ..physics.algebra import Vector3
-from ..view.geometry import local_point, material_point, Pose, world_point
-from ..view.gestures import Action, GRAB, RELEASE, TARGET
+from ..pointer.geometry import local_point, material_point, Pose, world_point
+from ..pointer.gestures import Action, GRAB, RELEASE, TARGET
 
 
 def _finite(*values: Sequence[float]) -> bool:

@@ -57,12 +57,12 @@ from visualization_msgs.srv import GetInteractiveMarkers
 from .drag import MarkerDrag
 from .presence import departed, Endpoint, watched
 from .updates import MARKER_NAME, MarkerUpdates, pose_of
-from ..view.geometry import Pose
-from ..view.gestures import Action, GRAB, RELEASE
-from ..view.newest_message import NewestMessage
-from ..view.node_follower import DISCOVERY_SECONDS, NodeFollower
-from ..view.node_readouts import ViewParameters
-from ..view.push_throttle import PushThrottle
+from ..pointer.geometry import Pose
+from ..pointer.gestures import Action, GRAB, RELEASE
+from ..pointer.newest_message import NewestMessage
+from ..pointer.node_follower import DISCOVERY_SECONDS, NodeFollower
+from ..pointer.node_readouts import ViewParameters
+from ..pointer.push_throttle import PushThrottle
 from ..wire.interface import (GRAB_TOPIC, MARKER_FEEDBACK_TOPIC, MARKER_NODE_NAME, MARKER_QOS,
                               MARKER_SERVICE, MARKER_UPDATE_TOPIC, NODE_NAME, node_name,
                               POSE_TOPIC, RELEASE_SERVICE, TARGET_QOS, TARGET_TOPIC)

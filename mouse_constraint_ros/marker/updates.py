@@ -40,8 +40,8 @@ from visualization_msgs.msg import (InteractiveMarker, InteractiveMarkerControl,
                                     InteractiveMarkerPose, InteractiveMarkerUpdate, Marker)
 
 from ..monitoring.markers import BODY_COLOR
-from ..view.geometry import Pose
-from ..view.push_throttle import PushThrottle
+from ..pointer.geometry import Pose
+from ..pointer.push_throttle import PushThrottle
 from ..wire.messages import set_stamp
 
 MARKER_NAME, CONTROL_NAME = 'body', 'drag'

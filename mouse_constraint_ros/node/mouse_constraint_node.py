@@ -34,7 +34,6 @@ from typing import Any, List, NoReturn, Optional, Tuple
 from geometry_msgs.msg import PointStamped, WrenchStamped
 from rcl_interfaces.msg import SetParametersResult
 import rclpy
-from rclpy.experimental import EventsExecutor
 from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
 from rclpy.parameter import Parameter
@@ -61,7 +60,7 @@ from ..inputs.throttle import RefusalLog, Throttle
 from ..physics import MouseSimulation
 from ..physics.validation import shown
 from ..timing.guarded_time_source import guard_time_source
-from ..timing.spin import spin_until, StopRequest
+from ..timing.spin import NodeRun
 from ..wire.interface import (GRAB_TOPIC, NODE_NAME, PAUSE_SERVICE, RELEASE_SERVICE,
                               RESET_SERVICE, SERVICE_EVENT_QOS, STEP_SERVICE, TARGET_QOS,
                               TARGET_TOPIC, WRENCH_QOS, WRENCH_TOPIC)
@@ -274,22 +273,13 @@ def main(args: Optional[List[str]] = None) -> int:
     finally:
         if rclpy.logging.get_logger_level('rcl') == quiet:  # not set by --log-level
             rclpy.logging.set_logger_level('rcl', previous)
-    node = None
-    try:
-        with StopRequest() as stop:
-            node = MouseConstraintNode()
-            executor = EventsExecutor(context=node.context)
-            executor.add_node(node)
-            # Until a signal or the context's shutdown: both end the node normally.
-            spin_until(executor, stop)
-    except StartupRefusal as error:
-        rclpy.logging.get_logger(error.logger_name).fatal(f'invalid parameters: {error}')
-        return 1
-    finally:
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
-    return 0
+    with NodeRun() as run:
+        try:
+            run.node = MouseConstraintNode()
+            return run.serve()
+        except StartupRefusal as error:
+            rclpy.logging.get_logger(error.logger_name).fatal(f'invalid parameters: {error}')
+            return 1
 
 
 if __name__ == '__main__':

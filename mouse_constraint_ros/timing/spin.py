@@ -21,14 +21,18 @@ publishing: the publish then raises with a traceback. Here the signal only sets 
 in order. SIGHUP (the terminal closed) ends the node like SIGTERM: Python's default for it kills
 the process with no clean-up.
 
-``spin_until`` is the loop of ``mouse_constraint``, ``mouse_target`` and ``mouse_record``: it
-spins an executor with ``spin_once`` until a condition holds, a stop is requested, a deadline
-passes or the context is shut down, and returns which (a ``SpinEnd``). ``wait_until`` is the
-same loop for waits inside a command, where a stop is an ``Interrupted`` and a deadline False.
-``call_until_answered`` waits so for a service's answer and sends the request again each
-``ASK_AGAIN_SECONDS`` it goes unanswered: a client sees a service in another process as ready
-once it has matched the server's endpoints, which may not yet have matched the client's, and a
-request sent then is lost (the service stays silent however long the client waits).
+``spin_until`` is the loop of every executable: it spins an executor with ``spin_once`` until
+a condition holds, a stop is requested, a deadline passes or the context is shut down, and
+returns which (a ``SpinEnd``). ``wait_until`` is the same loop for waits inside a command, where
+a stop is an ``Interrupted`` and a deadline False. ``call_until_answered`` waits so for a
+service's answer and sends the request again each ``ASK_AGAIN_SECONDS`` it goes unanswered: a
+client sees a service in another process as ready once it has matched the server's endpoints,
+which may not yet have matched the client's, and a request sent then is lost (the service stays
+silent however long the client waits).
+
+``NodeRun`` is the ending of ``main`` in the executables that serve a node until stopped
+(``mouse_constraint``, ``mouse_view``, ``mouse_marker``): the node spun so, then destroyed and
+the context shut down, in that order, however ``main`` leaves.
 
 Not ``executor.spin()``: in this rclpy (7.1.6) the EventsExecutor's ``spin()`` busy-waits at a
 full core and never returns to Python. Nor ``spin_until_future_complete``, which saves a little
@@ -40,10 +44,14 @@ import enum
 import signal
 import time
 from types import FrameType
-from typing import Callable, Optional
+from typing import Callable, List, Optional
 
+import rclpy
 from rclpy.client import Client
+from rclpy.context import Context
 from rclpy.executors import Executor, ExternalShutdownException
+from rclpy.experimental import EventsExecutor
+from rclpy.node import Node
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 # Longest one spin_once blocks before the loop looks at the stop flag and the clock again (s).
@@ -165,3 +173,59 @@ def call_until_answered(client: Client, request, executor: Executor, stop: StopR
         client.remove_pending_request(future)
         if time.monotonic() >= deadline:
             return None
+
+
+class NodeRun:
+    """
+    A node served until a stop or the context's shutdown, then torn down in order.
+
+    ``with NodeRun() as run:`` requests stops on STOP_SIGNALS for the block (``run.stop``: the
+    executables init rclpy without its own handlers); the node made in it is ``run.node``, and
+    ``run.serve()`` spins it on an EventsExecutor until a signal or the context's shutdown, both
+    a normal end. However the block is left (``serve`` returned, a ``return`` before it, an
+    exception), the handlers go back, ``run.node`` is destroyed, what ``close`` was given runs,
+    in that order, and the context is shut down.
+
+    :param context: the context to shut down; None for rclpy's default, the executables' one.
+    """
+
+    def __init__(self, *, context: Optional[Context] = None) -> None:
+        """Create the run, its stop request not yet installed and no node."""
+        self.stop = StopRequest()
+        self.node: Optional[Node] = None
+        self._context = context
+        self._closers: List[Callable[[], None]] = []
+
+    def close(self, closer: Callable[[], None]) -> None:
+        """Have ``closer`` run on the way out, after the node is destroyed."""
+        self._closers.append(closer)
+
+    def serve(self) -> int:
+        """Spin ``node`` until a signal or the context's shutdown; return 0, the exit status."""
+        executor = EventsExecutor(context=self.node.context)
+        executor.add_node(self.node)
+        spin_until(executor, self.stop)
+        return 0
+
+    def __enter__(self) -> 'NodeRun':
+        """Install the stop request's handlers."""
+        try:
+            self.stop.__enter__()
+        except BaseException:
+            self._tear_down()
+            raise
+        return self
+
+    def __exit__(self, *exception) -> None:
+        """Restore the handlers; destroy the node, run the closers, shut the context down."""
+        try:
+            self.stop.__exit__(*exception)
+        finally:
+            self._tear_down()
+
+    def _tear_down(self) -> None:
+        if self.node is not None:
+            self.node.destroy_node()
+        for closer in self._closers:
+            closer()
+        rclpy.try_shutdown(context=self._context)

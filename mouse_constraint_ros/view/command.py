@@ -30,14 +30,13 @@ import sys
 from typing import List, Optional
 
 import rclpy
-from rclpy.experimental import EventsExecutor
 from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
 from .node import MouseViewNode
 from .scene import ViewScene
 from .server import HIGHEST_PORT, ServeError, start
-from ..timing.spin import Interrupted, spin_until, StopRequest
+from ..timing.spin import Interrupted, NodeRun
 
 LOOPBACK = '127.0.0.1'
 DEFAULT_PORT = 8080
@@ -95,33 +94,24 @@ def main(args: Optional[List[str]] = None) -> int:
     argv = sys.argv if args is None else args
     options = build_parser().parse_args(remove_ros_args(argv)[1:])
     rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
-    server = node = None
-    try:
-        with StopRequest() as stop:
-            try:
-                server = start(options.host, options.port, allowed=options.allow_origin,
-                               stop=stop)
-            except ServeError as error:
-                print(f'mouse_view: cannot serve on {error}', file=sys.stderr, flush=True)
-                return USAGE_ERROR
-            except Interrupted:
-                return 0
-            node = MouseViewNode(scene_factory=lambda parameters: ViewScene(server, parameters))
-            warning = host_warning(options.host)
-            if warning is not None:
-                node.get_logger().warning(warning)
-            print(f'mouse_view: open {page_address(options.host, server.get_port())} '
-                  f'(viewing {node.target_node})', flush=True)
-            executor = EventsExecutor(context=node.context)
-            executor.add_node(node)
-            spin_until(executor, stop)
-    finally:
-        if node is not None:
-            node.destroy_node()
-        if server is not None:
-            server.stop()
-        rclpy.try_shutdown()
-    return 0
+    with NodeRun() as run:
+        try:
+            server = start(options.host, options.port, allowed=options.allow_origin,
+                           stop=run.stop)
+        except ServeError as error:
+            print(f'mouse_view: cannot serve on {error}', file=sys.stderr, flush=True)
+            return USAGE_ERROR
+        except Interrupted:
+            return 0
+        run.close(server.stop)
+        node = run.node = MouseViewNode(
+            scene_factory=lambda parameters: ViewScene(server, parameters))
+        warning = host_warning(options.host)
+        if warning is not None:
+            node.get_logger().warning(warning)
+        print(f'mouse_view: open {page_address(options.host, server.get_port())} '
+              f'(viewing {node.target_node})', flush=True)
+        return run.serve()
 
 
 if __name__ == '__main__':

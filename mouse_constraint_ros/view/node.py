@@ -41,12 +41,12 @@ from rclpy.serialization import deserialize_message
 from std_srvs.srv import SetBool, Trigger
 from visualization_msgs.msg import Marker, MarkerArray
 
-from .geometry import Pose, world_point
-from .gestures import Action, Camera, Gestures, GRAB, RELEASE
-from .newest_message import NewestMessage
-from .node_follower import DISCOVERY_SECONDS, NodeFollower
-from .node_readouts import number_text, Readouts, ViewParameters
-from .push_throttle import PushThrottle
+from ..pointer.geometry import Pose, world_point
+from ..pointer.gestures import Action, Camera, Gestures, GRAB, RELEASE
+from ..pointer.newest_message import NewestMessage
+from ..pointer.node_follower import DISCOVERY_SECONDS, NodeFollower
+from ..pointer.node_readouts import number_text, Readouts, ViewParameters
+from ..pointer.push_throttle import PushThrottle
 from ..wire.interface import (DIAGNOSTICS_TOPIC, GRAB_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH,
                               NODE_NAME, PAUSE_SERVICE, POSE_TOPIC, RELEASE_SERVICE,
                               RESET_SERVICE, STEP_SERVICE, TARGET_QOS, TARGET_TOPIC, TWIST_TOPIC,

@@ -33,11 +33,11 @@ from typing import Callable, Deque, Optional, Sequence
 import numpy as np
 import viser
 
-from .geometry import framing, Pose, wxyz
-from .node_readouts import ViewParameters
 from ..monitoring.markers import (ANCHOR_COLOR, BODY_COLOR, LINE_FRACTION, SPHERE_FRACTION,
                                   TARGET_COLOR)
 from ..physics.algebra import Vector3
+from ..pointer.geometry import framing, Pose, wxyz
+from ..pointer.node_readouts import ViewParameters
 
 # The trail keeps every TRAIL_EVERY-th anchor position pushed, TRAIL_LENGTH of them: about a
 # second at 60 pushes a second.
