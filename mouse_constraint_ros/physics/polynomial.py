@@ -13,15 +13,19 @@
 # limitations under the License.
 
 """
-A polynomial of time about a point, in 3D: the target stream's fit, evaluated every substep.
+A polynomial of time about a point, in 3D: the target stream's fit, made and evaluated.
 
+``cross_validated`` fits a weighted least-squares polynomial of the degree the points bear.
 ``polynomial`` makes p(t) = p0 + c_1 tau + ... + c_d tau^d (tau = t - t0, d <= 4) and
 ``evaluate`` returns its position and velocity at a time. A line or a parabola (the
 arrival-timed fit) is evaluated as written; a higher degree (the stamped fit) by Horner's
 scheme on coefficients laid out per axis, written out: it runs in every substep of a drag.
 """
 
+import math
 from typing import Optional, Tuple
+
+import numpy as np
 
 from .algebra import Vector3
 
@@ -68,3 +72,36 @@ def evaluate(curve: Curve, time: float) -> Tuple[Vector3, Vector3]:
             (ax + tau * (bx2 + tau * (cx3 + tau * dx4)),
              ay + tau * (by2 + tau * (cy3 + tau * dy4)),
              az + tau * (bz2 + tau * (cz3 + tau * dz4))))
+
+
+def cross_validated(times: np.ndarray, values: np.ndarray, weights: np.ndarray,
+                    most: int) -> np.ndarray:
+    """
+    Return the weighted least-squares polynomial of the degree, at most ``most``, the data bear.
+
+    The degree d minimizes generalized cross-validation, n RSS_d / (n - d - 1)^2 (Craven and
+    Wahba): a curve's points (a circle's, exact) fall on a quartic and take it; a still
+    pointer's jitter is no curve and takes degree 0, so that it is not extrapolated and its
+    wander is not amplified. Two points give their line. Rows are the coefficients of
+    tau^0 .. tau^d per axis.
+    """
+    count = len(times)
+    if count == 2:
+        # Two points are a line: nothing to cross-validate.
+        return np.linalg.solve(np.vander(times, 2, increasing=True), values)
+    top = min(most, count - 2)
+    weighted = values * weights[:, None]
+    # One QR of the highest degree's design serves every lower one: the columns of Q^T y past
+    # a degree's d + 1 are its residual.
+    q, r = np.linalg.qr(np.vander(times, top + 1, increasing=True) * weights[:, None])
+    projected = q.T @ weighted
+    left = float(np.sum(weighted * weighted))
+    best, best_score = 0, math.inf
+    for degree in range(top + 1):
+        left -= float(np.sum(projected[degree] * projected[degree]))
+        score = count * max(left, 0.0) / (count - degree - 1) ** 2
+        # A tie (exact data, zero residuals) goes to the lower degree.
+        if score < best_score * (1.0 - 1e-9):
+            best, best_score = degree, score
+    size = best + 1
+    return np.linalg.solve(r[:size, :size], projected[:size])

@@ -70,7 +70,7 @@ from typing import Deque, Optional, Tuple
 import numpy as np
 
 from .algebra import Vector3
-from .polynomial import Curve, evaluate, polynomial
+from .polynomial import cross_validated, Curve, evaluate, polynomial
 
 # Points further apart in time than this (s) are not one stream: a pause ends a drag.
 STREAM_GAP = 0.25
@@ -105,39 +105,6 @@ UNSTAMPED_WEIGHT = 0.25
 ZERO: Vector3 = (0.0, 0.0, 0.0)
 # Points closer in time than this (s) to the latest are at its time: they replace its point.
 SAME_TIME = 1e-6
-
-
-def _cross_validated(times: np.ndarray, values: np.ndarray, weights: np.ndarray,
-                     most: int) -> np.ndarray:
-    """
-    Return the weighted least-squares polynomial of the degree, at most ``most``, the data bear.
-
-    The degree d minimizes generalized cross-validation, n RSS_d / (n - d - 1)^2 (Craven and
-    Wahba): a curve's points (a circle's, exact) fall on a quartic and take it; a still
-    pointer's jitter is no curve and takes degree 0, so that it is not extrapolated and its
-    wander is not amplified. Two points give their line. Rows are the coefficients of
-    tau^0 .. tau^d per axis.
-    """
-    count = len(times)
-    if count == 2:
-        # Two points are a line: nothing to cross-validate.
-        return np.linalg.solve(np.vander(times, 2, increasing=True), values)
-    top = min(most, count - 2)
-    weighted = values * weights[:, None]
-    # One QR of the highest degree's design serves every lower one: the columns of Q^T y past
-    # a degree's d + 1 are its residual.
-    q, r = np.linalg.qr(np.vander(times, top + 1, increasing=True) * weights[:, None])
-    projected = q.T @ weighted
-    left = float(np.sum(weighted * weighted))
-    best, best_score = 0, math.inf
-    for degree in range(top + 1):
-        left -= float(np.sum(projected[degree] * projected[degree]))
-        score = count * max(left, 0.0) / (count - degree - 1) ** 2
-        # A tie (exact data, zero residuals) goes to the lower degree.
-        if score < best_score * (1.0 - 1e-9):
-            best, best_score = degree, score
-    size = best + 1
-    return np.linalg.solve(r[:size, :size], projected[:size])
 
 
 def _smoothstep(u: float) -> Tuple[float, float]:
@@ -319,7 +286,7 @@ class TargetStream:
         if self._stamped:
             # A point put on the stamps' base by its arrival shapes the fit less.
             weights = np.sqrt([1.0 if exact else UNSTAMPED_WEIGHT for _, _, exact in points])
-            solution = _cross_validated(times, values, weights, degree)
+            solution = cross_validated(times, values, weights, degree)
         else:
             design = np.vander(times, degree + 1, increasing=True)
             solution = np.linalg.lstsq(design, values, rcond=None)[0]
