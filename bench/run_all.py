@@ -45,6 +45,7 @@ SUITE = [
     ('late_streams', 'late, mixed and jittering streams, the floor press: the node in lockstep'),
     ('contact', 'the floor: rest, slide and drop, ours against PyBullet and MuJoCo'),
     ('node_rate', 'the node process against the rclpy floor at 1 kHz and up, pose and twist read'),
+    ('node_cost', 'the node against the rclpy floor: medians of alternating windows, per tick'),
     ('node_floor', 'the node at 1 kHz resting on the floor against no floor: CPU ratio'),
     ('publish_rate', 'publishing at 100 Hz from 1 kHz physics, if the node offers it'),
     ('latency', 'target published -> first pose reflecting it, at 1 kHz'),
