@@ -14,8 +14,8 @@
 
 """The Ticker: one owner of which driver runs the ticks, the node's time, pause and rates."""
 
-from rclpy.parameter import Parameter
 import pytest
+from rclpy.parameter import Parameter
 
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.node.ticker import Driver
