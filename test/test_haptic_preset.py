@@ -68,7 +68,9 @@ def test_the_preset_is_within_half_of_both_bounds(name, delay):
     stable = largest_stable_stiffness(damping=PRESET['coupling_damping'], mass=MASS,
                                       device=device, period=T, substeps=PRESET['substeps'],
                                       delay=delay)
-    passive = passive_stiffness(device.damping + device.hand_damping, T, delay)
+    passive = passive_stiffness(device_damping=device.damping + device.hand_damping,
+                                damping=PRESET['coupling_damping'], mass=MASS, period=T,
+                                substeps=PRESET['substeps'], delay=delay)
     assert stiffness * MARGIN <= stable
     assert stiffness * MARGIN <= passive
 

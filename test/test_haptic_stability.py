@@ -17,10 +17,8 @@ The haptic loop's largest stable stiffness: predicted from its polynomial, measu
 
 A simulated device (test_support.haptic_device) reads the force each tick, moves, and sends its
 pose as the target, which acts from the next tick (plus ``delay`` ticks). Bisection between
-0.75 and 1.3 times the prediction, five halvings (a bracket of 1.7 %): a trial is unstable when
-the peak of the force's second difference over its last 250 ticks exceeds the peak over the 250
-before, once the faster modes have died and the one that goes unstable is left: that growth is
-the largest root's modulus to the 250th power, measured.
+0.75 and 1.3 times the prediction, five halvings (a bracket of 1.7 %), each trial's growth
+measured and set beside the predicted one (``haptic_device.measure_largest_stable``).
 """
 
 import math
@@ -31,31 +29,21 @@ import pytest
 from mouse_constraint_ros.physics import (BodyState, MouseConstraint, MouseSimulation, RigidBody,
                                           Settings)
 from mouse_constraint_ros.physics.coupling_stability import (
-    body_matrices, characteristic_polynomial, colgate_brown_damping, Device,
-    largest_stable_stiffness, passive_stiffness, passivity_damping, spectral_radius,
-    static_stiffness)
+    body_matrices, characteristic_polynomial, colgate_brown_damping, coupling_passivity_damping,
+    Device, largest_stable_stiffness, passive_stiffness, passivity_damping, static_stiffness)
 from mouse_constraint_ros.physics.mouse_joint import coupling_gains
 from mouse_constraint_ros.testing import SimulatedBody
-from test_support.haptic_device import DeviceNode
+from test_support.haptic_device import (coupling, HAND, loop, LOOP_BODY, MASS,
+                                        measure_largest_stable, ORIGIN, PERIOD, SUBSTEPS)
 
-T = 0.001
-MASS = 0.2
-SUBSTEPS = 2
-# The body of the loop: held at its COM, weightless, the joint at the target itself, unbounded.
-LOOP_BODY = {'mass': MASS, 'anchor': [0.0, 0.0, 0.0], 'gravity': [0.0, 0.0, 0.0],
-             'max_target_speed': math.inf, 'max_target_acceleration': math.inf,
-             'target_feed_forward': False, 'max_force': math.inf,
-             'max_force_per_weight': math.inf, 'angular_friction': 0.0, 'publish_force': True,
-             'substeps': SUBSTEPS, 'marker_rate_hz': 0.0, 'diagnostics_rate_hz': 0.0}
-ORIGIN = (0.0, 0.0, 1.0)
-HAND = {'hand_stiffness': 100.0, 'hand_damping': 1.0}
-TRIAL_TICKS = 1000
-
-
-def loop(device, damping, delay):
-    """Return the arguments of the loop's polynomial but the stiffness."""
-    return {'damping': damping, 'mass': MASS, 'device': device, 'period': T,
-            'substeps': SUBSTEPS, 'delay': delay}
+T = PERIOD
+# (m_d, b_d, coupling damping, delay) -> each trial's measured growth over 250 ticks, found by
+# running them.
+CASES = [
+    ((0.045, 0.05, 0.5, 0), [0.96805, 1.418155, 1.17081, 1.062278, 1.01287]),
+    ((0.2, 0.02, 2.0, 0), [0.982645, 1.228037, 1.099616, 1.03179, 1.005288]),
+    ((0.1, 0.5, 0.5, 1), [0.976791, 1.219025, 1.094503, 1.031474, 1.003914]),
+]
 
 
 def test_the_body_s_tick_map_is_the_node_s_step():
@@ -117,8 +105,31 @@ def test_a_spring_alone_delayed_needs_k_t_2d_plus_1_over_2(delay):
     """B = 0: the condition peaks at w = 0, K T (2 d + 1) / 2 (the Dirichlet kernel)."""
     need = passivity_damping(800.0, 0.0, T, delay, samples=1 << 16)
     assert need == pytest.approx(800.0 * T * (2 * delay + 1) / 2.0, rel=1e-6)
-    assert passivity_damping(passive_stiffness(0.3, T, delay), 0.0, T, delay,
-                             samples=1 << 16) == pytest.approx(0.3, rel=1e-6)
+
+
+@pytest.mark.parametrize('delay', [0, 1])
+def test_a_well_damped_coupling_is_a_spring_to_the_device(delay):
+    """300 N/m, 3 N s/m: the body behind it needs the damping of the wall K, B = 0, or less."""
+    need = coupling_passivity_damping(stiffness=300.0, **coupling(3.0, delay))
+    assert need <= 300.0 * T * (2 * delay + 1) / 2.0 * 1.001
+    assert need > 0.9 * 300.0 * T * (2 * delay + 1) / 2.0
+
+
+def test_a_lightly_damped_coupling_needs_more_at_its_resonance():
+    need = coupling_passivity_damping(stiffness=1950.0, **coupling(0.5, 0))
+    assert need > 1.1 * 1950.0 * T / 2.0
+    assert passive_stiffness(device_damping=need, **coupling(0.5, 0)) == pytest.approx(
+        1950.0, rel=1e-5)
+
+
+@pytest.mark.parametrize('pair', [pair for pair, _ in CASES])
+def test_what_the_device_renders_passively_the_loop_holds_stably(pair):
+    """Passivity is sufficient: the passive stiffness is below the stable one, every case."""
+    mass, damping, coupling_damping, delay = pair
+    device = Device(mass, damping, **HAND)
+    passive = passive_stiffness(device_damping=damping + device.hand_damping,
+                                **coupling(coupling_damping, delay))
+    assert passive <= largest_stable_stiffness(**loop(device, coupling_damping, delay))
 
 
 def test_a_constant_force_meets_the_static_stiffness():
@@ -134,51 +145,15 @@ def test_a_constant_force_meets_the_static_stiffness():
         assert stiffness == pytest.approx(300.0, rel=0.02)
 
 
-def trial(stiffness, damping, device, delay):
-    """Run the loop at ``stiffness`` for TRIAL_TICKS; return (stable, late peak / early peak)."""
-    with SimulatedBody(coupling_stiffness=stiffness, coupling_damping=damping,
-                       **LOOP_BODY) as body:
-        node = body.add_node(DeviceNode(context=body.context, device=device, period=T,
-                                        origin=ORIGIN, reference=lambda _: 0.01, delay=delay))
-        body.step(TRIAL_TICKS)
-        assert len(node.forces) == TRIAL_TICKS
-        # The force's second difference: the slow modes (the hand's) scaled down by (w T)^2,
-        # the fast one that goes unstable kept.
-        change = np.abs(np.diff(node.forces, 2))
-        growth = change[-250:].max() / change[-500:-250].max()
-        return bool(growth < 1.0), growth
-
-
-def bisect(predicted, damping, device, delay):
-    """Return the bracket of the largest stable stiffness and each trial's growth, predicted."""
-    low, high, growths = 0.75 * predicted, 1.3 * predicted, []
-    for _ in range(5):
-        middle = math.sqrt(low * high)
-        stable, growth = trial(middle, damping, device, delay)
-        radius = spectral_radius(stiffness=middle, **loop(device, damping, delay))
-        growths.append((round(growth, 6), round(radius ** 250, 6)))
-        low, high = (middle, high) if stable else (low, middle)
-    return low, high, growths
-
-
-# (m_d, b_d, coupling damping, delay) -> each trial's measured growth over 250 ticks, found by
-# running them.
-PAIRS = [
-    ((0.045, 0.05, 0.5, 0), [0.96805, 1.418155, 1.17081, 1.062278, 1.01287]),
-    ((0.2, 0.02, 2.0, 0), [0.982645, 1.228037, 1.099616, 1.03179, 1.005288]),
-    ((0.1, 0.5, 0.5, 1), [0.976791, 1.219025, 1.094503, 1.031474, 1.003914]),
-]
-
-
-@pytest.mark.parametrize('pair, growths', PAIRS)
+@pytest.mark.parametrize('pair, growths', CASES)
 def test_the_measured_largest_stable_stiffness_is_the_predicted_one(pair, growths):
     """Within 5 %: the bracket's middle, and each trial's growth is the largest root's."""
     mass, damping, coupling_damping, delay = pair
     device = Device(mass, damping, **HAND)
     predicted = largest_stable_stiffness(**loop(device, coupling_damping, delay))
-    low, high, trials = bisect(predicted, coupling_damping, device, delay)
+    low, high, trials = measure_largest_stable(predicted, coupling_damping, device, delay)
     assert high / low < 1.02
     assert abs(math.sqrt(low * high) / predicted - 1.0) < 0.05
-    for measured, expected in trials:
+    for _, measured, expected in trials:
         assert measured == pytest.approx(expected, abs=0.02)
-    assert [measured for measured, _ in trials] == growths
+    assert [round(measured, 6) for _, measured, _ in trials] == growths

@@ -20,18 +20,41 @@ damping b_d, pulled by a hand (spring and damper) toward a reference; the mass m
 (``Device.matrices``) along x, and its position goes out on ``target_pose`` as a
 ``PoseStamped``, as a device driver publishes its handle. In lockstep it is taken before the
 next tick and acts from it; ``delay`` ticks more hold it back in a queue first.
+
+``measure_largest_stable`` bisects the loop's stiffness in lockstep (test_haptic_stability.py
+and bench/haptic_stability.py): a trial is unstable when the peak of the force's second
+difference over its last 250 ticks exceeds the peak over the 250 before. The second difference
+scales the slow modes (the hand's) down by (w T)^2 and keeps the fast one that goes unstable,
+so once the other fast modes have died that growth is the largest root's modulus to the 250th
+power, measured.
 """
 
 from collections import deque
-from typing import Callable, List
+import math
+from typing import Callable, List, Tuple
 
 from geometry_msgs.msg import PoseStamped, WrenchStamped
 import numpy as np
 from rclpy.node import Node
 
-from mouse_constraint_ros.physics.coupling_stability import Device
+from mouse_constraint_ros.physics.coupling_stability import Device, spectral_radius
+from mouse_constraint_ros.testing import SimulatedBody
 from mouse_constraint_ros.wire.interface import (FORCE_QOS, FORCE_TOPIC, TARGET_POSE_TOPIC,
                                                  TARGET_QOS)
+
+PERIOD = 0.001
+MASS = 0.2
+SUBSTEPS = 2
+# The body of the loop: held at its COM, weightless, the joint at the target itself, unbounded.
+LOOP_BODY = {'mass': MASS, 'anchor': [0.0, 0.0, 0.0], 'gravity': [0.0, 0.0, 0.0],
+             'max_target_speed': math.inf, 'max_target_acceleration': math.inf,
+             'target_feed_forward': False, 'max_force': math.inf,
+             'max_force_per_weight': math.inf, 'angular_friction': 0.0, 'publish_force': True,
+             'substeps': SUBSTEPS, 'marker_rate_hz': 0.0, 'diagnostics_rate_hz': 0.0}
+ORIGIN = (0.0, 0.0, 1.0)
+HAND = {'hand_stiffness': 100.0, 'hand_damping': 1.0}
+TRIAL_TICKS = 1000
+WINDOW = 250
 
 
 class DeviceNode(Node):
@@ -89,3 +112,45 @@ class DeviceNode(Node):
         position = self._message.pose.position
         position.x, position.y, position.z = self._origin + (self._queue.popleft(), 0.0, 0.0)
         self._publisher.publish(self._message)
+
+
+def coupling(damping: float, delay: int) -> dict:
+    """Return the coupling's arguments but the stiffness, for LOOP_BODY (``passive_stiffness``)."""
+    return {'damping': damping, 'mass': MASS, 'period': PERIOD, 'substeps': SUBSTEPS,
+            'delay': delay}
+
+
+def loop(device: Device, damping: float, delay: int) -> dict:
+    """Return the arguments of the loop's polynomial but the stiffness, for LOOP_BODY."""
+    return {**coupling(damping, delay), 'device': device}
+
+
+def trial(stiffness: float, damping: float, device: Device, delay: int) -> Tuple[bool, float]:
+    """Run the loop at ``stiffness`` for TRIAL_TICKS; return (stable, growth over WINDOW)."""
+    with SimulatedBody(coupling_stiffness=stiffness, coupling_damping=damping,
+                       **LOOP_BODY) as body:
+        node = body.add_node(DeviceNode(context=body.context, device=device, period=PERIOD,
+                                        origin=ORIGIN, reference=lambda _: 0.01, delay=delay))
+        body.step(TRIAL_TICKS)
+        assert len(node.forces) == TRIAL_TICKS
+        change = np.abs(np.diff(node.forces, 2))
+        growth = float(change[-WINDOW:].max() / change[-2 * WINDOW:-WINDOW].max())
+        return growth < 1.0, growth
+
+
+def measure_largest_stable(predicted: float, damping: float, device: Device, delay: int,
+                           halvings: int = 5):
+    """
+    Bisect between 0.75 and 1.3 times ``predicted``; return (low, high, trials).
+
+    Each trial is (stiffness, measured growth, the predicted one: the largest root's modulus
+    to the WINDOW-th power).
+    """
+    low, high, trials = 0.75 * predicted, 1.3 * predicted, []
+    for _ in range(halvings):
+        middle = math.sqrt(low * high)
+        stable, growth = trial(middle, damping, device, delay)
+        radius = spectral_radius(stiffness=middle, **loop(device, damping, delay))
+        trials.append((middle, growth, radius ** WINDOW))
+        low, high = (middle, high) if stable else (low, middle)
+    return low, high, trials

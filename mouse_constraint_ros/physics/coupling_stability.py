@@ -45,10 +45,13 @@ Passivity (Colgate and Schenkel's condition for a sampled virtual environment H(
 device of damping b: b > T / (2 (1 - cos wT)) Re{(1 - e^-jwT) H(e^jwT)} for 0 < wT <= pi):
 for a virtual wall K + B (1 - z^-1) / T it is Colgate and Brown's b > K T / 2 + |B|; delayed by
 d samples, H(z) z^-d, the case of Hulin, Albu-Schaeffer and Hirzinger, its low-frequency limit is
-b > K T (d + 1/2) - B. ``passivity_damping`` evaluates the condition over frequency. The
+b > K T (d + 1/2) - B (``passivity_damping``). What the device renders here is the body behind
+the coupling, H(z) = z^-d (m / T) (z - 1) N_v(z) / D_b(z) (``coupling_passivity_damping``): the
 coupling's damper acts on the anchor's own velocity (no feed-forward: the target's velocity is
-not used), so the device sees the spring alone: B = 0, and the bound is exactly
-b > K T (2 d + 1) / 2 (the Dirichlet kernel peaks at w = 0).
+not used), so a well-damped coupling is a spring alone to the device, B = 0, and needs
+b > K T (2 d + 1) / 2 (the Dirichlet kernel peaks at w = 0); a lightly damped one needs more at
+the body's resonance on the spring. ``passive_stiffness`` is the largest k that a device of
+damping b renders passively.
 """
 
 from dataclasses import dataclass
@@ -163,19 +166,24 @@ def largest_stable_stiffness(*, low: float = 1.0, high: float = 1e6, tolerance: 
     def stable(stiffness: float) -> bool:
         return spectral_radius(stiffness=stiffness, **loop) < STABLE_RADIUS
 
-    if not stable(low):
-        raise ValueError(f'the loop is unstable already at {low!r} N/m')
+    return _largest(stable, low, high, tolerance)
+
+
+def _largest(holds, low: float, high: float, tolerance: float) -> float:
+    """Return the stiffness up to which ``holds`` does: 5 % steps up from ``low``, bisected."""
+    if not holds(low):
+        raise ValueError(f'the loop fails already at {low!r} N/m')
     stiffness = low
     while stiffness < high:
         upper = min(stiffness * 1.05, high)
-        if not stable(upper):
+        if not holds(upper):
             break
         stiffness = upper
     else:
         return high
     while upper - stiffness > tolerance * stiffness:
         middle = 0.5 * (stiffness + upper)
-        stiffness, upper = (middle, upper) if stable(middle) else (stiffness, middle)
+        stiffness, upper = (middle, upper) if holds(middle) else (stiffness, middle)
     return stiffness
 
 
@@ -199,14 +207,42 @@ def passivity_damping(stiffness: float, damping: float, period: float, delay: in
     return float(need.max())
 
 
-def passive_stiffness(device_damping: float, period: float, delay: int = 0) -> float:
+def coupling_passivity_damping(*, stiffness: float, damping: float, mass: float,
+                               period: float, substeps: int, delay: int = 0,
+                               samples: int = 4096) -> float:
     """
-    Return the largest coupling stiffness (N/m) passive for a device of ``device_damping``.
+    Return the device damping (N s/m) that keeps the body behind the coupling passive.
 
-    The coupling's damper does not act on the device (module docstring): B = 0, and
-    b > K T (2 d + 1) / 2 gives K < 2 b / ((2 d + 1) T).
+    Colgate and Schenkel's condition for H(z) = z^-delay (m / T) (z - 1) N_v(z) / D_b(z), the
+    body in the soft step as ``characteristic_polynomial`` has it, over ``samples``
+    frequencies up to Nyquist.
     """
-    return 2.0 * device_damping / ((2 * delay + 1) * period)
+    a, b = body_matrices(stiffness=stiffness, damping=damping, mass=mass, period=period,
+                         substeps=substeps)
+    theta = np.linspace(math.pi / samples, math.pi, samples)
+    z = np.exp(1j * theta)
+    body_zeros = np.array([b[1], a[1, 0] * b[0] - a[0, 0] * b[1]])
+    rendered = (mass / period) * (z - 1.0) * np.polyval(body_zeros, z) / np.polyval(
+        np.poly(a), z) * z ** -delay
+    need = period / (2.0 * (1.0 - np.cos(theta))) * np.real((1.0 - 1.0 / z) * rendered)
+    return float(need.max())
+
+
+def passive_stiffness(*, device_damping: float, damping: float, mass: float, period: float,
+                      substeps: int, delay: int = 0, low: float = 1.0, high: float = 1e6,
+                      tolerance: float = 1e-6) -> float:
+    """
+    Return the largest coupling stiffness (N/m) a device of ``device_damping`` renders passively.
+
+    Scanned and bisected as ``largest_stable_stiffness`` on ``coupling_passivity_damping``;
+    about 2 b / ((2 d + 1) T) for a well-damped coupling.
+    """
+    def passive(stiffness: float) -> bool:
+        return coupling_passivity_damping(stiffness=stiffness, damping=damping, mass=mass,
+                                          period=period, substeps=substeps,
+                                          delay=delay) < device_damping
+
+    return _largest(passive, low, high, tolerance)
 
 
 def static_stiffness(*, stiffness: float, damping: float, mass: float, period: float,
