@@ -17,7 +17,9 @@
 from geometry_msgs.msg import WrenchStamped
 import numpy as np
 import pytest
+from visualization_msgs.msg import Marker
 
+from mouse_constraint_ros.monitoring.markers import marker_array
 from mouse_constraint_ros.physics import BodyState, MouseSimulation, RigidBody, Settings
 from mouse_constraint_ros.physics.simulation import STANDARD_GRAVITY
 from mouse_constraint_ros.testing import SimulatedBody
@@ -138,3 +140,20 @@ def test_every_tick_of_a_swing_the_momentum_change_is_the_felt_force_s_reaction(
         # The swing is a real one: the force varies by a multiple of the weight.
         assert np.ptp(forces, axis=0).max() > WEIGHT
         assert np.any(wrench[:, 0] == 3.0)
+
+
+def test_the_markers_draw_the_felt_force_from_the_anchor():
+    """One longest box edge per body weight, as the wrench arrow; zero deletes it, None omits."""
+    state = BodyState((0.0, 0.0, 1.0))
+    common = {'frame_id': 'world', 'stamp_ns': 7, 'box_size': (0.4, 0.2, 0.1), 'state': state,
+              'anchor': (0.2, 0.1, 1.05), 'target': (0.2, 0.1, 1.05), 'force': (0.0, 0.0, 1.0),
+              'reference': 10.0, 'wrench_reference': WEIGHT}
+    arrow = {m.ns: m for m in marker_array(felt_force=(0.0, 0.0, -WEIGHT), **common).markers}
+    felt = arrow['felt']
+    assert felt.type == Marker.ARROW and felt.action == Marker.ADD
+    start, end = ((p.x, p.y, p.z) for p in felt.points)
+    assert start == (0.2, 0.1, 1.05)
+    assert end == pytest.approx((0.2, 0.1, 1.05 - 0.4))
+    deleted = {m.ns: m for m in marker_array(felt_force=(0.0, 0.0, 0.0), **common).markers}
+    assert deleted['felt'].action == Marker.DELETE
+    assert 'felt' not in {m.ns for m in marker_array(**common).markers}
