@@ -17,7 +17,8 @@
 from geometry_msgs.msg import WrenchStamped
 import numpy as np
 import pytest
-from visualization_msgs.msg import Marker
+from rclpy.node import Node
+from visualization_msgs.msg import Marker, MarkerArray
 
 from mouse_constraint_ros.monitoring.markers import marker_array
 from mouse_constraint_ros.physics import BodyState, MouseSimulation, RigidBody, Settings
@@ -157,3 +158,19 @@ def test_the_markers_draw_the_felt_force_from_the_anchor():
     deleted = {m.ns: m for m in marker_array(felt_force=(0.0, 0.0, 0.0), **common).markers}
     assert deleted['felt'].action == Marker.DELETE
     assert 'felt' not in {m.ns for m in marker_array(**common).markers}
+
+
+def test_with_publish_force_the_node_draws_the_felt_force():
+    """Held at the COM at rest: the arrow points down from the anchor, one box edge long."""
+    with SimulatedBody(publish_force=True, anchor=[0.0, 0.0, 0.0], marker_rate_hz=50.0) as body:
+        viewer = Node('viewer', context=body.context)
+        arrays = []
+        viewer.create_subscription(MarkerArray, '/mouse_constraint/markers', arrays.append, 10)
+        body.add_node(viewer)
+        body.step(10)
+        count = len(arrays)
+        # Markers come on their own timer (wall time): step until two more came.
+        body.step_until(lambda: len(arrays) > count + 1, max_ticks=100_000)
+        felt = {m.ns: m for m in arrays[-1].markers}['felt']
+        start, end = (np.array((p.x, p.y, p.z)) for p in felt.points)
+        np.testing.assert_allclose(end - start, (0.0, 0.0, -0.4), rtol=1e-9)
