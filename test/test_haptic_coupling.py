@@ -78,7 +78,12 @@ def test_the_node_maps_the_gains_and_keeps_damping_ratio_without_a_damper():
     ({'coupling_stiffness': -1.0}, 'coupling_stiffness must be >= 0.0, got -1.0'),
     ({'coupling_damping': math.nan, 'coupling_stiffness': 1.0},
      'coupling_damping must be finite, got nan'),
-    ({'coupling_stiffness': 1e30}, 'frequency_hz must be <= 1000000.0'),
+    ({'coupling_stiffness': 1e30},
+     'coupling_stiffness 1e+30 N/m on mass 2.0 kg gives frequency_hz 112539539519638.27, '
+     'beyond 1e+06'),
+    ({'coupling_stiffness': 1e-300, 'coupling_damping': 1.0, 'mass': 1e-30},
+     'coupling_damping 1.0 N s/m with coupling_stiffness 1e-300 N/m on mass 1e-30 kg gives '
+     'damping_ratio inf'),
 ])
 def test_nonsense_is_refused_with_the_reason(changes, reason):
     with pytest.raises(ValueError, match='^' + reason.replace('(', r'\(').replace('+', r'\+')):

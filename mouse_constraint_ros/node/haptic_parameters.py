@@ -25,7 +25,7 @@ naming the parameters and why.
 from typing import Any, Mapping, Tuple
 
 from .timer_limits import FINITE_MAX
-from ..physics.mouse_joint import coupling_gains
+from ..physics.mouse_joint import coupling_gains, MAX_DAMPING_RATIO, MAX_FREQUENCY_HZ
 from ..physics.validation import scalar
 
 # (name, default, description, bounds), as ``parameters.ParameterSpec`` takes them.
@@ -67,4 +67,13 @@ def soft_mode(values: Mapping[str, Any]) -> Tuple[float, float]:
             'soft spring: set one of them (the other 0.0)')
     mass = scalar('mass', values['mass'], above=0.0)
     coupled_frequency, coupled_ratio = coupling_gains(stiffness, damping, mass)
+    if not coupled_frequency <= MAX_FREQUENCY_HZ:
+        raise ValueError(
+            f'coupling_stiffness {stiffness!r} N/m on mass {mass!r} kg gives frequency_hz '
+            f'{coupled_frequency!r}, beyond {MAX_FREQUENCY_HZ:g}: a spring the step cannot hold')
+    if damping > 0.0 and not coupled_ratio <= MAX_DAMPING_RATIO:
+        raise ValueError(
+            f'coupling_damping {damping!r} N s/m with coupling_stiffness {stiffness!r} N/m on '
+            f'mass {mass!r} kg gives damping_ratio {coupled_ratio!r}, beyond '
+            f'{MAX_DAMPING_RATIO:g}')
     return coupled_frequency, coupled_ratio if damping > 0.0 else ratio

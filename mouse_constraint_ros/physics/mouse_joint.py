@@ -162,7 +162,10 @@ def coupling_gains(stiffness: float, damping: float, mass: float) -> Tuple[float
     :param mass: the body's mass m > 0 (kg).
     """
     omega = math.sqrt(stiffness / mass)
-    return omega / (2.0 * math.pi), damping / (2.0 * math.sqrt(stiffness * mass))
+    critical = 2.0 * math.sqrt(stiffness * mass)
+    # k m below the smallest double: any damper is then infinitely many critical ones.
+    ratio = damping / critical if critical > 0.0 else (math.inf if damping > 0.0 else 0.0)
+    return omega / (2.0 * math.pi), ratio
 
 
 def effective_mass(inverse_mass: float, inverse_inertia: Symmetric3, r: Vector3) -> Symmetric3:
