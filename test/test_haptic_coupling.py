@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 
 from mouse_constraint_ros.node.parameters import DEFAULTS, node_config
+from mouse_constraint_ros.node.startup import describe
 from mouse_constraint_ros.physics.mouse_joint import coupling_gains, soft_gains
 from mouse_constraint_ros.testing import SimulatedBody
 
@@ -114,3 +115,9 @@ def test_through_ros_the_anchor_rings_with_the_modes_of_the_coupling():
         assert np.abs(errors).max() > 0.01
         with pytest.raises(ValueError, match='both set the soft spring'):
             body.set_parameters(frequency_hz=3.0)
+
+
+def test_the_start_line_names_the_coupling_in_newtons():
+    line = describe(node_config(values(mass=MASS, coupling_stiffness=300.0,
+                                       coupling_damping=3.0)))
+    assert 'damping ratio 0.193649 (at the COM 300 N/m, 3 N s/m)' in line
