@@ -46,7 +46,7 @@ import time
 from typing import Iterator, Tuple
 
 from diagnostic_msgs.msg import DiagnosticArray
-from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
+from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped, WrenchStamped
 import numpy as np
 from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue
 from rcl_interfaces.srv import SetParameters
@@ -133,22 +133,36 @@ def observe_rate(node: Node, executor, options) -> dict:
 
 
 def observe_latency(node: Node, executor, options) -> dict:
-    """Publish targets at random intervals, recording them and every pose and twist."""
-    poses, twists = [], []
+    """
+    Publish targets at random intervals, recording them and every pose and twist.
+
+    With ``--force`` every force too, and the targets go out as poses on ``target_pose``, as
+    a haptic device's driver sends them.
+    """
+    poses, twists, forces = [], [], []
     node.create_subscription(PoseStamped, 'pose', lambda raw: poses.append(
         (time.time_ns(), raw)), RECORD_QOS, raw=True)
     node.create_subscription(TwistStamped, 'twist', lambda raw: twists.append(
         (time.time_ns(), raw)), RECORD_QOS, raw=True)
-    publisher = node.create_publisher(PointStamped, 'target', TARGET_QOS)
+    if options.force:
+        node.create_subscription(WrenchStamped, 'force', lambda raw: forces.append(
+            (time.time_ns(), raw)), RECORD_QOS, raw=True)
+        publisher = node.create_publisher(PoseStamped, 'target_pose', TARGET_QOS)
+        message = PoseStamped()
+        message.pose.orientation.w = 1.0
+        point = message.pose.position
+    else:
+        publisher = node.create_publisher(PointStamped, 'target', TARGET_QOS)
+        message = PointStamped()
+        point = message.point
     if not spin_until(executor, lambda: publisher.get_subscription_count() > 0 and poses
-                      and twists, 30.0):
+                      and twists and (forces or not options.force), 30.0):
         raise SystemExit('the node did not show up')
     say('ready')
     spin_for(executor, options.warmup)
     generator = random.Random(options.seed)
     center = np.array(options.center)
     targets, published = [], []
-    message = PointStamped()
     message.header.frame_id = options.frame
     previous = center
     next_time = time.monotonic() + options.gap_min
@@ -158,17 +172,17 @@ def observe_latency(node: Node, executor, options) -> dict:
             executor.spin_once(timeout_sec=min(left, 0.05))
             continue
         while True:  # A new point at least min_jump away from the last one.
-            point = center + np.array([generator.uniform(-options.spread, options.spread)
-                                       for _ in range(3)])
-            if np.linalg.norm(point - previous) >= options.min_jump:
+            target = center + np.array([generator.uniform(-options.spread, options.spread)
+                                        for _ in range(3)])
+            if np.linalg.norm(target - previous) >= options.min_jump:
                 break
-        previous = point
-        message.point.x, message.point.y, message.point.z = (float(c) for c in point)
+        previous = target
+        point.x, point.y, point.z = (float(c) for c in target)
         now = time.time_ns()
         message.header.stamp.sec, message.header.stamp.nanosec = divmod(now, 1_000_000_000)
         publisher.publish(message)
         published.append(now)
-        targets.append(point)
+        targets.append(target)
         next_time = time.monotonic() + generator.uniform(options.gap_min, options.gap_max)
     spin_for(executor, options.gap_max)
     say(f'end {time.time_ns()}')
@@ -179,12 +193,15 @@ def observe_latency(node: Node, executor, options) -> dict:
 
     pose_recv, pose_raw = stacked(poses)
     twist_recv, twist_raw = stacked(twists)
-    return {
+    recorded = {
         'target_pub_ns': np.array(published, dtype=np.int64),
         'targets': np.array(targets),
         'pose_recv_ns': pose_recv, 'pose_raw': pose_raw,
         'twist_recv_ns': twist_recv, 'twist_raw': twist_raw,
     }
+    if options.force:
+        recorded['force_recv_ns'], recorded['force_raw'] = stacked(forces)
+    return recorded
 
 
 def observe_exercise(node: Node, executor, options) -> dict:
@@ -312,6 +329,8 @@ def main(argv=None) -> int:
                         help='latency: least distance between successive targets (m)')
     parser.add_argument('--frame', default='world')
     parser.add_argument('--seed', type=int, default=1)
+    parser.add_argument('--force', action='store_true',
+                        help='latency: record the force too; targets as poses on target_pose')
     options = parser.parse_args(argv)
     observe = {'rate': observe_rate, 'latency': observe_latency,
                'exercise': observe_exercise}[options.mode]

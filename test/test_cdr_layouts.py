@@ -25,7 +25,7 @@ round trip give back every field.
 import math
 import struct
 
-from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
+from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped, WrenchStamped
 from hypothesis import example, given, settings, strategies as st
 from nav_msgs.msg import Odometry
 import pytest
@@ -33,7 +33,8 @@ from rclpy.serialization import deserialize_message, serialize_message
 from rosgraph_msgs.msg import Clock
 
 from mouse_constraint_ros.wire.cdr.clock import ClockLayout
-from mouse_constraint_ros.wire.cdr.geometry import PoseStampedLayout, TwistStampedLayout
+from mouse_constraint_ros.wire.cdr.geometry import (PoseStampedLayout, TwistStampedLayout,
+                                                    WrenchStampedLayout)
 from mouse_constraint_ros.wire.cdr.odometry import OdometryLayout
 from mouse_constraint_ros.wire.cdr.point_stamped import (decode_point_stamped, fields_of,
                                                          PointStampedFields)
@@ -139,6 +140,24 @@ def test_twist_stamped_bytes_are_rclpy_bytes(frame, stamp_ns, linear, angular):
     assert_header(back.header, stamp_ns, frame)
     assert same_doubles(xyz(back.twist.linear), linear)
     assert same_doubles(xyz(back.twist.angular), angular)
+
+
+@SETTINGS
+@given(frame=frames, stamp_ns=stamps, force=vector3, torque=vector3)
+def test_wrench_stamped_bytes_are_rclpy_bytes(frame, stamp_ns, force, torque):
+    layout = WrenchStampedLayout(frame)
+    assert layout.precompiled
+    packed = layout.pack(stamp_ns, force, torque)
+    message = WrenchStamped()
+    set_header(message.header, stamp_ns, frame)
+    message.wrench.force.x, message.wrench.force.y, message.wrench.force.z = force
+    message.wrench.torque.x, message.wrench.torque.y, message.wrench.torque.z = torque
+    assert_same_bytes(packed, message, layout.padding)
+
+    back = deserialize_message(packed, WrenchStamped)
+    assert_header(back.header, stamp_ns, frame)
+    assert same_doubles(xyz(back.wrench.force), force)
+    assert same_doubles(xyz(back.wrench.torque), torque)
 
 
 @SETTINGS

@@ -154,6 +154,7 @@ VALUES = {
     'damping_ratio': SIGNED,
     'baumgarte': SIGNED,
     'max_force': SIGNED,
+    'coupling_stiffness': SIGNED,
 }
 
 
@@ -347,6 +348,9 @@ INVALID = {
     'contact_iterations': 0,
     'contact_margin': 0.0,
     'contact_slop': -1.0,
+    'publish_force': 'yes',
+    'coupling_stiffness': -1.0,
+    'coupling_damping': math.inf,
 }
 
 

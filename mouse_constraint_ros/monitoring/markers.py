@@ -26,6 +26,8 @@ target        SPHERE     the target; deleted while the body is free
 constraint    LINE_LIST  anchor to target, green (no force) - yellow - red (``reference_force``)
 wrench        ARROW      the external force from the COM, one longest box edge per body weight
                          (``wrench_reference``); deleted while no force is applied
+felt          ARROW      the force the pointer feels (the ``force`` topic's), from the anchor, at
+                         the wrench arrow's scale; deleted while it is zero
 floor         CUBE       the floor: a thin square ``FLOOR_SPAN`` longest box edges wide, its top
                          at ``floor_height``, under the COM (so it is under the body wherever it
                          slides); deleted without a floor
@@ -59,6 +61,7 @@ BODY_COLOR = (0.35, 0.55, 0.85, 0.8)
 ANCHOR_COLOR = (1.0, 0.55, 0.0, 1.0)
 TARGET_COLOR = (0.85, 0.1, 0.85, 1.0)
 WRENCH_COLOR = (0.1, 0.8, 0.9, 1.0)
+FELT_COLOR = (0.95, 0.85, 0.1, 1.0)
 FLOOR_COLOR = (0.5, 0.5, 0.5, 0.6)
 CONTACT_COLOR = (0.95, 0.2, 0.2, 1.0)
 # The floor's width and thickness in longest box edges.
@@ -88,20 +91,21 @@ def wrench_reference(settings: Settings) -> float:
 
 
 def _wrench_arrow(frame_id: str, stamp_ns: int, origin: Vector3, force: Vector3,
-                  length_per_newton: float, width: float) -> Marker:
+                  length_per_newton: float, width: float, namespace: str = 'wrench',
+                  rgba: Sequence[float] = WRENCH_COLOR) -> Marker:
     magnitude = math.hypot(*force)
     if not magnitude > 0.0:
-        marker = _deleted('wrench', frame_id, stamp_ns)
+        marker = _deleted(namespace, frame_id, stamp_ns)
         marker.type = Marker.ARROW
         return marker
-    arrow = _marker('wrench', Marker.ARROW, frame_id, stamp_ns)
+    arrow = _marker(namespace, Marker.ARROW, frame_id, stamp_ns)
     start, end = Point(), Point()
     fill_point(start, origin)
     fill_point(end, tuple(o + length_per_newton * f for o, f in zip(origin, force)))
     arrow.points = [start, end]
     # ARROW with points: x is the shaft diameter, y the head diameter, z the head length.
     arrow.scale.x, arrow.scale.y, arrow.scale.z = width, 2.0 * width, 3.0 * width
-    arrow.color = _color(WRENCH_COLOR)
+    arrow.color = _color(rgba)
     return arrow
 
 
@@ -149,7 +153,8 @@ def marker_array(*, frame_id: str, stamp_ns: int, box_size: Vector3, state: Body
                  anchor: Vector3, target: Optional[Vector3], force: Vector3,
                  reference: float, wrench_force: Optional[Vector3] = None,
                  wrench_reference: float = 1.0, floor: Optional[Floor] = None,
-                 contacts: Sequence[Vector3] = ()) -> MarkerArray:
+                 contacts: Sequence[Vector3] = (),
+                 felt_force: Optional[Vector3] = None) -> MarkerArray:
     """
     Return the markers of one moment of the simulation.
 
@@ -168,6 +173,8 @@ def marker_array(*, frame_id: str, stamp_ns: int, box_size: Vector3, state: Body
     :param floor: the simulation's floor (one not enabled deletes its marker); None leaves the
         floor and contacts namespaces out.
     :param contacts: the world points of the box's corners touching the floor (m).
+    :param felt_force: the force the pointer feels (N, ``messages.felt_force``), drawn from
+        the anchor at the wrench arrow's scale; zero deletes its arrow, None leaves it out.
     """
     body = _marker('body', Marker.CUBE, frame_id, stamp_ns)
     fill_pose(body, state)
@@ -192,11 +199,14 @@ def marker_array(*, frame_id: str, stamp_ns: int, box_size: Vector3, state: Body
         markers.append(line)
     if floor is not None:
         markers += _floor_markers(frame_id, stamp_ns, floor, state.position, box_size, contacts)
-    if wrench_force is None:
-        return MarkerArray(markers=markers)
     longest = max(box_size)
-    markers.append(_wrench_arrow(frame_id, stamp_ns, state.position, wrench_force,
-                                 longest / wrench_reference, LINE_FRACTION * longest))
+    if wrench_force is not None:
+        markers.append(_wrench_arrow(frame_id, stamp_ns, state.position, wrench_force,
+                                     longest / wrench_reference, LINE_FRACTION * longest))
+    if felt_force is not None:
+        markers.append(_wrench_arrow(frame_id, stamp_ns, anchor, felt_force,
+                                     longest / wrench_reference, LINE_FRACTION * longest,
+                                     'felt', FELT_COLOR))
     return MarkerArray(markers=markers)
 
 

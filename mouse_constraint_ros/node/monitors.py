@@ -37,6 +37,7 @@ from ..monitoring.markers import marker_array, reference_force, wrench_reference
 from ..physics import MouseSimulation
 from ..physics.simulation import force_bound
 from ..wire.interface import DIAGNOSTICS_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH
+from ..wire.messages import felt_force
 from ..wire.state_publishers import StatePublishers
 
 
@@ -118,7 +119,8 @@ class Monitors:
             wrench_force=simulation.wrench[0],
             wrench_reference=wrench_reference(simulation.settings),
             floor=simulation.settings.floor,
-            contacts=[point for point, _ in simulation.contacts]))
+            contacts=[point for point, _ in simulation.contacts],
+            felt_force=felt_force(simulation.tick_impulse) if config.publish_force else None))
 
     def publish_diagnostics(self) -> None:
         """

@@ -31,7 +31,7 @@ exit 1 (``startup``); unknown keys in the parameters given to the node are warne
 import sys
 from typing import Any, List, NoReturn, Optional, Tuple
 
-from geometry_msgs.msg import PointStamped, WrenchStamped
+from geometry_msgs.msg import PointStamped, PoseStamped, WrenchStamped
 from rcl_interfaces.msg import SetParametersResult
 import rclpy
 from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
@@ -62,8 +62,8 @@ from ..physics.validation import shown
 from ..timing.guarded_time_source import guard_time_source
 from ..timing.spin import NodeRun
 from ..wire.interface import (GRAB_TOPIC, NODE_NAME, PAUSE_SERVICE, RELEASE_SERVICE,
-                              RESET_SERVICE, SERVICE_EVENT_QOS, STEP_SERVICE, TARGET_QOS,
-                              TARGET_TOPIC, WRENCH_QOS, WRENCH_TOPIC)
+                              RESET_SERVICE, SERVICE_EVENT_QOS, STEP_SERVICE, TARGET_POSE_TOPIC,
+                              TARGET_QOS, TARGET_TOPIC, WRENCH_QOS, WRENCH_TOPIC)
 from ..wire.state_publishers import (BroadcasterFactory, DEFAULT_BROADCASTER, StatePublishers,
                                      TF_UNAVAILABLE)
 
@@ -143,7 +143,8 @@ class MouseConstraintNode(Node):
         else:
             factory, unavailable = transform_broadcaster, None
         self._state_publishers = StatePublishers(
-            self, broadcaster_factory=factory, unavailable=unavailable, **publishing(config))
+            self, broadcaster_factory=factory, unavailable=unavailable, simulation=simulation,
+            **publishing(config))
         refusals = self._refusals = RefusalLog(self._throttle)
         log = self.get_logger().info
         self._target = TargetInput(simulation=simulation, config=config, record=record,
@@ -166,6 +167,8 @@ class MouseConstraintNode(Node):
     def _wire(self) -> None:
         """Create the subscriptions and services, each calling its part."""
         self.create_subscription(PointStamped, TARGET_TOPIC, self._target.on_target, TARGET_QOS)
+        self.create_subscription(PoseStamped, TARGET_POSE_TOPIC, self._target.on_target_pose,
+                                 TARGET_QOS)
         self.create_subscription(PointStamped, GRAB_TOPIC, self._target.on_grab, TARGET_QOS)
         self.create_subscription(WrenchStamped, WRENCH_TOPIC, self._wrench.on_wrench,
                                  WRENCH_QOS)

@@ -28,6 +28,7 @@ import math
 from typing import Any, Mapping, NamedTuple, Optional, Tuple
 
 from .floor_parameters import floor_from, FLOOR_PARAMETERS
+from .haptic_parameters import HAPTIC_PARAMETERS, soft_mode
 from .timer_limits import FINITE_MAX, MIN_REAL_TIME_FACTOR, MIN_TIMER_RATE, off_or_at_least
 from ..physics import BodyState, MouseConstraint, RigidBody, Settings
 from ..physics.algebra import Vector3
@@ -178,7 +179,7 @@ PARAMETERS = (
     ParameterSpec('target_feed_forward', True,
                   'Estimate the velocity of a stream of targets (a drag) from their stamps or '
                   'arrival times and let the joint follow it, so a drag does not lag.'),
-) + tuple(ParameterSpec(*spec) for spec in FLOOR_PARAMETERS)
+) + tuple(ParameterSpec(*spec) for spec in FLOOR_PARAMETERS + HAPTIC_PARAMETERS)
 
 DEFAULTS = {p.name: p.default for p in PARAMETERS}
 
@@ -202,6 +203,7 @@ class NodeConfig(NamedTuple):
     publish_rate_hz: float = 0.0
     publish_tf: bool = True
     publish_odometry: bool = False
+    publish_force: bool = False
     body_frame_id: str = 'body'
     publish_clock: bool = False
     real_time_factor: float = 1.0
@@ -242,9 +244,10 @@ def _configuration_from(values: Mapping[str, Any]) -> NodeConfig:
     else:
         body = RigidBody.solid_box(values['mass'], box_size, name='box_size')
         body_name = f'solid box of box_size {shown(box_size)} and mass'
+    frequency_hz, damping_ratio = soft_mode(values)
     constraint = MouseConstraint(
         anchor=values['anchor'], baumgarte=values['baumgarte'],
-        frequency_hz=values['frequency_hz'], damping_ratio=values['damping_ratio'],
+        frequency_hz=frequency_hz, damping_ratio=damping_ratio,
         max_force=values['max_force'], max_force_per_weight=values['max_force_per_weight'],
         angular_friction=values['angular_friction'],
         gravity_feed_forward=_flag(values, 'gravity_feed_forward'))
@@ -265,9 +268,7 @@ def _configuration_from(values: Mapping[str, Any]) -> NodeConfig:
     if frame_id.startswith('/'):
         raise ValueError(f'frame_id must not start with a slash, got {shown(frame_id)}: tf2 '
                          f'refuses such frame ids (use {shown(frame_id.lstrip("/"))})')
-    hold = values['hold_initial_anchor']
-    if not isinstance(hold, bool):
-        raise ValueError(f'hold_initial_anchor must be true or false, got {shown(hold)}')
+    hold = _flag(values, 'hold_initial_anchor')
     anchor_warn = scalar('diagnostics_anchor_warn', values['diagnostics_anchor_warn'], above=0.0)
     anchor_error = scalar('diagnostics_anchor_error', values['diagnostics_anchor_error'],
                           at_least=anchor_warn)
@@ -294,13 +295,13 @@ def _configuration_from(values: Mapping[str, Any]) -> NodeConfig:
 
 
 def _publishing(values: Mapping[str, Any], rate_hz: float, frame_id: str) -> dict:
-    """Return the checked publish_rate_hz, publish_tf, publish_odometry and body_frame_id."""
+    """Return the checked publish_rate_hz, body_frame_id and the publishing switches."""
     publish_rate = scalar('publish_rate_hz', values['publish_rate_hz'], at_least=0.0)
     if publish_rate > rate_hz:
         raise ValueError(f'publish_rate_hz must be 0.0 (every tick) or within (0, rate_hz] = '
                          f'(0, {rate_hz!r}], got {publish_rate!r}')
     switches = {}
-    for name in ('publish_tf', 'publish_odometry'):
+    for name in ('publish_tf', 'publish_odometry', 'publish_force'):
         if not isinstance(values[name], bool):
             raise ValueError(f'{name} must be true or false, got {shown(values[name])}')
         switches[name] = values[name]
@@ -318,9 +319,7 @@ def _publishing(values: Mapping[str, Any], rate_hz: float, frame_id: str) -> dic
 
 def _simulator_controls(values: Mapping[str, Any]) -> dict:
     """Return the validated clock and wrench fields of NodeConfig."""
-    publish_clock = values['publish_clock']
-    if not isinstance(publish_clock, bool):
-        raise ValueError(f'publish_clock must be true or false, got {shown(publish_clock)}')
+    publish_clock = _flag(values, 'publish_clock')
     return {
         'publish_clock': publish_clock,
         'real_time_factor': _bounded('real_time_factor', values['real_time_factor'],

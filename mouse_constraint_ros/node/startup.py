@@ -185,8 +185,11 @@ def describe(config: NodeConfig) -> str:
     if constraint.rigid:
         mode = f'rigid, baumgarte {constraint.baumgarte:g}'
     else:
+        omega, mass = 2.0 * math.pi * constraint.frequency_hz, s.body.mass
         mode = (f'soft, {constraint.frequency_hz:g} Hz, '
-                f'damping ratio {constraint.damping_ratio:g}')
+                f'damping ratio {constraint.damping_ratio:g} (at the COM '
+                f'{mass * omega * omega:g} N/m, '
+                f'{2.0 * mass * constraint.damping_ratio * omega:g} N s/m)')
     motion = s.target_motion
     return (f'{c.rate_hz:g} Hz x {s.substeps} substeps in frame {c.frame_id!r}: '
             f'mass {s.body.mass:g} kg, inertia {s.body.inertia}, anchor {s.constraint.anchor},'

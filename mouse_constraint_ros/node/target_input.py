@@ -15,7 +15,9 @@
 """
 The node's target and grab input: what it takes, how a stamp times it, when it times out.
 
-A target is taken when ``TargetGate`` takes it (frame, finite, workspace). ``TargetTiming``
+A target is taken when ``TargetGate`` takes it (frame, finite, workspace); it comes as a point
+(``target``, PointStamped) or as a pose (``target_pose``, PoseStamped: its position, as a haptic
+device's driver publishes its handle; the orientation is not used), the two alike. ``TargetTiming``
 times it by its header stamp where that is usable and the node has ticked (mapped onto the
 core's time through the latest tick of the ``TickRecord``), else by its arrival. A grab takes
 the same gate, then ``grab`` says where on the box it lands; the node's own ``anchor``
@@ -28,7 +30,7 @@ Every refusal goes to the node's ``RefusalLog``: a throttled warning, counted.
 
 from typing import Callable, Optional
 
-from geometry_msgs.msg import PointStamped
+from geometry_msgs.msg import PointStamped, PoseStamped
 
 from .parameters import NodeConfig
 from .tick_record import TickRecord
@@ -40,7 +42,7 @@ from ..inputs.throttle import RefusalLog
 from ..physics import MouseSimulation
 from ..physics.algebra import Vector3
 from ..physics.target_stream import STREAM_GAP
-from ..wire.messages import point_from_message, stamp_nanoseconds
+from ..wire.messages import point_from_message, point_from_pose, stamp_nanoseconds
 
 
 class TargetInput:
@@ -118,7 +120,14 @@ class TargetInput:
 
     def on_target(self, message: PointStamped) -> None:
         """Take a target: timed by its stamp where usable, else by its arrival."""
-        point = point_from_message(message)
+        self._take(message, point_from_message(message))
+
+    def on_target_pose(self, message: PoseStamped) -> None:
+        """Take the position of a pose as a target, as ``on_target`` takes a point."""
+        self._take(message, point_from_pose(message))
+
+    def _take(self, message, point: Vector3) -> None:
+        """Take ``point``, the target of ``message``: its header's frame and stamp."""
         refusal = self._gate.refusal(message.header.frame_id, point)
         if refusal is not None:
             self._refuse(refusal, f'ignoring target {refusal.reason}')

@@ -28,10 +28,10 @@ from .startup import yaml_text
 USAGE = """usage: mouse_constraint_node [-h] [--ros-args [-p NAME:=VALUE ...] [--params-file FILE]
                              [-r __ns:=/NAMESPACE] [-r __node:=NAME] ...]
 
-Serve one rigid body dragged by a mouse constraint: subscribes target, grab and wrench,
-publishes pose and twist (and TF, odometry and /clock when asked), offers ~/reset, ~/release,
-~/pause and ~/step. Ctrl-C, SIGTERM and SIGHUP end it with exit code 0; invalid parameters at
-start with exit code 1 and one line naming the parameter.
+Serve one rigid body dragged by a mouse constraint: subscribes target, target_pose, grab and
+wrench, publishes pose and twist (and TF, odometry, the felt force and /clock when asked),
+offers ~/reset, ~/release, ~/pause and ~/step. Ctrl-C, SIGTERM and SIGHUP end it with exit
+code 0; invalid parameters at start with exit code 1 and one line naming the parameter.
 
 options:
   -h, --help            show this message and exit

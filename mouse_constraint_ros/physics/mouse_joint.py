@@ -146,6 +146,28 @@ def soft_gains(frequency_hz: float, damping_ratio: float, h: float) -> Tuple[flo
     return 1.0 - determinant, (1.0 + determinant - trace) / h
 
 
+def coupling_gains(stiffness: float, damping: float, mass: float) -> Tuple[float, float]:
+    """
+    Return (frequency_hz, damping_ratio) of the soft mode that is a spring k and damper c.
+
+    The soft mode's impulse is P = -K^-1 (a J V + b C): scaled by the effective mass K^-1,
+    which is m at the COM (eq. 1.10 with r = 0). Its anchor error then moves as a mass m on a
+    spring k = m omega^2 and damper c = 2 m zeta omega, discretized so that the error's map
+    has exactly the eigenvalues exp(s h) of m s^2 + c s + k (``soft_gains``): omega =
+    sqrt(k / m), zeta = c / (2 sqrt(k m)). Off the COM the effective mass is smaller across
+    the lever arm (eq. 1.10), and so are the spring and damper there.
+
+    :param stiffness: k > 0 (N/m).
+    :param damping: c >= 0 (N s/m).
+    :param mass: the body's mass m > 0 (kg).
+    """
+    omega = math.sqrt(stiffness / mass)
+    critical = 2.0 * math.sqrt(stiffness * mass)
+    # k m below the smallest double: any damper is then infinitely many critical ones.
+    ratio = damping / critical if critical > 0.0 else (math.inf if damping > 0.0 else 0.0)
+    return omega / (2.0 * math.pi), ratio
+
+
 def effective_mass(inverse_mass: float, inverse_inertia: Symmetric3, r: Vector3) -> Symmetric3:
     """
     Return K = m^-1 I3 + [r]x I_w^-1 [r]x^T (eq. 1.10) as a symmetric 6-tuple.

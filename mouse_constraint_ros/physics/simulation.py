@@ -70,6 +70,8 @@ class MouseSimulation:
         self._target: Optional[Vector3] = None
         # The last substep's impulse P and its h: the constraint force P / h, divided when read.
         self._impulse: Tuple[Vector3, float] = (ZERO, 1.0)
+        # The last step's impulses summed over its substeps (N s), and its dt (s).
+        self._tick_impulse: Tuple[Vector3, float] = (ZERO, 0.0)
         self._wrench: Tuple[Vector3, Vector3] = (ZERO, ZERO)
         self._friction_torque = 0.0
         # Simulated time (s): the sum of the steps taken; targets' arrival times are on it.
@@ -204,6 +206,16 @@ class MouseSimulation:
         (ix, iy, iz), h = self._impulse
         return (ix / h, iy / h, iz / h)
 
+    @property
+    def tick_impulse(self) -> Tuple[Vector3, float]:
+        """
+        Return the last step's joint impulse summed over its substeps (N s), and its dt (s).
+
+        What the joint gave the momentum, feed-forward and bound included: without damping,
+        floor or start (``kernel.stagger``), m (v' - v) = sum P + (m g + F_wrench) dt exactly.
+        """
+        return self._tick_impulse
+
     def anchor_position(self) -> Vector3:
         """Return the anchor's world position x + R r_local."""
         return self._state.world_point(self._settings.constraint.anchor)
@@ -244,6 +256,7 @@ class MouseSimulation:
         self._stream.clear()
         self._guide = None
         self._impulse = (ZERO, 1.0)
+        self._tick_impulse = (ZERO, 0.0)
         self._friction_torque = 0.0
         self._contacts = []
 
@@ -296,6 +309,7 @@ class MouseSimulation:
             joint = (target, None)
             if not moving:
                 self._guide = None
+        sum_x = sum_y = sum_z = 0.0
         for index in range(substeps):
             if moving:
                 joint, self._guide = pull_point(
@@ -304,6 +318,7 @@ class MouseSimulation:
             touch = floor is not None and touching(floor, pz, q)
             v, w, impulse, friction_torque, turn = velocities(
                 px, py, pz, q, v, w, h, cached, joint, wrench, friction_torque, touch)
+            sum_x, sum_y, sum_z = sum_x + impulse[0], sum_y + impulse[1], sum_z + impulse[2]
             if touch:
                 body = settings.body
                 origin = self._contact_origin = (px, py, pz)
@@ -343,6 +358,7 @@ class MouseSimulation:
             q = (nx * inv_norm, ny * inv_norm, nz * inv_norm, nw * inv_norm)
         self._state = BodyState._make(((px, py, pz), q, v, w))
         self._impulse = (impulse, h)
+        self._tick_impulse = ((sum_x, sum_y, sum_z), dt)
         self._friction_torque = friction_torque
         self._time = time + dt
         return self._state

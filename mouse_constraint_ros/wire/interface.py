@@ -55,6 +55,14 @@ ODOM_TOPIC = 'odom'
 # with depth 1: a time source only needs the newest reading. The wrench is like the target:
 # RELIABLE, only the newest matters.
 CLOCK_TOPIC = '/clock'
+# The force the pointer feels (WrenchStamped), when publish_force is true: with pose's QoS, as
+# pose's companion, one per pose with the pose's stamp. A haptic driver's force input is
+# remapped to it.
+FORCE_TOPIC = 'force'
+FORCE_QOS = STATE_QOS
+# A target as a pose (PoseStamped: its position), as haptic device drivers publish their
+# handle; QoS as ``target``.
+TARGET_POSE_TOPIC = 'target_pose'
 WRENCH_TOPIC = 'wrench'
 PAUSE_SERVICE = '~/pause'
 STEP_SERVICE = '~/step'

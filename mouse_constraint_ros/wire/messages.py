@@ -55,10 +55,44 @@ def fill_twist(message: TwistStamped, state: BodyState) -> None:
     angular.x, angular.y, angular.z = state.angular_velocity
 
 
+def felt_force(tick_impulse: Tuple[Vector3, float]) -> Vector3:
+    """
+    Return the force the pointer feels over a tick (N): minus the joint's impulse over its dt.
+
+    ``tick_impulse`` is ``MouseSimulation.tick_impulse``: the impulse the joint gave the body
+    over the tick, summed over the substeps, and the tick's dt. Its reaction, divided by dt,
+    is the mean force on whatever holds the target: m (v' - v) = (-F + m g + F_wrench) dt
+    for the tick, exactly. Zero with no target held (nothing holds the body) and before the
+    first tick.
+    """
+    (x, y, z), dt = tick_impulse
+    if dt <= 0.0:
+        return (0.0, 0.0, 0.0)
+    return (-x / dt, -y / dt, -z / dt)
+
+
+def fill_felt_wrench(message: WrenchStamped, tick_impulse: Tuple[Vector3, float]) -> None:
+    """
+    Write the felt force of ``tick_impulse`` and a zero torque into ``message``.
+
+    The torque is zero: the joint holds a point, and a force at a point has no moment about
+    it. The angular friction (``angular_friction``), a torque that stops the body's spin while
+    a target is held, is not a force at the anchor and is not part of the reaction sent.
+    """
+    fill_point(message.wrench.force, felt_force(tick_impulse))
+    fill_point(message.wrench.torque, (0.0, 0.0, 0.0))
+
+
 def point_from_message(message: PointStamped) -> Vector3:
     """Return the point of a ``PointStamped`` as a 3-tuple of floats."""
     point = message.point
     return (point.x, point.y, point.z)
+
+
+def point_from_pose(message: PoseStamped) -> Vector3:
+    """Return the position of a ``PoseStamped`` as a 3-tuple of floats (its target point)."""
+    position = message.pose.position
+    return (position.x, position.y, position.z)
 
 
 def point_message(point: Vector3, frame_id: str, nanoseconds: int) -> PointStamped:

@@ -13,7 +13,7 @@
 # limitations under the License.
 
 """
-The node's state outputs: pose, twist, TF and odometry of one tick, published as raw CDR.
+The node's state outputs: pose, twist, TF, odometry and force of one tick, as raw CDR.
 
 Pose and twist (and odometry) go to the middleware as the bytes of a precompiled layout
 (``cdr``): ``Publisher.publish(bytes)`` sends them as they are, which skips the
@@ -31,20 +31,26 @@ broadcaster TF is off and ``tf_status`` says why.
 
 Odometry (``odom``): nav_msgs/Odometry with the pose in ``frame_id`` and the twist in
 ``body_frame_id`` (``body_frame_twist``), zero covariances: the state is exact.
+
+Force (``force``, with ``publish_force``): the force the pointer feels over the tick, in N
+in ``frame_id``, with the pose's stamp, one per pose: minus the joint's impulse summed over
+the tick's substeps, over dt (``messages.felt_force``), so that m (v' - v) = (-F + m g +
+F_wrench) dt holds for every tick. Zero with no target held. Its torque is zero: the joint
+holds a point (``messages.fill_felt_wrench``).
 """
 
 from typing import Any, Callable, Optional
 
-from geometry_msgs.msg import PoseStamped, TransformStamped, TwistStamped
+from geometry_msgs.msg import PoseStamped, TransformStamped, TwistStamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
 
-from .cdr.geometry import PoseStampedLayout, TwistStampedLayout
+from .cdr.geometry import PoseStampedLayout, TwistStampedLayout, WrenchStampedLayout
 from .cdr.odometry import OdometryLayout
-from .interface import ODOM_TOPIC, POSE_TOPIC, STATE_QOS, TWIST_TOPIC
-from .messages import (body_frame_twist, fill_odometry, fill_pose, fill_transform, fill_twist,
-                       set_stamp)
-from ..physics import BodyState
+from .interface import FORCE_QOS, FORCE_TOPIC, ODOM_TOPIC, POSE_TOPIC, STATE_QOS, TWIST_TOPIC
+from .messages import (body_frame_twist, felt_force, fill_felt_wrench, fill_odometry, fill_pose,
+                       fill_transform, fill_twist, set_stamp)
+from ..physics import BodyState, MouseSimulation
 
 BroadcasterFactory = Callable[[Node], Any]
 
@@ -72,11 +78,15 @@ class StatePublishers:
     :param body_frame_id: the frame attached to the body, TF's and odometry's child.
     :param publish_tf: whether TF is wanted.
     :param publish_odometry: whether odometry is published.
+    :param simulation: the body whose ``tick_impulse`` the force is made of; None: no force.
+    :param publish_force: whether the force is published (with a simulation).
     """
 
     def __init__(self, node: Node, *, broadcaster_factory: Optional[BroadcasterFactory],
                  unavailable: Optional[str], frame_id: str, body_frame_id: str,
-                 publish_tf: bool, publish_odometry: bool) -> None:
+                 publish_tf: bool, publish_odometry: bool,
+                 simulation: Optional[MouseSimulation] = None,
+                 publish_force: bool = False) -> None:
         """Create the pose and twist publishers and apply the rest with ``configure``."""
         self._node = node
         self._factory = broadcaster_factory
@@ -84,6 +94,10 @@ class StatePublishers:
         self.pose_publisher = node.create_publisher(PoseStamped, POSE_TOPIC, STATE_QOS)
         self.twist_publisher = node.create_publisher(TwistStamped, TWIST_TOPIC, STATE_QOS)
         self.odometry_publisher = None
+        self.force_publisher = None
+        self._simulation = simulation
+        self._force_layout = WrenchStampedLayout(frame_id)
+        self._force = WrenchStamped()
         self._pose_layout = PoseStampedLayout(frame_id)
         self._twist_layout = TwistStampedLayout(frame_id)
         self._odometry_layout = OdometryLayout(frame_id, body_frame_id)
@@ -94,11 +108,20 @@ class StatePublishers:
         self._send_transform = None
         self.tf_status = ''
         self.configure(frame_id=frame_id, body_frame_id=body_frame_id, publish_tf=publish_tf,
-                       publish_odometry=publish_odometry)
+                       publish_odometry=publish_odometry, publish_force=publish_force)
 
     def configure(self, *, frame_id: str, body_frame_id: str, publish_tf: bool,
-                  publish_odometry: bool) -> None:
+                  publish_odometry: bool, publish_force: bool = False) -> None:
         """Apply new frames and switches; layouts compile again only if a frame changed."""
+        self._force_layout.frame_id = frame_id
+        self._raw_force = self._force_layout.precompiled
+        self._force.header.frame_id = frame_id
+        if publish_force and self._simulation is not None and self.force_publisher is None:
+            self.force_publisher = self._node.create_publisher(WrenchStamped, FORCE_TOPIC,
+                                                               FORCE_QOS)
+        elif not publish_force and self.force_publisher is not None:
+            self._node.destroy_publisher(self.force_publisher)
+            self.force_publisher = None
         self._pose_layout.frame_id = frame_id
         self._twist_layout.frame_id = frame_id
         self._odometry_layout.configure(frame_id=frame_id, child_frame_id=body_frame_id)
@@ -132,7 +155,7 @@ class StatePublishers:
         return self._send_transform is not None
 
     def publish(self, stamp_ns: int, state: BodyState) -> None:
-        """Publish the pose, twist and, where on, the transform and odometry of ``state``."""
+        """Publish the pose, twist and, where on, the transform, odometry and force."""
         if self._raw_pose:
             self.pose_publisher.publish(
                 self._pose_layout.pack(stamp_ns, state.position, state.orientation))
@@ -160,3 +183,12 @@ class StatePublishers:
                 set_stamp(self._odometry.header.stamp, stamp_ns)
                 fill_odometry(self._odometry, state)
                 self.odometry_publisher.publish(self._odometry)
+        if self.force_publisher is not None:
+            impulse = self._simulation.tick_impulse
+            if self._raw_force:
+                self.force_publisher.publish(self._force_layout.pack(
+                    stamp_ns, felt_force(impulse), (0.0, 0.0, 0.0)))
+            else:
+                set_stamp(self._force.header.stamp, stamp_ns)
+                fill_felt_wrench(self._force, impulse)
+                self.force_publisher.publish(self._force)

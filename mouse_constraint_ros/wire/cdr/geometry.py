@@ -12,11 +12,11 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""geometry_msgs PoseStamped and TwistStamped as precompiled CDR (see ``layout``)."""
+"""geometry_msgs PoseStamped, TwistStamped and WrenchStamped as precompiled CDR (``layout``)."""
 
 import struct
 
-from geometry_msgs.msg import PoseStamped, TwistStamped
+from geometry_msgs.msg import PoseStamped, TwistStamped, WrenchStamped
 
 from .layout import (ENCAPSULATION_LE, fill_fields, fill_stamp, NANOSECONDS_PER_SECOND,
                      StampedLayout, Vector)
@@ -88,4 +88,38 @@ class TwistStampedLayout(StampedLayout):
         fill_stamp(message.header.stamp, stamp_ns)
         fill_fields(message.twist.linear, 'xyz', linear)
         fill_fields(message.twist.angular, 'xyz', angular)
+        return message
+
+
+class WrenchStampedLayout(StampedLayout):
+    """
+    geometry_msgs/WrenchStamped in one frame: ``pack(stamp_ns, force, torque)``.
+
+    :param frame_id: the header's frame id.
+    """
+
+    message_type = WrenchStamped
+    _PROBE = ((0.0,) * 3, (0.0,) * 3)
+
+    def pack(self, stamp_ns: int, force: Vector, torque: Vector) -> bytes:
+        """
+        Return the bytes of the wrench of ``force`` (N) and ``torque`` (N m).
+
+        :raises ValueError: as ``PoseStampedLayout.pack``.
+        """
+        if self._struct is None:
+            return self._fallback(stamp_ns, force, torque)
+        sec, nanosec = divmod(stamp_ns, NANOSECONDS_PER_SECOND)
+        try:
+            return self._struct.pack(ENCAPSULATION_LE, sec, nanosec, self._frame_bytes,
+                                     *force, *torque)
+        except (struct.error, TypeError) as error:
+            raise self._error(stamp_ns, (force, torque), error) from None
+
+    def message(self, stamp_ns: int, force: Vector, torque: Vector) -> WrenchStamped:
+        message = WrenchStamped()
+        message.header.frame_id = self._frame_id
+        fill_stamp(message.header.stamp, stamp_ns)
+        fill_fields(message.wrench.force, 'xyz', force)
+        fill_fields(message.wrench.torque, 'xyz', torque)
         return message

@@ -1,0 +1,142 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Force latency: a target pose published in another process -> the first force that reflects it.
+
+The node runs at 1 kHz with config/haptic.yaml (the box hung by its corner on the soft
+coupling, the force on ``force``). ``bench.observer latency --force`` publishes PoseStamped
+targets on ``target_pose`` at random intervals (20-40 ms, a random phase against the tick
+grid), 5-17 mm apart around the held corner, as a device's driver would, and records every
+pose, twist and force.
+
+The tick that first uses a target is found as ``bench.latency`` finds it, by replaying the
+node's physics from its published states; the force of that tick (same stamp) is the first that
+reflects it, and the replay's own force for that tick (minus its summed impulse over dt) must
+equal the published one (to 1e-9 N), which checks both the match and the force.
+
+Latency per target, in ticks of 1 ms: ``stamp - publish`` (the tick's due time, a lower bound)
+and ``receive - publish``, when that force reached the observer (what a device driver sees).
+
+Standalone: ``python -m bench.force_latency [--quick]`` prints the section as JSON.
+"""
+
+from pathlib import Path
+import time
+
+from bench import ros_process
+from bench.latency import _decode, GAP_S, MIN_JUMP_M, QUICK_TRIALS, reflecting_ticks, resume
+from bench.latency import SPREAD_M, TRIALS
+from geometry_msgs.msg import PoseStamped, TwistStamped, WrenchStamped
+import numpy as np
+import yaml
+
+from mouse_constraint_ros.node.parameters import DEFAULTS, node_config
+from mouse_constraint_ros.physics import MouseSimulation
+from mouse_constraint_ros.wire.messages import felt_force, state_from_messages
+
+PRESET = Path(__file__).resolve().parent.parent / 'config' / 'haptic.yaml'
+TARGET_P99_TICKS = 2.0
+FORCE_TOLERANCE = 1e-9
+
+
+def preset() -> dict:
+    """Return config/haptic.yaml's parameters."""
+    return yaml.safe_load(PRESET.read_text())['/**']['ros__parameters']
+
+
+def force_ticks(data: dict, parameters: dict) -> dict:
+    """Return, per target found, the force's stamp and receive time, and the forces checked."""
+    config = node_config(dict(DEFAULTS, **parameters))
+    simulation = MouseSimulation(config.settings, config.initial_state)
+    period = round(1e9 / config.rate_hz)
+    replay = reflecting_ticks(data, parameters)
+    poses = _decode(data['pose_raw'], data['pose_recv_ns'], PoseStamped)
+    twists = _decode(data['twist_raw'], data['twist_recv_ns'], TwistStamped)
+    forces = _decode(data['force_raw'], data['force_recv_ns'], WrenchStamped)
+    targets = [tuple(float(c) for c in point) for point in data['targets']]
+    found, mismatched = {}, 0
+    for index, (stamp, _) in replay['first'].items():
+        if stamp not in forces or stamp - period not in poses or stamp - period not in twists:
+            continue
+        resume(simulation, state_from_messages(poses[stamp - period][0],
+                                               twists[stamp - period][0]))
+        simulation.target = targets[index]
+        simulation.step(1.0 / config.rate_hz)
+        force, received = forces[stamp]
+        published = force.wrench.force
+        error = max(abs(a - b) for a, b in zip(
+            felt_force(simulation.tick_impulse), (published.x, published.y, published.z)))
+        if error > FORCE_TOLERANCE:
+            mismatched += 1
+            continue
+        found[index] = (stamp, received)
+    return {'found': found, 'mismatched': mismatched, 'replay': replay,
+            'forces': len(forces), 'poses': len(poses)}
+
+
+def run(quick: bool = False) -> dict:
+    start = time.perf_counter()
+    trials = QUICK_TRIALS if quick else TRIALS
+    parameters = preset()
+    config = node_config(dict(DEFAULTS, **parameters))
+    with ros_process.start(ros_process.node_command(parameters)) as node:
+        data, samples, _ = ros_process.observe(
+            ['latency', '--force', '--trials', str(trials), '--gap-min', str(GAP_S[0]),
+             '--gap-max', str(GAP_S[1]), '--center', *(repr(c) for c in config.initial_anchor()),
+             '--spread', str(SPREAD_M), '--min-jump', str(MIN_JUMP_M)], [node.pid])
+        cpu = ros_process.cpu_percent(samples['ready'], samples['end'], node.pid)
+    result = force_ticks(data, parameters)
+    period = 1e9 / config.rate_hz
+    published = data['target_pub_ns']
+    found = sorted(result['found'])
+    stamp = np.array([(result['found'][k][0] - published[k]) / period for k in found])
+    receive = np.array([(result['found'][k][1] - published[k]) / period for k in found])
+    rows = [{'measure': name, 'trials': len(values),
+             'p50_ticks': float(np.percentile(values, 50)),
+             'p99_ticks': float(np.percentile(values, 99)),
+             'max_ticks': float(np.max(values))}
+            for name, values in (('stamp - publish', stamp), ('receive - publish', receive))
+            if len(values)]
+    notes = [f'{len(published)} targets published, {len(found)} found with their force '
+             f'(replayed force equal to the published one within {FORCE_TOLERANCE:g} N), '
+             f'{result["mismatched"]} whose force did not match, '
+             f'{len(result["replay"]["superseded"])} superseded before any tick used them; '
+             f'{result["forces"]} forces for {result["poses"]} poses; node CPU {cpu:.1f} %, '
+             f'load {samples["end"].load:.1f}.']
+    if len(receive):
+        upper = float(np.percentile(receive, 99))
+        verdict = 'met' if upper <= TARGET_P99_TICKS else 'missed'
+        notes.append(f'target p99 <= {TARGET_P99_TICKS:g} ticks (receive - publish): '
+                     f'{upper:.2f}, {verdict}.')
+    return {
+        'title': 'Force latency: target pose published in another process -> first force '
+                 'reflecting it',
+        'text': (f'Command: `python -m bench.force_latency`. Node at {config.rate_hz:g} Hz with '
+                 f'config/haptic.yaml, {trials} target poses at random '
+                 f'{GAP_S[0] * 1e3:g}-{GAP_S[1] * 1e3:g} ms intervals; 1 tick = '
+                 f'{1e3 / config.rate_hz:g} ms.'),
+        'columns': [['measure', 'measure', ''], ['trials', 'trials', 'd'],
+                    ['p50_ticks', 'p50 (ticks)', '.2f'], ['p99_ticks', 'p99 (ticks)', '.2f'],
+                    ['max_ticks', 'max (ticks)', '.2f']],
+        'rows': rows,
+        'notes': notes,
+        'elapsed_s': time.perf_counter() - start,
+    }
+
+
+if __name__ == '__main__':
+    import json
+    import sys
+    print(json.dumps(run(quick='--quick' in sys.argv), indent=1))
