@@ -20,7 +20,8 @@ A bare rclpy timer that publishes one PoseStamped per tick: the floor under the 
 [--twist]`` runs
 until SIGINT/SIGTERM. Each tick stamps the message with the clock and publishes it on ``pose``
 (the node's QoS); no physics; with ``--twist`` also a TwistStamped on ``twist``, as the node
-publishes both. The executors:
+publishes both, and with ``--wrench`` a WrenchStamped on ``force``, as the node does with
+``publish_force``. The executors:
 
 - ``single``: SingleThreadedExecutor, ``spin_once(timeout_sec=0.1)`` in a loop;
 - ``events``: rclpy.experimental.EventsExecutor, ``spin_once(timeout_sec=0.1)`` in a loop, as
@@ -40,7 +41,7 @@ import argparse
 import signal
 import sys
 
-from geometry_msgs.msg import PoseStamped, TwistStamped
+from geometry_msgs.msg import PoseStamped, TwistStamped, WrenchStamped
 import rclpy
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.experimental import EventsExecutor
@@ -60,6 +61,8 @@ def main(argv=None) -> int:
                         default='events')
     parser.add_argument('--twist', action='store_true',
                         help='also publish a TwistStamped on twist each tick, as the node does')
+    parser.add_argument('--wrench', action='store_true',
+                        help='also publish a WrenchStamped on force each tick (publish_force)')
     options = parser.parse_args(argv)
     rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
     node = Node('bench_bare_timer')
@@ -69,6 +72,9 @@ def main(argv=None) -> int:
     twist_publisher = node.create_publisher(TwistStamped, 'twist', STATE_QOS)
     twist = TwistStamped()
     twist.header.frame_id = 'world'
+    wrench_publisher = node.create_publisher(WrenchStamped, 'force', STATE_QOS)
+    wrench = WrenchStamped()
+    wrench.header.frame_id = 'world'
     clock = node.get_clock()
 
     def tick() -> None:
@@ -78,6 +84,9 @@ def main(argv=None) -> int:
         if options.twist:
             twist.header.stamp.sec, twist.header.stamp.nanosec = sec, nanosec
             twist_publisher.publish(twist)
+        if options.wrench:
+            wrench.header.stamp.sec, wrench.header.stamp.nanosec = sec, nanosec
+            wrench_publisher.publish(wrench)
 
     node.create_timer(1.0 / options.rate, tick)
     if options.executor == 'single':

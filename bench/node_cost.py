@@ -24,7 +24,10 @@ utime + stime of all its threads over the window (``bench.node_rate.measure``):
   TwistStamped per tick;
 - the node at 1 kHz publishing every tick (its defaults but ``rate_hz``: the box hanging from
   its held corner under gravity, markers and diagnostics on);
-- the node at 1 kHz physics publishing at 100 Hz (``publish_rate_hz: 100.0``).
+- the node at 1 kHz physics publishing at 100 Hz (``publish_rate_hz: 100.0``);
+- the floor of three messages: the same timer publishing a WrenchStamped on ``force`` too
+  (``--wrench``), and the node with the felt force on (``publish_force: true``), pose, twist
+  and force read.
 
 The cases run one after the other, round after round, so that a busy spell of the machine hits
 each. A ratio is the median CPU per tick of a case over the floor's: CPU per second over the
@@ -33,7 +36,8 @@ tenth tick). Per tick, because on a loaded machine the floor's rclpy timer skips
 was late for (960 of 1000 ticks a second, seen here), while the node runs every tick of its
 grid: per second of CPU the node would be charged for the ticks the floor left out. The ratio
 of CPU per second is reported beside it. Targets: the node at 1 kHz <= 1.0 x the floor;
-publishing at 100 Hz <= 0.4 x the 1 kHz floor. Standalone:
+publishing at 100 Hz <= 0.4 x the 1 kHz floor; the node with the force <= 1.0 x the floor of
+three messages. Standalone:
 ``python -m bench.node_cost [--quick] [--rounds N] [--seconds S]`` prints the section as JSON.
 """
 
@@ -52,18 +56,29 @@ SECONDS = 6.0
 QUICK_ROUNDS = 2
 QUICK_SECONDS = 2.0
 FLOOR = 'floor'
-TARGETS = {'node, every tick': 1.0, f'node, publishing at {PUBLISH_HZ:g} Hz': 0.4}
+FLOOR_3 = 'floor, three messages'
+NODE_FORCE = 'node, every tick, force on'
+# Each case's floor, and the most CPU per tick it may take of it.
+TARGETS = {'node, every tick': (FLOOR, 1.0),
+           f'node, publishing at {PUBLISH_HZ:g} Hz': (FLOOR, 0.4),
+           NODE_FORCE: (FLOOR_3, 1.0)}
+# What the observer reads besides the pose.
+TWO = ('--also', 'twist')
+THREE = ('--also', 'twist', 'force')
 
 
-def cases() -> List[Tuple[str, Sequence[str], float]]:
-    """Return (name, command, rate its poses come at) of each case, the floor first."""
+def cases() -> List[Tuple[str, Sequence[str], float, Sequence[str]]]:
+    """Return (name, command, rate its poses come at, observer arguments) of each case."""
+    floor = ros_process.bench_command('bare_timer', '--rate', repr(RATE), *node_rate.FLOOR)
     return [
-        (FLOOR, ros_process.bench_command('bare_timer', '--rate', repr(RATE), *node_rate.FLOOR),
-         RATE),
-        ('node, every tick', ros_process.node_command({'rate_hz': RATE}), RATE),
+        (FLOOR, floor, RATE, TWO),
+        ('node, every tick', ros_process.node_command({'rate_hz': RATE}), RATE, TWO),
         (f'node, publishing at {PUBLISH_HZ:g} Hz',
          ros_process.node_command({'rate_hz': RATE, 'publish_rate_hz': PUBLISH_HZ}),
-         PUBLISH_HZ),
+         PUBLISH_HZ, TWO),
+        (FLOOR_3, [*floor, '--wrench'], RATE, THREE),
+        (NODE_FORCE, ros_process.node_command({'rate_hz': RATE, 'publish_force': True}), RATE,
+         THREE),
     ]
 
 
@@ -81,8 +96,8 @@ def run(quick: bool = False, rounds: int = 0, seconds: float = 0.0) -> dict:
     per_second: Dict[str, List[float]] = {}
     rows = []
     for round_ in range(rounds):
-        for name, command, rate in cases():
-            row = node_rate.measure(command, rate, seconds)
+        for name, command, rate, reads in cases():
+            row = node_rate.measure(command, rate, seconds, observer_arguments=reads)
             row['case'], row['round'] = name, round_ + 1
             row['cpu_us_per_tick'] = cpu_per_tick(row, rate)
             per_tick.setdefault(name, []).append(row['cpu_us_per_tick'])
@@ -91,19 +106,17 @@ def run(quick: bool = False, rounds: int = 0, seconds: float = 0.0) -> dict:
             print(f'  {round_ + 1}/{rounds} {name}: CPU {row["cpu_pct"]:.1f} %, '
                   f'{row["cpu_us_per_tick"]:.0f} us a tick, {row["achieved_hz"]:.1f} Hz, '
                   f'load {row["load"]:.1f}', file=sys.stderr, flush=True)
-    floor = statistics.median(per_tick[FLOOR])
-    floor_pct = statistics.median(per_second[FLOOR])
-    ratios = {name: statistics.median(values) / floor for name, values in per_tick.items()
-              if name != FLOOR}
-    notes = [f'Floor: median {floor:.0f} us a tick, {floor_pct:.1f} % of a core, over {rounds} '
-             'windows.']
-    for name, ratio in ratios.items():
-        target = TARGETS[name]
-        pct = statistics.median(per_second[name])
-        notes.append(f'{name}: median {statistics.median(per_tick[name]):.0f} us a tick, '
-                     f'{ratio:.2f} x the floor (target <= {target:g}: '
-                     + ('met' if ratio <= target else 'not met') + f'); {pct:.1f} % of a core, '
-                     f'{pct / floor_pct:.2f} x the floor per second.')
+    tick = {name: statistics.median(values) for name, values in per_tick.items()}
+    second = {name: statistics.median(values) for name, values in per_second.items()}
+    ratios = {name: tick[name] / tick[floor] for name, (floor, _) in TARGETS.items()}
+    notes = [f'{floor}: median {tick[floor]:.0f} us a tick, {second[floor]:.1f} % of a core, '
+             f'over {rounds} windows.' for floor in (FLOOR, FLOOR_3)]
+    for name, (floor, target) in TARGETS.items():
+        ratio = ratios[name]
+        notes.append(f'{name}: median {tick[name]:.0f} us a tick, {ratio:.2f} x the {floor} '
+                     f'(target <= {target:g}: ' + ('met' if ratio <= target else 'not met')
+                     + f'); {second[name]:.1f} % of a core, {second[name] / second[floor]:.2f} '
+                     'x per second.')
     return {
         'title': 'The node against the rclpy floor, alternating windows',
         'text': (f'Command: `python -m bench.node_cost`. {rounds} rounds of {seconds:g} s '
@@ -116,7 +129,7 @@ def run(quick: bool = False, rounds: int = 0, seconds: float = 0.0) -> dict:
                     ['load', 'load', '.1f']],
         'rows': rows,
         'notes': notes,
-        'figures': {'floor_cpu_us_per_tick': floor,
+        'figures': {'floor_cpu_us_per_tick': tick[FLOOR],
                     **{f'ratio: {name}': r for name, r in ratios.items()}},
         'elapsed_s': time.perf_counter() - start,
     }

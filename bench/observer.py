@@ -92,6 +92,10 @@ def spin_for(executor, seconds: float) -> None:
         executor.spin_once(timeout_sec=min(left, 0.05))
 
 
+# The message type of a topic ``--also`` names; any other is a TwistStamped.
+ALSO_TYPES = {'force': WrenchStamped}
+
+
 def observe_rate(node: Node, executor, options) -> dict:
     """Record (receive time, stamp) of every pose over the window; return the arrays."""
     received = []
@@ -104,7 +108,8 @@ def observe_rate(node: Node, executor, options) -> dict:
     # The other state topic is read too (and counted): a publisher without a reader sends
     # nothing, and the node's cost is that of publishing both to a reader.
     others = []
-    also = [node.create_subscription(TwistStamped, topic, others.append, qos, raw=True)
+    also = [node.create_subscription(ALSO_TYPES.get(topic, TwistStamped), topic, others.append,
+                                     qos, raw=True)
             for topic in options.also]
     if not spin_until(executor, lambda: all(s.get_publisher_count() > 0
                                             for s in [subscription, *also]), 30.0):
