@@ -265,3 +265,17 @@ def test_a_page_that_loads_is_turned_to_the_body(ros, server):
         assert tuple(server.initial_camera.look_at) == pytest.approx(expected.look_at)
     finally:
         client.close()
+
+
+def test_the_panel_shows_the_force_the_pointer_feels(ros, server):
+    """With publish_force the panel reads the felt force: the weight held at rest; else n/a."""
+    node = _node(ros, gravity=[0.0, 0.0, -9.80665], publish_force=True, mass=2.0,
+                 anchor=[0.0, 0.0, 0.0], hold_initial_anchor=True)
+    view = _view(ros, server)
+    _ready(ros, view, node)
+    # Held at its COM at rest, the pointer feels the weight: (0, 0, -m |g|).
+    assert ros.spin_until(lambda: 'force felt: 19.61 N (0.00, 0.00, -19.61)'
+                          in view.scene.numbers.content)
+    assert node.set_parameters([Parameter('publish_force', value=False)])[0].successful
+    assert ros.spin_until(lambda: 'force felt: n/a (publish_force off)'
+                          in view.scene.numbers.content)

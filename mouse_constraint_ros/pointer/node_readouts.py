@@ -130,3 +130,13 @@ def number_text(number: Optional[float], unit: str, *, scale: float = 1.0,
                 decimals: int = 3) -> str:
     """Return ``number`` times ``scale`` with ``decimals`` decimals and ``unit``, or 'n/a'."""
     return 'n/a' if number is None else f'{scale * number:.{decimals}f} {unit}'
+
+
+def force_text(force: Optional[Vector3]) -> str:
+    """Return the felt force as its magnitude and components in N, or 'n/a' without one."""
+    if force is None:
+        return 'n/a (publish_force off)'
+    x, y, z = force
+    # Rounded first, and -0.0 made 0.0: a component that rounds to zero shows no sign.
+    shown = ', '.join(f'{round(c, 2) + 0.0:.2f}' for c in force)
+    return f'{math.sqrt(x * x + y * y + z * z):.2f} N ({shown})'

@@ -28,12 +28,13 @@ sooner). The same timer takes the newest pose (``NewestMessage``: no callback pe
 offers it to the throttle; poses and twists are decoded only when used.
 """
 
+import math
 import queue
 import time
-from typing import Callable, List, Optional
+from typing import Callable, List, Optional, Tuple
 
 from diagnostic_msgs.msg import DiagnosticArray
-from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
+from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped, WrenchStamped
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
@@ -41,14 +42,15 @@ from rclpy.serialization import deserialize_message
 from std_srvs.srv import SetBool, Trigger
 from visualization_msgs.msg import Marker, MarkerArray
 
+from ..physics.algebra import Vector3
 from ..pointer.geometry import Pose, world_point
 from ..pointer.gestures import Action, Camera, Gestures, GRAB, RELEASE
 from ..pointer.newest_message import NewestMessage
 from ..pointer.node_follower import DISCOVERY_SECONDS, NodeFollower
-from ..pointer.node_readouts import number_text, Readouts, ViewParameters
+from ..pointer.node_readouts import force_text, number_text, Readouts, ViewParameters
 from ..pointer.push_throttle import PushThrottle
-from ..wire.interface import (DIAGNOSTICS_TOPIC, GRAB_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH,
-                              NODE_NAME, PAUSE_SERVICE, POSE_TOPIC, RELEASE_SERVICE,
+from ..wire.interface import (DIAGNOSTICS_TOPIC, FORCE_TOPIC, GRAB_TOPIC, MARKERS_TOPIC,
+                              MONITOR_DEPTH, NODE_NAME, PAUSE_SERVICE, POSE_TOPIC, RELEASE_SERVICE,
                               RESET_SERVICE, STEP_SERVICE, TARGET_QOS, TARGET_TOPIC, TWIST_TOPIC,
                               VIEW_NODE_NAME)
 from ..wire.messages import point_message
@@ -82,6 +84,22 @@ def _camera(client) -> Optional[Camera]:
     return Camera(position, forward)
 
 
+def _vector(raw: Optional[bytes], message_type,
+            field) -> Tuple[Optional[bytes], Optional[Vector3]]:
+    """
+    Return (``raw``, the Vector3 ``field(message)`` of it as a tuple), or (None, None).
+
+    A message that does not decode is passed over: the panel shows n/a until a good one comes.
+    """
+    if raw is None:
+        return None, None
+    try:
+        vector = field(deserialize_message(raw, message_type))
+    except Exception:
+        return None, None
+    return raw, (vector.x, vector.y, vector.z)
+
+
 class MouseViewNode(Node):
     """
     The view of one ``mouse_constraint`` node in this namespace.
@@ -102,6 +120,7 @@ class MouseViewNode(Node):
         self._work: 'queue.SimpleQueue[Callable[[], None]]' = queue.SimpleQueue()
         self._pose_raw: Optional[bytes] = None
         self._twist_raw: Optional[bytes] = None
+        self._force_raw: Optional[bytes] = None
         self._latest: Optional[Pose] = None
         self.pushes = 0  # poses pushed to the page
         self.grab_publisher = self.create_publisher(PointStamped, GRAB_TOPIC, TARGET_QOS)
@@ -111,6 +130,9 @@ class MouseViewNode(Node):
                            namespace=self.get_namespace())
         self.pose_subscription = NewestMessage(self.reader, PoseStamped, POSE_TOPIC, LATEST_QOS)
         self.twist_subscription = NewestMessage(self.reader, TwistStamped, TWIST_TOPIC,
+                                                LATEST_QOS)
+        # The force the pointer feels, while the node publishes it (publish_force).
+        self.force_subscription = NewestMessage(self.reader, WrenchStamped, FORCE_TOPIC,
                                                 LATEST_QOS)
         self.create_subscription(MarkerArray, node_name(MARKERS_TOPIC), self._on_markers,
                                  MONITOR_DEPTH)
@@ -284,14 +306,14 @@ class MouseViewNode(Node):
             self.readouts = Readouts()
 
     def _update_panel(self) -> None:
-        speed = None
-        self._twist_raw = self.twist_subscription.take() or self._twist_raw
-        if self._twist_raw is not None:
-            try:
-                linear = deserialize_message(self._twist_raw, TwistStamped).twist.linear
-                speed = (linear.x ** 2 + linear.y ** 2 + linear.z ** 2) ** 0.5
-            except Exception:  # A malformed twist shows as n/a.
-                self._twist_raw = None
+        self._twist_raw, linear = _vector(self.twist_subscription.take() or self._twist_raw,
+                                          TwistStamped, lambda m: m.twist.linear)
+        speed = None if linear is None else math.sqrt(sum(c * c for c in linear))
+        # The last force shown goes with its publisher: publish_force off shows n/a again.
+        forces = self.force_subscription
+        held = self._force_raw if forces.subscription.get_publisher_count() else None
+        self._force_raw, force = _vector(forces.take() or held, WrenchStamped,
+                                         lambda m: m.wrench.force)
         topic = self.pose_subscription.topic_name
         present = self.follower.present
         if present is None:
@@ -303,6 +325,7 @@ class MouseViewNode(Node):
         numbers = '  \n'.join((
             f'COM speed: {number_text(speed, "m/s")}',
             f'anchor error: {number_text(readouts.anchor_error, "mm", scale=1e3, decimals=2)}',
+            f'force felt: {force_text(force)}',
             f'rate: {number_text(readouts.rate_hz, "Hz", decimals=1)}',
             f'mode: {self.parameters.mode}'))
         self.scene.show_text(status=status, numbers=numbers, paused=readouts.paused)
