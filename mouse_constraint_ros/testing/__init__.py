@@ -37,15 +37,16 @@ until one of its names is used, so that the plugin costs pytest nothing at start
 import importlib
 from typing import Any
 
-__all__ = ['BodyPose', 'BodyTwist', 'DrainTimeout', 'InputRefused', 'MatchTimeout',
-           'NeverHeld', 'SimulatedBody']
+__all__ = ['BodyPose', 'BodyTwist', 'DrainTimeout', 'HarnessClosed', 'InputRefused',
+           'MatchTimeout', 'NeverHeld', 'SimulatedBody']
 
 # Where each name lives: imported on first use (PEP 562).
 _HOMES = {
-    'BodyPose': 'simulated_body',
-    'BodyTwist': 'simulated_body',
-    'InputRefused': 'simulated_body',
-    'NeverHeld': 'simulated_body',
+    'BodyPose': 'readings',
+    'BodyTwist': 'readings',
+    'HarnessClosed': 'errors',
+    'InputRefused': 'errors',
+    'NeverHeld': 'errors',
     'SimulatedBody': 'simulated_body',
     'DrainTimeout': 'lockstep',
     'MatchTimeout': 'lockstep',
