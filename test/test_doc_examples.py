@@ -19,8 +19,9 @@ Every ``python`` block runs, in a namespace of its own, unless an HTML comment o
 before it says what it is instead: ``<!-- example: test/NAME.py -->``, a test module shown as
 it is below its licence header (pytest runs it), or ``<!-- example: not run, WHY -->``. The
 example in ``mouse_constraint_ros.testing``'s docstring runs too. The command lines of the
-shell blocks that start ``mouse_target``, ``mouse_wrench`` or ``mouse_record`` parse with the
-command's own parser, and each ``-p name:=value`` they give names a parameter of the node.
+shell blocks that run ``mouse_target``, ``mouse_wrench``, ``mouse_record`` or ``mouse_ctl``
+parse with the command's own parser, and each ``-p name:=value`` they give names a parameter of
+the node.
 """
 
 from pathlib import Path
@@ -31,7 +32,7 @@ from typing import Iterator, NamedTuple
 import pytest
 from rclpy.utilities import remove_ros_args
 
-from mouse_constraint_ros.cli import record, target, wrench
+from mouse_constraint_ros.cli import ctl, record, target, wrench
 from mouse_constraint_ros.node.parameters import PARAMETERS
 import mouse_constraint_ros.testing
 
@@ -39,7 +40,7 @@ ROOT = Path(__file__).resolve().parent.parent
 PAGES = [ROOT / 'README.md', *sorted((ROOT / 'docs').glob('*.md'))]
 MARK = re.compile(r'<!-- example: (.+?) -->')
 PARSERS = {'mouse_target': target.build_parser, 'mouse_wrench': wrench.build_parser,
-           'mouse_record': record.build_parser}
+           'mouse_record': record.build_parser, 'mouse_ctl': ctl.build_parser}
 # Parameters any ROS node takes besides the node's own.
 ROS_PARAMETERS = {'use_sim_time'}
 
