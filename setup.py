@@ -48,7 +48,7 @@ setup(
     license='Apache-2.0',
     entry_points={
         'console_scripts': [
-            'mouse_constraint_node = mouse_constraint_ros.node.mouse_constraint_node:main',
+            'mouse_constraint_node = mouse_constraint_ros.node.console:main',
             'mouse_target = mouse_constraint_ros.cli.target:main',
             'mouse_record = mouse_constraint_ros.cli.record:main',
             'mouse_wrench = mouse_constraint_ros.cli.wrench:main',
