@@ -51,6 +51,15 @@ def test_setup_installs_the_command_beside_the_others():
     assert 'install_scripts=$base/lib/mouse_constraint_ros' in (ROOT / 'setup.cfg').read_text()
 
 
+def test_node_and_timeout_go_before_the_command_or_after_it():
+    """--node and --timeout are taken on either side of the command; their defaults otherwise."""
+    assert vars(ctl.parse_arguments(['reset'])) == {
+        'node': 'mouse_constraint', 'timeout': 10.0, 'command': 'reset'}
+    assert ctl.parse_arguments(['--timeout', '3', 'step', '2']).timeout == 3.0
+    after = ctl.parse_arguments(['echo', 'twist', '--node', 'arm', '--timeout', '4'])
+    assert (after.node, after.timeout, after.what) == ('arm', 4.0, 'twist')
+
+
 @pytest.fixture
 def client_node(simulated_body):
     """Return a node in the body's context, its client of each service matched."""

@@ -117,21 +117,30 @@ def build_parser() -> argparse.ArgumentParser:
         prog='mouse_ctl', description=plain_text(__doc__.split('\n\n')[0]),
         epilog='examples: mouse_ctl pause | mouse_ctl step 10 | mouse_ctl echo pose --count 5'
                ' | add --ros-args -r __ns:=/robot for a namespaced node')
-    parser.add_argument('--node', default=NODE_NAME,
-                        help='the node to call and follow (default: %(default)s, in this '
-                             'namespace)')
-    parser.add_argument('--timeout', type=_positive('--timeout'), default=10.0,
-                        help='seconds to wait for the service and each answer, or for the '
-                             'first message (default: %(default)g)')
+    # --node and --timeout before the command or after it: the command's copy has no default,
+    # so that it leaves the one given before alone.
+    common = argparse.ArgumentParser(add_help=False)
+    for target, node, timeout in ((parser, NODE_NAME, 10.0),
+                                  (common, argparse.SUPPRESS, argparse.SUPPRESS)):
+        target.add_argument('--node', default=node,
+                            help=f'the node to call and follow (default: {NODE_NAME}, in this '
+                                 'namespace)')
+        target.add_argument('--timeout', type=_positive('--timeout'), default=timeout,
+                            help='seconds to wait for the service and each answer, or for the '
+                                 'first message (default: 10)')
     commands = parser.add_subparsers(dest='command', required=True, metavar='COMMAND')
-    commands.add_parser('pause', help='pause the physics (~/pause true)')
-    commands.add_parser('resume', help='resume it, without catching up (~/pause false)')
-    step = commands.add_parser('step', help='advance a paused node N ticks (~/step)')
+    commands.add_parser('pause', parents=[common], help='pause the physics (~/pause true)')
+    commands.add_parser('resume', parents=[common],
+                        help='resume it, without catching up (~/pause false)')
+    step = commands.add_parser('step', parents=[common],
+                               help='advance a paused node N ticks (~/step)')
     step.add_argument('ticks', nargs='?', type=_steps, default=1, metavar='N',
                       help='ticks to advance (default: %(default)s)')
-    commands.add_parser('reset', help='back to the initial state (~/reset)')
-    commands.add_parser('release', help='drop the target: the body flies free (~/release)')
-    echo = commands.add_parser('echo', help='print pose, twist or force with their rate')
+    commands.add_parser('reset', parents=[common], help='back to the initial state (~/reset)')
+    commands.add_parser('release', parents=[common],
+                        help='drop the target: the body flies free (~/release)')
+    echo = commands.add_parser('echo', parents=[common],
+                               help='print pose, twist or force with their rate')
     echo.add_argument('what', nargs='?', choices=sorted(ECHOES), default='pose',
                       help='what to print (default: %(default)s; force: the wrench input)')
     echo.add_argument('--count', type=int, default=0,
