@@ -80,13 +80,25 @@ test-unit: venv
 lint: venv
 	$(VPY) -m flake8 --max-line-length 99 $(LINT_PATHS)
 
+# A long-lived command that Ctrl-C ends: in a terminal, Ctrl-C signals the foreground process
+# group, make with the command, and make then dies of SIGINT (exit 130) however the command
+# ends. With job control (set -m) the command runs in a process group of its own, the
+# terminal's foreground: Ctrl-C reaches it alone and make exits with its status (0). Ctrl-Z
+# stops the command, then make with it; fg resumes both. Without a terminal, a plain recipe.
+define foreground
+if [ -t 0 ]; then set -m; $(1); s=$$?; while [ $$s = 148 ]; do kill -STOP 0; fg >/dev/null; \
+  s=$$?; done; exit $$s; else $(1); fi
+endef
+
 run: venv
-	$(VENV)/bin/mouse_constraint_node --ros-args --params-file config/params.yaml
+	@echo '$(VENV)/bin/mouse_constraint_node --ros-args --params-file config/params.yaml'
+	@$(call foreground,$(VENV)/bin/mouse_constraint_node --ros-args --params-file config/params.yaml)
 
 # VIEW_ARGS: mouse_view's options, e.g. make view VIEW_ARGS='--port 8090'.
 VIEW_ARGS ?=
 view: venv
-	$(VENV)/bin/mouse_view $(VIEW_ARGS)
+	@echo '$(VENV)/bin/mouse_view $(VIEW_ARGS)'
+	@$(call foreground,$(VENV)/bin/mouse_view $(VIEW_ARGS))
 
 bench-venv: $(BENCH_STAMP)
 

@@ -48,10 +48,11 @@ setup(
     license='Apache-2.0',
     entry_points={
         'console_scripts': [
-            'mouse_constraint_node = mouse_constraint_ros.node.mouse_constraint_node:main',
+            'mouse_constraint_node = mouse_constraint_ros.node.console:main',
             'mouse_target = mouse_constraint_ros.cli.target:main',
             'mouse_record = mouse_constraint_ros.cli.record:main',
             'mouse_wrench = mouse_constraint_ros.cli.wrench:main',
+            'mouse_ctl = mouse_constraint_ros.cli.ctl:main',
             'mouse_view = mouse_constraint_ros.view.command:main',
             'mouse_marker = mouse_constraint_ros.marker.command:main',
         ],

@@ -12,10 +12,24 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""The Makefile's recipes, dry-run: what `make test` and `make view` run."""
+"""
+The Makefile's recipes, dry-run: what `make test`, `make run` and `make view` run.
 
+Ctrl-C of `make run` in a terminal: the recipe `make -n run` prints runs in a pseudo-terminal
+under a stand-in for make (the recipe's shell, its process dying of SIGINT as make does),
+and the terminal's Ctrl-C and Ctrl-Z are typed into it.
+"""
+
+import os
 from pathlib import Path
+import pty
+import select
+import signal
 import subprocess
+import sys
+import time
+
+import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -36,4 +50,103 @@ def test_make_test_lists_every_skip_with_its_reason():
 def test_make_view_passes_its_options():
     """VIEW_ARGS reaches mouse_view: make view VIEW_ARGS='--port 8090'."""
     assert '.venv/bin/mouse_view --port 8090' in dry_run('view', 'VIEW_ARGS=--port 8090')
-    assert dry_run('view').rstrip().endswith('.venv/bin/mouse_view')
+    assert "echo '.venv/bin/mouse_view '" in dry_run('view')
+
+
+# make, as far as a signal goes: it runs the recipe line with its shell and dies of SIGINT.
+MAKE_STAND_IN = ('import signal, subprocess, sys\n'
+                 'signal.signal(signal.SIGINT, signal.SIG_DFL)\n'
+                 "sys.exit(subprocess.call(['/bin/bash', '-c', sys.argv[1]]))\n")
+
+
+def recipe(target: str) -> str:
+    """Return the line of ``target``'s recipe that runs its command (the last)."""
+    return dry_run(target).rstrip().splitlines()[-1]
+
+
+def test_run_and_view_run_their_command_in_the_foreground():
+    """Both recipes give the terminal to their command alone (job control), and say it first."""
+    for target, command in (('run', '.venv/bin/mouse_constraint_node --ros-args --params-file '
+                                    'config/params.yaml'), ('view', '.venv/bin/mouse_view')):
+        line = recipe(target)
+        assert line.startswith('if [ -t 0 ]; then set -m; ' + command), line
+        assert f"echo '{command}" in dry_run(target)
+
+
+def read_until(fd: int, text: bytes, timeout: float = 30.0) -> bytes:
+    """Return what the pseudo-terminal printed until ``text`` (or the timeout)."""
+    out, deadline = b'', time.monotonic() + timeout
+    while text not in out and time.monotonic() < deadline:
+        if select.select([fd], [], [], 0.1)[0]:
+            try:
+                out += os.read(fd, 4096)
+            except OSError:
+                break
+    return out
+
+
+def run_in_a_terminal(target: str):
+    """Start ``target``'s recipe under make's stand-in on a new terminal; return (pid, fd)."""
+    pid, fd = pty.fork()
+    if pid == 0:  # the child: make's stand-in, in the repository, on the terminal
+        os.chdir(ROOT)
+        os.execv(sys.executable, [sys.executable, '-c', MAKE_STAND_IN, recipe(target)])
+    started = read_until(fd, b'Hz x')
+    assert b'Hz x' in started, started
+    return pid, fd
+
+
+def wait(pid: int, options: int = 0, timeout: float = 20.0):
+    """Return the wait status of ``pid`` once it changed (options: os.WUNTRACED), or None."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        done, status = os.waitpid(pid, options | os.WNOHANG)
+        if done:
+            return status
+        time.sleep(0.02)
+    return None
+
+
+@pytest.mark.system
+def test_ctrl_c_of_make_run_in_a_terminal_exits_0():
+    """The node alone gets Ctrl-C and exits 0, and so does make (it died of SIGINT: 130)."""
+    pid, fd = run_in_a_terminal('run')
+    try:
+        os.write(fd, b'\x03')
+        status = wait(pid)
+        assert status is not None and os.waitstatus_to_exitcode(status) == 0, status
+    finally:
+        kill_session(pid)
+        os.close(fd)
+
+
+@pytest.mark.system
+def test_ctrl_z_of_make_run_stops_it_until_fg():
+    """Ctrl-Z stops the node, then make; going on (fg), Ctrl-C ends both with 0."""
+    pid, fd = run_in_a_terminal('run')
+    try:
+        os.write(fd, b'\x1a')
+        status = wait(pid, os.WUNTRACED)
+        assert status is not None and os.WIFSTOPPED(status)
+        os.killpg(pid, signal.SIGCONT)  # fg: make goes on, and gives the node the terminal
+        time.sleep(0.5)
+        os.write(fd, b'\x03')
+        status = wait(pid)
+        assert status is not None and os.waitstatus_to_exitcode(status) == 0, status
+    finally:
+        kill_session(pid)
+        os.close(fd)
+
+
+def kill_session(session: int) -> None:
+    """Kill every process of the terminal's session ``session``, whatever its process group."""
+    for stat in Path('/proc').glob('[0-9]*/stat'):
+        try:
+            fields = stat.read_text().rsplit(')', 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[3]) == session:  # the session id, after state, ppid and pgrp
+            try:
+                os.kill(int(stat.parent.name), signal.SIGKILL)
+            except ProcessLookupError:
+                pass

@@ -202,7 +202,8 @@ def test_colcon_build_gives_what_ros2_run_needs(ros, tmp_path):
          'print(get_package_prefix("mouse_constraint_ros"))'],
         capture_output=True, text=True, env=run_environment, cwd=tmp_path, check=True)
     assert found.stdout.strip() == str(prefix)
-    for name in ('mouse_constraint_node', 'mouse_target'):
+    for name in ('mouse_constraint_node', 'mouse_target', 'mouse_wrench', 'mouse_record',
+                 'mouse_ctl', 'mouse_view', 'mouse_marker'):
         executable = prefix / 'lib' / 'mouse_constraint_ros' / name
         assert executable.is_file() and os.access(executable, os.X_OK), name
     poses = ros.collect(PoseStamped, 'pose')

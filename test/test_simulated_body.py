@@ -29,6 +29,7 @@ import sys
 import textwrap
 
 from geometry_msgs.msg import PointStamped, PoseStamped
+import numpy as np
 import pytest
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
@@ -264,3 +265,19 @@ def test_the_worked_example_is_the_one_docs_testing_shows():
     example = source[source.index('"""A downstream'):]
     page = (root / 'docs' / 'testing.md').read_text()
     assert '```python\n' + example + '```' in page
+
+
+def test_anchor_is_the_dragged_point_in_the_world(simulated_body):
+    """The body-frame anchor placed by the latest pose; a grab at the COM makes it the COM."""
+    from scipy.spatial.transform import Rotation
+
+    body = simulated_body
+    assert body.anchor is None
+    body.step(20)
+    local = np.array(body.node.get_parameter('anchor').value)
+    rotation = Rotation.from_quat(body.pose.orientation)
+    assert np.allclose(body.anchor, body.pose.position + rotation.apply(local), atol=1e-12)
+    assert np.allclose(body.anchor, (0.2, 0.1, 1.05), atol=1e-6)  # held where it started
+    body.grab(tuple(body.pose.position))
+    body.step(1)
+    assert np.allclose(body.anchor, body.pose.position, atol=1e-9)

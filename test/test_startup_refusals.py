@@ -156,3 +156,18 @@ def test_help_prints_the_usage_and_every_parameter_and_starts_nothing(flag):
     # A --help among the ROS arguments is theirs: the node starts (and here refuses a file).
     refused = run_node('--params-file', '/no/such/file.yaml', '--help')
     assert refused.returncode == 1
+
+
+@pytest.mark.parametrize('arguments, line', [
+    (['-p', 'mass:=3.0'], 'mouse_constraint_node: unknown arguments -p mass:=3.0: parameters go '
+                          'after --ros-args, as in: mouse_constraint_node --ros-args -p '
+                          'mass:=3.0 (--help lists them)'),
+    (['--foo'], 'mouse_constraint_node: unknown argument --foo: parameters go after '
+                '--ros-args, as in: mouse_constraint_node --ros-args -p NAME:=VALUE (--help '
+                'lists them)'),
+])
+def test_arguments_outside_ros_args_are_refused_with_the_ros_args_form(arguments, line):
+    """What is outside --ros-args, which rclpy ignores, is refused in one line, exit 2."""
+    result = subprocess.run([NODE, *arguments], capture_output=True, text=True, timeout=20.0)
+    assert result.returncode == 2 and result.stdout == ''
+    assert result.stderr.splitlines() == [line]

@@ -60,10 +60,8 @@ from rclpy.utilities import remove_ros_args
 from .help_text import plain_text
 from ..recording.capture import capture, fetch_start, Progress, Recorder, wait_for_first_pose
 from ..recording.figure import write_figure
-from ..recording.missing_ticks import Grid, missing_ticks
 from ..recording.outputs import check_writable, describe_os_error, output_paths
 from ..recording.recording_files import RecordingFiles
-from ..recording.rows import Row
 from ..timing.spin import Interrupted, SpinEnd, StopRequest
 from ..wire.interface import NODE_NAME
 
@@ -71,15 +69,18 @@ from ..wire.interface import NODE_NAME
 INTERRUPTED_STATUS = 130
 # With --anchor, how long the recorded node's parameters are waited for once poses come (s).
 ANCHOR_FETCH_SECONDS = 2.0
+# The longest recording (s): the stamps' seconds are an int32, no node's clock runs longer.
+MAX_DURATION = float(2 ** 31 - 1)
 
 
-def _finite(name: str, minimum: Optional[float] = None):
+def _finite(name: str, minimum: Optional[float] = None, maximum: Optional[float] = None):
     def parse(text: str) -> float:
         value = float(text)
-        if not math.isfinite(value) or (minimum is not None and not value > minimum):
+        if not math.isfinite(value) or (minimum is not None and not value > minimum) or (
+                maximum is not None and value > maximum):
             raise argparse.ArgumentTypeError(
                 f'{name} must be finite' + ('' if minimum is None else f' and > {minimum:g}')
-                + f', got {text}')
+                + ('' if maximum is None else f' and <= {maximum:.10g}') + f', got {text}')
         return value
     return parse
 
@@ -90,7 +91,8 @@ def build_parser() -> argparse.ArgumentParser:
         prog='mouse_record', description=plain_text(__doc__.split('\n\n')[0]),
         epilog='examples: mouse_record -d 10 -o run --mcap | mouse_record --anchor 0.2 0.1 0.05'
                ' | add --ros-args -r __ns:=/robot for a namespaced node')
-    parser.add_argument('-d', '--duration', type=_finite('--duration', 0.0), default=10.0,
+    parser.add_argument('-d', '--duration', type=_finite('--duration', 0.0, MAX_DURATION),
+                        default=10.0,
                         help='seconds to record from the first pose (default: %(default)g)')
     parser.add_argument('-o', '--output', type=Path, default=None,
                         help='path prefix of the files (default: mouse_record_<date>_<time>)')
@@ -228,29 +230,21 @@ def finish_outputs(node: Recorder, files: RecordingFiles, options: argparse.Name
     :param start: the recorded node's parameters at the start (``rows.NodeView``).
     """
     logger = node.get_logger()
-    grid = (Grid(start['rate_hz'], start.get('publish_rate_hz', 0.0)) if 'rate_hz' in start
-            else None)
-    lacking = None
-
-    def trailer(rows: List[Row]) -> List[str]:
-        nonlocal lacking
-        lacking = missing_ticks([row.stamp_ns for row in rows], grid)
-        return lacking.lines() if rows else []
     written = output_paths(options.output, options.mcap)
     try:
-        files.close(trailer)
-        if not files.rows:
+        files.close()
+        if not files.figure_rows.count:
             logger.error('no tick with both pose and twist was recorded')
             for path in files.paths():
                 path.unlink(missing_ok=True)
             return 1
-        write_figure(written[1], files.rows, anchor=start['anchor'],
-                     frame_id=files.frame_id or '?')
+        write_figure(written[1], files.rows(), anchor=start['anchor'],
+                     frame_id=files.frame_id or '?', ticks=files.figure_rows.count)
     except OSError as error:
         logger.error(f'cannot write {describe_os_error(error)}')
         return 1
-    rows = files.rows
-    logger.info(f'{len(rows)} ticks, {rows[-1].time:.2f} s: wrote '
+    last, lacking = files.rows()[-1], files.missing()
+    logger.info(f'{files.figure_rows.count} ticks, {last.time:.2f} s: wrote '
                 + ', '.join(str(path) for path in written))
     if lacking.missing:
         logger.warning(

@@ -53,7 +53,7 @@ from .target_input import TargetInput
 from .tick import Tick
 from .tick_record import TickRecord
 from .ticker import Ticker
-from .usage import asks_for_help, usage_text
+from .usage import asks_for_help, refuse_unknown_arguments, usage_text
 from .wrench_input import WrenchInput
 from ..inputs.target_gate import Refusal
 from ..inputs.throttle import RefusalLog, Throttle
@@ -258,7 +258,13 @@ class MouseConstraintNode(Node):
 
 
 def main(args: Optional[List[str]] = None) -> int:
-    """Run the node until Ctrl-C, SIGTERM or SIGHUP; exit 0 then, 1 when it cannot start."""
+    """
+    Run the node until Ctrl-C, SIGTERM or SIGHUP; exit 0 then, 1 when it cannot start.
+
+    Arguments outside ``--ros-args`` (which rclpy would ignore) end it with exit 2 and a line
+    that shows the ``--ros-args -p`` form.
+    """
+    refuse_unknown_arguments(sys.argv if args is None else args)
     if asks_for_help(sys.argv if args is None else args):
         print(usage_text())
         return 0

@@ -16,11 +16,15 @@
 What ``mouse_constraint_node --help`` prints: how to run the node, and its parameters.
 
 The parameters are ``PARAMETERS``: each name with its default and its description, as the
-node declares them (``ros2 param describe`` shows the same). Plain Python only.
+node declares them (``ros2 param describe`` shows the same). An argument the node does not
+understand (anything but ``-h`` and ``--help`` outside ``--ros-args``: rclpy would ignore it,
+and ``mass:=3.0`` would start a 2 kg body) is refused with one line that shows the
+``--ros-args -p`` form, exit status 2 (``refuse_unknown_arguments``). Plain Python only.
 """
 
+import sys
 import textwrap
-from typing import Sequence
+from typing import List, Sequence, TextIO
 
 from .parameters import PARAMETERS
 from .startup import yaml_text
@@ -42,6 +46,9 @@ options:
 parameters (default, then what it does):"""
 
 HELP_FLAGS = ('-h', '--help')
+# The exit status of a command line the node does not understand (argparse's).
+USAGE_STATUS = 2
+ROS_ARGS = '--ros-args'
 
 
 def asks_for_help(args: Sequence[str]) -> bool:
@@ -60,3 +67,52 @@ def usage_text(width: int = 94) -> str:
         lines.extend(textwrap.wrap(parameter.description, width, initial_indent=' ' * 6,
                                    subsequent_indent=' ' * 6))
     return '\n'.join(lines)
+
+
+def unknown_arguments(args: Sequence[str]) -> List[str]:
+    """
+    Return the arguments of the command line ``args`` the node does not understand.
+
+    Those outside ``--ros-args`` (before it, or after a ``--`` that ends it), but for the help
+    flags; what is inside, rcl reads (and refuses itself when it cannot).
+    """
+    unknown, inside = [], False
+    for argument in args[1:]:
+        if argument == ROS_ARGS:
+            inside = True
+        elif inside and argument == '--':
+            inside = False
+        elif not inside and argument not in HELP_FLAGS:
+            unknown.append(argument)
+    return unknown
+
+
+def _as_parameters(unknown: Sequence[str]) -> List[str]:
+    """Return ``unknown`` as the ``-p NAME:=VALUE`` it meant, or [] when it is not that."""
+    given = [argument for argument in unknown if argument != '-p']
+    if given and all(':=' in argument and not argument.startswith('-') for argument in given):
+        return [word for argument in given for word in ('-p', argument)]
+    return []
+
+
+def unknown_arguments_line(unknown: Sequence[str], program: str = 'mouse_constraint_node') -> \
+        str:
+    """Return the one line that refuses ``unknown``, with the ``--ros-args -p`` form to use."""
+    meant = _as_parameters(unknown)
+    form = ' '.join(meant) if meant else '-p NAME:=VALUE'
+    return (f'{program}: unknown argument{"s" if len(unknown) > 1 else ""} '
+            f'{" ".join(unknown)}: parameters go after --ros-args, as in: {program} '
+            f'{ROS_ARGS} {form} (--help lists them)')
+
+
+def refuse_unknown_arguments(args: Sequence[str], stream: TextIO = None) -> None:
+    """
+    Exit with status 2 and one line on stderr when ``args`` hold arguments the node ignores.
+
+    :param args: the command line, the program first (``sys.argv``).
+    :raises SystemExit: with ``USAGE_STATUS``, after the line.
+    """
+    unknown = unknown_arguments(args)
+    if unknown:
+        print(unknown_arguments_line(unknown), file=sys.stderr if stream is None else stream)
+        raise SystemExit(USAGE_STATUS)

@@ -22,7 +22,7 @@ as its escapes rather than as missing glyphs.
 """
 
 from pathlib import Path
-from typing import Sequence
+from typing import Optional, Sequence
 
 import numpy as np
 
@@ -48,7 +48,7 @@ def drawable(text: str) -> str:
 
 
 def draw_figure(rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
-                title: str = 'mouse_constraint'):
+                title: str = 'mouse_constraint', ticks: Optional[int] = None):
     """
     Return the recording's figure (a matplotlib ``Figure`` on the Agg canvas, not shown).
 
@@ -61,6 +61,8 @@ def draw_figure(rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
     :param anchor: the anchor in the body frame (m) at the start, named in the title (with the
         last one when grabs changed it).
     :param frame_id: the frame of the positions, named on the axes.
+    :param ticks: the ticks recorded, named in the title, when ``rows`` are fewer
+        (``FigureRows``); by default ``len(rows)``.
     :raises ValueError: without rows.
     """
     from matplotlib.figure import Figure
@@ -117,7 +119,8 @@ def draw_figure(rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
     last = point(rows[-1].body_anchor)
     changed = '' if last == point(anchor) else f', {last} at the end'
     grab_note = f', {len(grabbed)} grab{"s" if len(grabbed) != 1 else ""}' if grabbed else ''
-    figure.suptitle(f'{drawable(title)}: {t[-1]:.1f} s, {len(rows)} ticks, anchor '
+    ticks = len(rows) if ticks is None else ticks
+    figure.suptitle(f'{drawable(title)}: {t[-1]:.1f} s, {ticks} ticks, anchor '
                     f'{point(anchor)}{changed} m in the body frame{grab_note}')
     return figure
 
@@ -158,7 +161,7 @@ def _draw_speeds(axes, t, rows):
 
 
 def write_figure(path: Path, rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
-                 title: str = 'mouse_constraint') -> None:
+                 title: str = 'mouse_constraint', ticks: Optional[int] = None) -> None:
     """Draw the recording (``draw_figure``) into a PNG of ``FIGURE_INCHES`` at ``FIGURE_DPI``."""
-    draw_figure(rows, anchor=anchor, frame_id=frame_id, title=title).savefig(
+    draw_figure(rows, anchor=anchor, frame_id=frame_id, title=title, ticks=ticks).savefig(
         path, dpi=FIGURE_DPI)

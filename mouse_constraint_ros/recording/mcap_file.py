@@ -27,8 +27,10 @@ from the message classes (``message_definition``), so that no ``.msg`` files are
 
 import importlib
 from pathlib import Path
+import pickle
 import re
-from typing import Dict, List, Mapping, Sequence
+import tempfile
+from typing import Dict, Iterator, List, Mapping, Sequence
 
 from rclpy.qos import QoSProfile
 import yaml
@@ -107,6 +109,41 @@ def message_definition(message_type) -> str:
     return ''.join(sections)
 
 
+class SpilledChunkIndexes:
+    """
+    The chunk indexes of an MCAP writer, kept in a temporary file instead of memory.
+
+    The writer keeps one per chunk for the summary it writes at the end (some 700 bytes each in
+    memory; a recording flushes a chunk four times a second: 10 MB an hour); here each is
+    pickled to the file as it comes and read back, in order, when the summary is written.
+    """
+
+    def __init__(self) -> None:
+        """Open the temporary file (deleted when closed)."""
+        self._file = tempfile.TemporaryFile()
+        self._count = 0
+
+    def append(self, index) -> None:
+        """Keep one chunk index, at the end."""
+        self._file.seek(0, 2)
+        pickle.dump(index, self._file, protocol=pickle.HIGHEST_PROTOCOL)
+        self._count += 1
+
+    def __iter__(self) -> Iterator:
+        """Yield the chunk indexes, in the order they came."""
+        self._file.seek(0)
+        for _ in range(self._count):
+            yield pickle.load(self._file)
+
+    def __len__(self) -> int:
+        """Return how many chunk indexes are kept."""
+        return self._count
+
+    def close(self) -> None:
+        """Close and delete the temporary file."""
+        self._file.close()
+
+
 class McapStream:
     """
     A recording's MCAP file, written as the messages come, a chunk at a time.
@@ -127,6 +164,10 @@ class McapStream:
 
         self._stream = open(path, 'wb')
         self._writer = Writer(self._stream)
+        # The writer's list of chunk indexes (mcap 1.6), spilled to a file: flat memory.
+        self._chunk_indexes = SpilledChunkIndexes()
+        if isinstance(getattr(self._writer, '_Writer__chunk_indices', None), list):
+            self._writer._Writer__chunk_indices = self._chunk_indexes
         self._writer.start(profile='ros2', library='mouse_constraint_ros mouse_record')
         self._topic_names = topic_names
         self._schemas = {
@@ -166,6 +207,7 @@ class McapStream:
             self._channel(key, offered_qos.get(key, ''))
         self._writer.finish()
         self._stream.close()
+        self._chunk_indexes.close()
 
 
 def write_mcap(path: Path, received: Sequence[Received], *, topic_names: Mapping[str, str],

@@ -27,7 +27,7 @@ as the smallest step between rows. Plain integers; no ROS here.
 """
 
 from fractions import Fraction
-from typing import NamedTuple, Optional, Sequence
+from typing import Dict, List, NamedTuple, Optional, Sequence
 
 
 class Grid(NamedTuple):
@@ -56,6 +56,96 @@ class MissingTicks(NamedTuple):
                 f'grid_restarts: {self.restarts}']
 
 
+class TickCounter:
+    """
+    ``missing_ticks`` counted as the rows come, in memory that does not grow with them.
+
+    With the node's rates each step between rows is judged as it comes; without them, the
+    distinct steps are counted (a handful on a grid: one tick, a nanosecond more or less, the
+    gaps) and judged at the end against the smallest.
+
+    :param grid: the node's rates, or None to take the smallest step between rows as the grid.
+    """
+
+    def __init__(self, grid: Optional[Grid]) -> None:
+        """Count no row yet."""
+        self._grid = grid
+        if grid is None:
+            self._period, self._share, self._exact = None, Fraction(1), False
+        else:
+            self._period = Fraction(1_000_000_000) / Fraction(grid.rate_hz)
+            self._share = (Fraction(1) if grid.publish_rate_hz == 0.0
+                           else Fraction(grid.publish_rate_hz) / Fraction(grid.rate_hz))
+            self._exact = True
+        self._first: Optional[int] = None
+        self._previous: Optional[int] = None
+        self.recorded = 0
+        self._missing, self._restarts, self._longest, self._at = 0, 0, 0, 0
+        # Without the grid: each positive step, its count and where it first came.
+        self._steps: Dict[int, List[int]] = {}
+        # With it: the ticks missing across the steps seen lately (None: a restart).
+        self._judged: Dict[int, Optional[int]] = {}
+
+    def add(self, stamp: int) -> None:
+        """Take the next row's stamp (ns)."""
+        self.recorded += 1
+        previous, self._previous = self._previous, stamp
+        if previous is None:
+            self._first = stamp
+            return
+        step = stamp - previous
+        if step == 0:
+            return  # the same tick again: a reset while paused publishes the state it leaves
+        if self._period is None:
+            if step < 0:
+                self._restarts += 1
+            elif step in self._steps:
+                self._steps[step][0] += 1
+            else:
+                self._steps[step] = [1, previous - self._first]
+            return
+        self._judge(step, 1, previous - self._first)
+
+    def _judge(self, step: int, count: int, at: int) -> None:
+        lacking = self._judged.get(step, -1)
+        if lacking == -1:
+            ticks = round(step / self._period) if step > 0 else 0
+            # Stamps are t0 + floor(n P): two of them lie within 1 ns of k P apart.
+            lacking = (None if ticks < 1 or (self._exact and abs(step - ticks * self._period) >= 1)
+                       else max(0, round(ticks * self._share) - 1))
+            if len(self._judged) >= 256:
+                self._judged.clear()
+            self._judged[step] = lacking
+        if lacking is None:
+            self._restarts += count
+            return
+        self._missing += count * lacking
+        if step > self._longest:
+            self._longest, self._at = step, at
+
+    def result(self) -> MissingTicks:
+        """Return what the rows so far lack."""
+        if self._grid is not None:
+            described = f'{self._grid.rate_hz:g} Hz' + (
+                ', every tick published' if self._share == 1 else
+                f', published at {self._grid.publish_rate_hz:g} Hz')
+            missing, restarts, longest, at = (self._missing, self._restarts, self._longest,
+                                              self._at)
+        else:
+            period = Fraction(min(self._steps)) if self._steps else Fraction(1)
+            described = (f'{1e9 / float(period):.6g} Hz, the smallest step between rows (the '
+                         "node's rate_hz was not read)")
+            judged = TickCounter(Grid(1e9 / float(period)))
+            judged._period, judged._exact = period, False
+            for step, (count, first_at) in sorted(self._steps.items(), key=lambda s: s[1][1]):
+                judged._judge(step, count, first_at)
+            missing, longest, at = judged._missing, judged._longest, judged._at
+            restarts = self._restarts + judged._restarts
+        return MissingTicks(expected=self.recorded + missing, recorded=self.recorded,
+                            missing=missing, longest_gap=longest * 1e-9, gap_at=at * 1e-9,
+                            restarts=restarts, grid=described)
+
+
 def missing_ticks(stamps: Sequence[int], grid: Optional[Grid]) -> MissingTicks:
     """
     Count the ticks missing between consecutive ``stamps`` (ns, in the order of the rows).
@@ -63,33 +153,7 @@ def missing_ticks(stamps: Sequence[int], grid: Optional[Grid]) -> MissingTicks:
     :param grid: the node's rates, or None to take the smallest step between rows as the grid
         (every tick of it published).
     """
-    steps = [b - a for a, b in zip(stamps, stamps[1:])]
-    if grid is None:
-        positive = [step for step in steps if step > 0]
-        period = Fraction(min(positive)) if positive else Fraction(1)
-        share, exact = Fraction(1), False
-        described = (f'{1e9 / float(period):.6g} Hz, the smallest step between rows (the '
-                     "node's rate_hz was not read)")
-    else:
-        period = Fraction(1_000_000_000) / Fraction(grid.rate_hz)
-        share = (Fraction(1) if grid.publish_rate_hz == 0.0
-                 else Fraction(grid.publish_rate_hz) / Fraction(grid.rate_hz))
-        exact = True
-        described = f'{grid.rate_hz:g} Hz' + (
-            ', every tick published' if share == 1 else
-            f', published at {grid.publish_rate_hz:g} Hz')
-    missing, restarts, longest, at = 0, 0, 0, 0
-    for index, step in enumerate(steps):
-        if step == 0:
-            continue  # the same tick again: a reset while paused publishes the state it leaves
-        ticks = round(step / period) if step > 0 else 0
-        # Stamps are t0 + floor(n P): two of them lie within 1 ns of k P apart.
-        if ticks < 1 or (exact and abs(step - ticks * period) >= 1):
-            restarts += 1
-            continue
-        missing += max(0, round(ticks * share) - 1)
-        if step > longest:
-            longest, at = step, stamps[index] - stamps[0]
-    return MissingTicks(expected=len(stamps) + missing, recorded=len(stamps), missing=missing,
-                        longest_gap=longest * 1e-9, gap_at=at * 1e-9, restarts=restarts,
-                        grid=described)
+    counter = TickCounter(grid)
+    for stamp in stamps:
+        counter.add(stamp)
+    return counter.result()

@@ -22,6 +22,12 @@ completes it, and every ``FLUSH_SECONDS`` hands both files' bytes to the operati
 recorder killed with SIGKILL leaves the rows and the messages of all but its last half second
 or so; ``close`` writes the rest, the CSV's trailer and the MCAP's summary, and the figure is
 drawn from the rows it kept.
+
+Its memory stays flat however long it records: the rows are written and let go, but for the
+bounded, evenly thinned set the figure is drawn from (``FigureRows``); the ticks missing on the
+node's grid are counted as the rows come (``TickCounter``); ``RowStream`` forgets the messages
+and targets no row needs any more. The MCAP's summary (a chunk index per flush, some 200 bytes
+each) is what grows, about 3 MB an hour.
 """
 
 from pathlib import Path
@@ -29,7 +35,9 @@ import time
 from typing import Callable, List, Mapping, Optional, Sequence
 
 from .csv_file import CsvFile
+from .figure_rows import FigureRows
 from .mcap_file import McapStream
+from .missing_ticks import Grid, MissingTicks, TickCounter
 from .received import Received
 from .rows import Row, RowStream
 from ..wire.cdr.stamped import decode_stamped, POSE, Refusal
@@ -46,20 +54,23 @@ class RecordingFiles:
     :param csv_path: the CSV file.
     :param mcap_path: the MCAP file, or None for none.
     :param clock: seconds of a monotonic clock (when to flush).
+    :param figure_rows: the rows the figure is drawn from, at most so many are kept.
     """
 
     def __init__(self, csv_path: Path, mcap_path: Optional[Path] = None, *,
-                 clock: Callable[[], float] = time.monotonic) -> None:
+                 clock: Callable[[], float] = time.monotonic,
+                 figure_rows: Optional[FigureRows] = None) -> None:
         """Open nothing yet."""
         self._csv_path, self._mcap_path = csv_path, mcap_path
         self._clock = clock
+        self.figure_rows = FigureRows() if figure_rows is None else figure_rows
+        self.ticks: Optional[TickCounter] = None
         self._kept: List[Received] = []
         self._rows: Optional[RowStream] = None
         self._csv: Optional[CsvFile] = None
         self._mcap: Optional[McapStream] = None
         self._offered_qos: Mapping[str, str] = {}
         self._flushed = clock()
-        self.rows: List[Row] = []
         self.frame_id: Optional[str] = None
 
     def start(self, parameters: Mapping[str, object], *, topic_names: Mapping[str, str],
@@ -74,6 +85,9 @@ class RecordingFiles:
         """
         self._offered_qos = offered_qos
         self._rows = RowStream(parameters)
+        grid = (Grid(parameters['rate_hz'], parameters.get('publish_rate_hz', 0.0))
+                if 'rate_hz' in parameters else None)
+        self.ticks = TickCounter(grid)
         self._csv = CsvFile(self._csv_path, metadata)
         if self._mcap_path is not None:
             self._mcap = McapStream(self._mcap_path, topic_names=topic_names)
@@ -103,7 +117,9 @@ class RecordingFiles:
     def _write(self, rows: List[Row]) -> None:
         if rows:
             self._csv.write(rows)
-            self.rows.extend(rows)
+            for row in rows:
+                self.figure_rows.add(row)
+                self.ticks.add(row.stamp_ns)
 
     def flush(self) -> None:
         """Hand both files' bytes to the operating system."""
@@ -113,18 +129,22 @@ class RecordingFiles:
         if self._mcap is not None:
             self._mcap.flush()
 
-    def close(self, trailer: Callable[[List[Row]], Sequence[str]] = lambda rows: ()) -> None:
-        """
-        Write the last rows, the CSV's trailer and the MCAP's summary; close both files.
-
-        :param trailer: returns the CSV's last lines from all the rows.
-        """
+    def close(self) -> None:
+        """Write the last rows, the CSV's trailer (the ticks missing) and the MCAP's summary."""
         if self._rows is None:
             return
         self._write(self._rows.finish())
-        self._csv.close(trailer(self.rows))
+        self._csv.close(self.missing().lines() if self.figure_rows.count else ())
         if self._mcap is not None:
             self._mcap.close(self._offered_qos)
+
+    def missing(self) -> Optional[MissingTicks]:
+        """Return the ticks the rows so far lack on the node's grid; None before ``start``."""
+        return None if self.ticks is None else self.ticks.result()
+
+    def rows(self) -> List[Row]:
+        """Return the rows the figure is drawn from (``FigureRows.rows``)."""
+        return self.figure_rows.rows()
 
     def paths(self) -> List[Path]:
         """Return the files opened, the CSV first."""

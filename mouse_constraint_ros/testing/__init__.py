@@ -20,14 +20,17 @@ outside the process sees its traffic) and steps it on simulated time, draining t
 after each tick, so that a node added with ``add_node`` sees every tick and its ROS-time timers
 fire at exact simulated times::
 
+    import numpy as np
     from mouse_constraint_ros.testing import SimulatedBody
 
     with SimulatedBody(mass=2.0, floor=True) as body:
-        body.add_node(my_controller)
-        body.grab((0.2, 0.1, 1.05))
-        body.target((0.5, 0.2, 1.0))
+        body.grab((0.2, 0.1, 1.05))  # this point of the body is the anchor
+        body.target((0.5, 0.2, 1.0))  # drag the anchor there
         body.step(500)  # 0.5 s of simulated time at 1 kHz
-        assert abs(body.pose.position[0] - 0.5) < 1e-3
+        assert np.linalg.norm(body.anchor - (0.5, 0.2, 1.0)) < 1e-3
+
+``body.anchor`` is the dragged point in the world, ``body.pose.position`` the centre of mass;
+``body.add_node(node)`` adds your node.
 
 The pytest fixtures ``simulated_body`` and ``simulated_body_factory`` come with the package
 (``pytest_plugin``, registered as a pytest entry point). This module imports nothing of rclpy
@@ -37,15 +40,16 @@ until one of its names is used, so that the plugin costs pytest nothing at start
 import importlib
 from typing import Any
 
-__all__ = ['BodyPose', 'BodyTwist', 'DrainTimeout', 'InputRefused', 'MatchTimeout',
-           'NeverHeld', 'SimulatedBody']
+__all__ = ['BodyPose', 'BodyTwist', 'DrainTimeout', 'HarnessClosed', 'InputRefused',
+           'MatchTimeout', 'NeverHeld', 'SimulatedBody']
 
 # Where each name lives: imported on first use (PEP 562).
 _HOMES = {
-    'BodyPose': 'simulated_body',
-    'BodyTwist': 'simulated_body',
-    'InputRefused': 'simulated_body',
-    'NeverHeld': 'simulated_body',
+    'BodyPose': 'readings',
+    'BodyTwist': 'readings',
+    'HarnessClosed': 'errors',
+    'InputRefused': 'errors',
+    'NeverHeld': 'errors',
     'SimulatedBody': 'simulated_body',
     'DrainTimeout': 'lockstep',
     'MatchTimeout': 'lockstep',

@@ -30,8 +30,7 @@ published, as numpy arrays and as the messages themselves.
 """
 
 import inspect
-import math
-from typing import Any, Callable, List, NamedTuple, Optional, Sequence
+from typing import Any, Callable, List, Optional, Sequence
 
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped, WrenchStamped
 import numpy as np
@@ -40,13 +39,16 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from std_srvs.srv import Trigger
 
+from .errors import HarnessClosed, InputRefused, NeverHeld
+from .harness_checks import (check_context, check_executor, checked_seconds, checked_stamp_ns,
+                             checked_ticks, claim_context, release_context)
+from .harness_parameters import checked_parameters
 from .lockstep import drain, isolated_context, wait_matched
+from .readings import body_pose, body_twist, BodyPose, BodyTwist, world_point
 from ..node.mouse_constraint_node import MouseConstraintNode
-from ..node.parameters import DEFAULTS, PARAMETERS
-from ..node.startup import unknown_parameter_warnings
 from ..wire.interface import (GRAB_TOPIC, POSE_TOPIC, STATE_QOS, TARGET_QOS, TARGET_TOPIC,
                               TWIST_TOPIC, WRENCH_QOS, WRENCH_TOPIC)
-from ..wire.messages import point_message, set_stamp, stamp_nanoseconds
+from ..wire.messages import point_message, set_stamp
 
 # Wall seconds a drain may keep finding work, and endpoints may take to match, before failing.
 DRAIN_TIMEOUT = 10.0
@@ -55,77 +57,6 @@ MATCH_TIMEOUT = 5.0
 PROBE_NAME = 'simulated_body'
 # ``transform_broadcaster`` not given: the node's own default.
 NODE_DEFAULT = object()
-# The harness is the node's clock: these values would take that from it.
-HARNESS_OWNS = {'publish_clock': False, 'use_sim_time': True}
-
-
-class BodyPose(NamedTuple):
-    """The latest ``pose``: COM (m), orientation (x, y, z, w), stamp (s), and the message."""
-
-    position: np.ndarray
-    orientation: np.ndarray
-    time: float
-    message: PoseStamped
-
-
-class BodyTwist(NamedTuple):
-    """The latest ``twist``: COM velocity (m/s), angular velocity (rad/s), stamp, message."""
-
-    linear: np.ndarray
-    angular: np.ndarray
-    time: float
-    message: TwistStamped
-
-
-class InputRefused(ValueError):
-    """
-    The node refused an input the harness sent; ``key`` and ``reason`` are the node's.
-
-    :param key: the refusal's key ('frame', 'workspace', 'grab off body', 'wrench force' ...).
-    :param reason: the node's reason, as it logs it after 'ignoring ...'.
-    """
-
-    def __init__(self, key: str, reason: str) -> None:
-        """Keep the key beside the reason."""
-        super().__init__(reason)
-        self.key = key
-
-
-class NeverHeld(AssertionError):
-    """``step_until``'s predicate did not hold within its ticks."""
-
-
-def parameter_value(name: str, value: Any) -> Any:
-    """
-    Return ``value`` as the node's parameter ``name`` takes it: ints as floats for doubles.
-
-    Python writes ``2`` where YAML must write ``2.0``; here the intent is plain. Sequences
-    (tuples, numpy arrays) become lists.
-
-    :raises TypeError: ``name`` is none of the node's parameters or rclpy's (with the nearest
-        one).
-    """
-    if name not in DEFAULTS:
-        for warning in unknown_parameter_warnings([name], [], [p.name for p in PARAMETERS]):
-            raise TypeError(warning.replace('ignoring unknown', 'unknown'))
-        return value  # one of rclpy's own (use_sim_time ...)
-    default = DEFAULTS[name]
-
-    def number(item: Any) -> Any:
-        if isinstance(item, (bool, np.bool_)):
-            return bool(item)
-        if isinstance(item, (int, float, np.integer, np.floating)):
-            return float(item)
-        return item
-
-    if isinstance(default, float):
-        return number(value)
-    if isinstance(default, list) and isinstance(value, (list, tuple, np.ndarray)):
-        return [number(item) for item in value]
-    if isinstance(default, int) and not isinstance(default, bool) and isinstance(
-            value, np.integer):
-        return int(value)
-    return value
 
 
 def _predicate_text(predicate: Callable) -> str:
@@ -140,20 +71,25 @@ class SimulatedBody:
     """
     The ``mouse_constraint`` node stepped in lockstep with the nodes added to it.
 
-    :param context: an initialized rclpy context to run in; by default one of its own with
-        discovery off (``isolated_context``), shut down by ``close``.
-    :param executor: the executor to spin on; by default a ``SingleThreadedExecutor`` of its own.
+    :param context: an initialized rclpy context to run in, used by no other harness; by
+        default one of its own with discovery off (``isolated_context``), shut down by
+        ``close``.
+    :param executor: the ``SingleThreadedExecutor`` of ``context`` to spin on; by default one of
+        its own.
     :param namespace: the node's namespace ('' or '/name').
     :param on_tick: called with the harness after every tick (after the drain).
     :param transform_broadcaster: as ``MouseConstraintNode`` takes it; by default the node's
         (tf2_ros's, where importable).
-    :param drain_timeout: wall seconds a drain may keep finding work before it fails.
+    :param drain_timeout: wall seconds a drain may keep finding work before it fails (finite,
+        > 0).
     :param match_timeout: wall seconds endpoints may take to match before ``add_node`` fails.
     :param parameters: any of the node's parameters, as keywords (``mass=2.0``, ``floor=True``);
         the node refuses an invalid one as it would at start (``StartupRefusal``).
-    :raises TypeError: an unknown parameter name.
+    :raises TypeError: an unknown parameter name; a context, executor or timeout of another
+        type (``harness_checks``).
     :raises ValueError: ``publish_clock=False`` or ``use_sim_time=True``: the harness is the
-        clock.
+        clock; a context another harness uses, or not initialized; an executor of another
+        context; a timeout not finite and > 0.
     """
 
     def __init__(self, *, context=None, executor: Optional[Executor] = None,
@@ -161,13 +97,19 @@ class SimulatedBody:
                  transform_broadcaster: Any = NODE_DEFAULT, drain_timeout: float = DRAIN_TIMEOUT,
                  match_timeout: float = MATCH_TIMEOUT, **parameters: Any) -> None:
         """Start the node and the probe; wait until the probe matches the node."""
-        values = self._checked(parameters)
+        values = checked_parameters(parameters)
         values['publish_clock'] = True
-        self.drain_timeout = drain_timeout
-        self.match_timeout = match_timeout
+        self.drain_timeout = checked_seconds('drain_timeout', drain_timeout)
+        self.match_timeout = checked_seconds('match_timeout', match_timeout)
+        if context is not None:
+            check_context(context)
+        if executor is not None:
+            check_executor(executor, context)
+        self._closed = False
+        self._time_ns = 0
         self._own_context = context is None
         self._own_executor = executor is None
-        self.context = isolated_context() if context is None else context
+        self.context = None
         self.executor: Executor = None
         self.node: MouseConstraintNode = None
         self._probe: Node = None
@@ -175,6 +117,11 @@ class SimulatedBody:
         self._tick_callbacks: List[Callable] = [] if on_tick is None else [on_tick]
         self._pose: Optional[PoseStamped] = None
         self._twist: Optional[TwistStamped] = None
+        self._pose_anchor: Optional[np.ndarray] = None
+        if context is not None:
+            claim_context(context, self)
+        self.context = isolated_context() if context is None else context
+        claim_context(self.context, self)
         try:
             self.executor = (SingleThreadedExecutor(context=self.context) if executor is None
                              else executor)
@@ -195,15 +142,6 @@ class SimulatedBody:
             self.close()
             raise
 
-    @staticmethod
-    def _checked(parameters: dict) -> dict:
-        values = {name: parameter_value(name, value) for name, value in parameters.items()}
-        for name, taken in HARNESS_OWNS.items():
-            if name in values and values[name] == taken:
-                raise ValueError(f'{name}: {values[name]} would take the clock from the '
-                                 'harness, which steps the node on its simulated time')
-        return values
-
     def _start_probe(self) -> None:
         probe = self._probe
         probe.create_subscription(PoseStamped, POSE_TOPIC, self._on_pose, STATE_QOS)
@@ -217,6 +155,8 @@ class SimulatedBody:
 
     def _on_pose(self, message: PoseStamped) -> None:
         self._pose = message
+        # The anchor in effect when the node published it: a grab changes it between ticks.
+        self._pose_anchor = self.node.get_parameter('anchor').value
 
     def _on_twist(self, message: TwistStamped) -> None:
         self._twist = message
@@ -230,7 +170,17 @@ class SimulatedBody:
         self.close()
 
     def close(self) -> None:
-        """Destroy the node and the probe; shut down the executor and context it made."""
+        """
+        Destroy the node and the probe; shut down the executor and context it made.
+
+        What it published stays readable (``time``, ``pose``, ``twist``, ``anchor``); anything
+        else raises ``HarnessClosed``. Closing again does nothing.
+        """
+        if self._closed:
+            return
+        self._closed = True
+        if self.node is not None:
+            self._time_ns = self.node.ticker.now_ns()
         executor = self.executor
         for node in self._added:
             if executor is not None:
@@ -245,35 +195,43 @@ class SimulatedBody:
         if executor is not None and self._own_executor:
             executor.shutdown()
         self.executor = None
-        if self._own_context and self.context is not None:
-            self.context.try_shutdown()
+        if self.context is not None:
+            release_context(self.context, self)
+            if self._own_context:
+                self.context.try_shutdown()
+
+    def _open(self, what: str) -> None:
+        """Raise ``HarnessClosed`` naming ``what`` when the harness is closed."""
+        if self._closed:
+            raise HarnessClosed(what)
 
     # --- what the node published -------------------------------------------------------------
 
     @property
     def time(self) -> float:
         """Return the latest tick's simulated time in seconds: 0 before the first."""
-        return self.node.ticker.now_ns() * 1e-9
+        return (self._time_ns if self._closed else self.node.ticker.now_ns()) * 1e-9
 
     @property
     def pose(self) -> Optional[BodyPose]:
         """Return the latest ``pose`` the node published, or None before the first tick."""
-        message = self._pose
-        if message is None:
-            return None
-        p, q = message.pose.position, message.pose.orientation
-        return BodyPose(np.array([p.x, p.y, p.z]), np.array([q.x, q.y, q.z, q.w]),
-                        stamp_nanoseconds(message.header.stamp) * 1e-9, message)
+        return body_pose(self._pose)
+
+    @property
+    def anchor(self) -> Optional[np.ndarray]:
+        """
+        Return the anchor's world point (m) at the latest ``pose``, or None before the first tick.
+
+        The dragged point: the body-frame ``anchor`` the node held when it published that pose
+        (a grab's point once it grabbed), placed by the pose. What a drag brings to its target,
+        where ``pose.position`` is the centre of mass.
+        """
+        return world_point(self._pose, self._pose_anchor)
 
     @property
     def twist(self) -> Optional[BodyTwist]:
         """Return the latest ``twist`` the node published, or None before the first tick."""
-        message = self._twist
-        if message is None:
-            return None
-        v, w = message.twist.linear, message.twist.angular
-        return BodyTwist(np.array([v.x, v.y, v.z]), np.array([w.x, w.y, w.z]),
-                         stamp_nanoseconds(message.header.stamp) * 1e-9, message)
+        return body_twist(self._twist)
 
     # --- nodes under test ---------------------------------------------------------------------
 
@@ -288,6 +246,7 @@ class SimulatedBody:
         :raises MatchTimeout: naming each endpoint that did not match, and why where its QoS
             says.
         """
+        self._open('add_node')
         if node.context is not self.context:
             raise ValueError(f'{node.get_fully_qualified_name()} is in another context: create '
                              'it with context=body.context')
@@ -299,12 +258,14 @@ class SimulatedBody:
 
     def add_tick_callback(self, callback: Callable[['SimulatedBody'], Any]) -> None:
         """Call ``callback(body)`` after every tick, once the executor is drained."""
+        self._open('add_tick_callback')
         self._tick_callbacks.append(callback)
 
     # --- stepping -----------------------------------------------------------------------------
 
     def drain(self) -> int:
         """Run every callback that is ready until none is; return how many ran."""
+        self._open('drain')
         return drain(self.executor, timeout=self.drain_timeout)
 
     def step(self, ticks: int = 1) -> None:
@@ -313,10 +274,15 @@ class SimulatedBody:
 
         While the node is paused (``~/pause``) a tick runs no physics and the simulated time
         stands still; the executor is drained all the same.
+
+        :raises TypeError: ``ticks`` is not a whole number (``2.9``, ``'3'``).
+        :raises ValueError: ``ticks`` is below 0.
         """
+        self._open('step')
+        ticks = checked_ticks('ticks', ticks)
         node, callbacks = self.node, self._tick_callbacks
         self.drain()
-        for _ in range(int(ticks)):
+        for _ in range(ticks):
             node.ticker.step()
             self.drain()
             for callback in callbacks:
@@ -327,10 +293,13 @@ class SimulatedBody:
         Step until ``predicate()`` holds; return the ticks it took (0 if it held at once).
 
         :raises NeverHeld: it did not hold within ``max_ticks``, with the time reached.
+        :raises TypeError, ValueError: ``max_ticks`` is not a whole number >= 0.
         """
+        self._open('step_until')
+        max_ticks = checked_ticks('max_ticks', max_ticks)
         if predicate():
             return 0
-        for ticks in range(1, int(max_ticks) + 1):
+        for ticks in range(1, max_ticks + 1):
             self.step()
             if predicate():
                 return ticks
@@ -349,14 +318,6 @@ class SimulatedBody:
         if count > before:
             raise InputRefused(refusal.key, refusal.reason)
 
-    @staticmethod
-    def _stamp_ns(stamp: Optional[float]) -> int:
-        if stamp is None:
-            return 0
-        if not math.isfinite(stamp) or stamp < 0.0:
-            raise ValueError(f'stamp must be a finite time >= 0 s, got {stamp!r}')
-        return round(stamp * 1e9)
-
     def grab(self, point: Sequence[float], *, frame_id: str = '') -> tuple:
         """
         Grab the body at the world ``point``: it becomes the anchor and the target.
@@ -364,6 +325,7 @@ class SimulatedBody:
         :returns: the anchor the node set (body frame, m).
         :raises InputRefused: the node refused it (off the body, another frame ...).
         """
+        self._open('grab')
         self._send(self._grab_publisher, point_message(point, frame_id, 0))
         return tuple(self.node.get_parameter('anchor').value)
 
@@ -376,7 +338,9 @@ class SimulatedBody:
             targets is timed by its stamps; None sends a zero stamp (timed by its arrival).
         :raises InputRefused: the node refused it (not finite, outside the workspace ...).
         """
-        self._send(self._target_publisher, point_message(point, frame_id, self._stamp_ns(stamp)))
+        self._open('target')
+        self._send(self._target_publisher,
+                   point_message(point, frame_id, checked_stamp_ns(stamp)))
 
     def wrench(self, force: Sequence[float], torque: Sequence[float] = (0.0, 0.0, 0.0), *,
                stamp: Optional[float] = None, frame_id: str = '') -> None:
@@ -388,15 +352,17 @@ class SimulatedBody:
 
         :raises InputRefused: the node refused it (beyond its bounds, not finite ...).
         """
+        self._open('wrench')
         message = WrenchStamped()
         message.header.frame_id = frame_id
-        set_stamp(message.header.stamp, self._stamp_ns(stamp))
+        set_stamp(message.header.stamp, checked_stamp_ns(stamp))
         f, t = message.wrench.force, message.wrench.torque
         f.x, f.y, f.z = (float(c) for c in force)
         t.x, t.y, t.z = (float(c) for c in torque)
         self._send(self._wrench_publisher, message)
 
-    def _call(self, client) -> Trigger.Response:
+    def _call(self, what: str, client) -> Trigger.Response:
+        self._open(what)
         future = client.call_async(Trigger.Request())
         self.drain()
         if not future.done():
@@ -405,7 +371,7 @@ class SimulatedBody:
 
     def release(self) -> str:
         """Call ``~/release``: the body flies free; return the node's reply."""
-        return self._call(self._release_client).message
+        return self._call('release', self._release_client).message
 
     def reset(self) -> str:
         """
@@ -413,7 +379,7 @@ class SimulatedBody:
 
         :raises RuntimeError: the node could not reset (its reply says why).
         """
-        response = self._call(self._reset_client)
+        response = self._call('reset', self._reset_client)
         if not response.success:
             raise RuntimeError(response.message)
         return response.message
@@ -426,7 +392,8 @@ class SimulatedBody:
         :raises ValueError: the node refused the change, with its reason; or the change would
             take the clock from the harness.
         """
-        checked = self._checked(values)
+        self._open('set_parameters')
+        checked = checked_parameters(values)
         result = self.node.set_parameters_atomically(
             [Parameter(name, value=value) for name, value in checked.items()])
         if not result.successful:

@@ -68,7 +68,8 @@ def felt_force(tick_impulse: Tuple[Vector3, float]) -> Vector3:
     (x, y, z), dt = tick_impulse
     if dt <= 0.0:
         return (0.0, 0.0, 0.0)
-    return (-x / dt, -y / dt, -z / dt)
+    # 0.0 - x: no impulse reads as 0.0, not -0.0, in every echo and log of it.
+    return ((0.0 - x) / dt, (0.0 - y) / dt, (0.0 - z) / dt)
 
 
 def fill_felt_wrench(message: WrenchStamped, tick_impulse: Tuple[Vector3, float]) -> None:

@@ -1,0 +1,231 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The ``mouse_ctl`` command: the node's services and output from the venv's command line.
+
+``ros2 service call`` and ``ros2 topic echo`` need ros2cli, which is not on PyPI; ``mouse_ctl``
+does what a user needs of them with the node, from the venv alone:
+
+- ``mouse_ctl pause`` / ``resume``: ``~/pause`` with true / false;
+- ``mouse_ctl step [N]``: ``~/step`` N times (default 1), while paused;
+- ``mouse_ctl reset`` / ``release``: ``~/reset`` / ``~/release``;
+- ``mouse_ctl echo [pose|twist|force]``: a line per message (at most ``--print-rate`` a second
+  of the node's clock), with the rate the messages come at; ``force`` is the pushes on the
+  node's ``wrench`` input. Until Ctrl-C, or ``--count`` lines.
+
+A call prints the node's reply and exits 0; a reply that says the node could not (``step``
+while running, a ``reset`` it could not make) goes to stderr with exit status 1, as does no
+service or no message within ``--timeout``. The node is ``--node`` (default
+``mouse_constraint``) in this command's namespace: ``--ros-args -r __ns:=/robot`` reaches one
+in ``/robot``. Ctrl-C ends an echo with exit status 0, a call before its answer with 130.
+"""
+
+import argparse
+import math
+import sys
+import time
+from typing import Callable, List, NamedTuple, Optional
+
+import rclpy
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.signals import SignalHandlerOptions
+from rclpy.utilities import remove_ros_args
+from std_srvs.srv import SetBool, Trigger
+
+from .echo import ECHOES, EchoPrinter
+from .help_text import plain_text
+from ..timing.spin import call_until_answered, Interrupted, spin_until, StopRequest, wait_until
+from ..wire.interface import (NODE_NAME, PAUSE_SERVICE, RELEASE_SERVICE, RESET_SERVICE,
+                              STATE_QOS, STEP_SERVICE)
+
+# The exit status when a stop comes before a call's answer.
+INTERRUPTED_STATUS = 130
+# The most steps one command makes.
+MAX_STEPS = 1_000_000
+
+
+class Action(NamedTuple):
+    """A call of one of the node's services: its type, its name (``~/...``) and request."""
+
+    service_type: type
+    service: str
+    request: Callable[[], object]
+
+
+ACTIONS = {
+    'pause': Action(SetBool, PAUSE_SERVICE, lambda: SetBool.Request(data=True)),
+    'resume': Action(SetBool, PAUSE_SERVICE, lambda: SetBool.Request(data=False)),
+    'step': Action(Trigger, STEP_SERVICE, Trigger.Request),
+    'reset': Action(Trigger, RESET_SERVICE, Trigger.Request),
+    'release': Action(Trigger, RELEASE_SERVICE, Trigger.Request),
+}
+
+
+def service_name(target_node: str, action: str) -> str:
+    """Return the name of ``action``'s service of ``target_node`` (relative: namespaces apply)."""
+    return f'{target_node}/{ACTIONS[action].service.removeprefix("~/")}'
+
+
+def create_client(node: Node, action: str, target_node: str = NODE_NAME):
+    """Return a client of ``node`` for ``action``'s service of ``target_node``."""
+    return node.create_client(ACTIONS[action].service_type, service_name(target_node, action))
+
+
+def create_echo(node: Node, what: str, write: Callable[[str], None], *,
+                print_rate: float) -> EchoPrinter:
+    """Return the printer of ``what`` (``ECHOES``), its raw subscription made on ``node``."""
+    echo = ECHOES[what]
+    printer = EchoPrinter(echo, write, print_rate=print_rate)
+    printer.topic = node.create_subscription(echo.message_type, echo.topic, printer.take,
+                                             STATE_QOS, raw=True).topic_name
+    return printer
+
+
+def _positive(name: str, allow_zero: bool = False):
+    def parse(text: str) -> float:
+        value = float(text)
+        if not math.isfinite(value) or value < 0.0 or (value == 0.0 and not allow_zero):
+            raise argparse.ArgumentTypeError(
+                f'{name} must be finite and {">=" if allow_zero else ">"} 0, got {text}')
+        return value
+    return parse
+
+
+def _steps(text: str) -> int:
+    if not text.isdigit() or not 1 <= int(text) <= MAX_STEPS:
+        raise argparse.ArgumentTypeError(f'N must be a whole number in [1, {MAX_STEPS}], '
+                                         f'got {text}')
+    return int(text)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Return the command's argument parser; every option's help names its default."""
+    parser = argparse.ArgumentParser(
+        prog='mouse_ctl', description=plain_text(__doc__.split('\n\n')[0]),
+        epilog='examples: mouse_ctl pause | mouse_ctl step 10 | mouse_ctl echo pose --count 5'
+               ' | add --ros-args -r __ns:=/robot for a namespaced node')
+    # --node and --timeout before the command or after it: the command's copy has no default,
+    # so that it leaves the one given before alone.
+    common = argparse.ArgumentParser(add_help=False)
+    for target, node, timeout in ((parser, NODE_NAME, 10.0),
+                                  (common, argparse.SUPPRESS, argparse.SUPPRESS)):
+        target.add_argument('--node', default=node,
+                            help=f'the node to call and follow (default: {NODE_NAME}, in this '
+                                 'namespace)')
+        target.add_argument('--timeout', type=_positive('--timeout'), default=timeout,
+                            help='seconds to wait for the service and each answer, or for the '
+                                 'first message (default: 10)')
+    commands = parser.add_subparsers(dest='command', required=True, metavar='COMMAND')
+    commands.add_parser('pause', parents=[common], help='pause the physics (~/pause true)')
+    commands.add_parser('resume', parents=[common],
+                        help='resume it, without catching up (~/pause false)')
+    step = commands.add_parser('step', parents=[common],
+                               help='advance a paused node N ticks (~/step)')
+    step.add_argument('ticks', nargs='?', type=_steps, default=1, metavar='N',
+                      help='ticks to advance (default: %(default)s)')
+    commands.add_parser('reset', parents=[common], help='back to the initial state (~/reset)')
+    commands.add_parser('release', parents=[common],
+                        help='drop the target: the body flies free (~/release)')
+    echo = commands.add_parser('echo', parents=[common],
+                               help='print pose, twist or force with their rate')
+    echo.add_argument('what', nargs='?', choices=sorted(ECHOES), default='pose',
+                      help='what to print (default: %(default)s; force: the wrench input)')
+    echo.add_argument('--count', type=int, default=0,
+                      help='lines to print before exiting (default: 0, until Ctrl-C)')
+    echo.add_argument('--print-rate', type=_positive('--print-rate', True), default=10.0,
+                      help="most lines a second of the node's clock; 0: every message "
+                           '(default: %(default)g)')
+    return parser
+
+
+def parse_arguments(argv: List[str]) -> argparse.Namespace:
+    """Return the command's options from ``argv`` (ROS arguments already removed)."""
+    parser = build_parser()
+    options = parser.parse_args(argv)
+    if options.command == 'echo' and options.count < 0:
+        parser.error(f'--count must be >= 0, got {options.count}')
+    return options
+
+
+def call(node: Node, executor, stop: StopRequest, options: argparse.Namespace) -> int:
+    """Call the node's service ``options.command`` (``step``: N times); return the exit status."""
+    client = create_client(node, options.command, options.node)
+    name = node.resolve_service_name(client.srv_name)
+    if not wait_until(executor, stop, client.service_is_ready,
+                      deadline=time.monotonic() + options.timeout):
+        print(f'mouse_ctl: no service {name} after {options.timeout:g} s: is the '
+              'node running (same ROS_DOMAIN_ID and namespace, --node)?', file=sys.stderr)
+        return 1
+    for _ in range(getattr(options, 'ticks', 1)):
+        response = call_until_answered(client, ACTIONS[options.command].request(), executor,
+                                       stop, deadline=time.monotonic() + options.timeout)
+        if response is None:
+            print(f'mouse_ctl: {name} did not answer in {options.timeout:g} s',
+                  file=sys.stderr)
+            return 1
+        if not response.success:
+            print(f'mouse_ctl: {options.command}: {response.message}', file=sys.stderr)
+            return 1
+        print(response.message, flush=True)
+    return 0
+
+
+def echo(node: Node, executor, stop: StopRequest, options: argparse.Namespace) -> int:
+    """Print the messages until Ctrl-C or ``--count`` lines; return the exit status."""
+    printer = create_echo(node, options.what, lambda line: print(line, flush=True),
+                          print_rate=options.print_rate)
+    topic = printer.topic
+    try:
+        if not wait_until(executor, stop, lambda: printer.received > 0,
+                          deadline=time.monotonic() + options.timeout):
+            print(f'mouse_ctl: no message on {topic} after {options.timeout:g} s: is the node '
+                  'running (same ROS_DOMAIN_ID and namespace)?', file=sys.stderr)
+            return 1
+    except Interrupted:
+        return 0
+    count = options.count
+    spin_until(executor, stop, condition=lambda: 0 < count <= printer.printed)
+    if printer.unreadable:
+        print(f'mouse_ctl: {printer.unreadable} messages on {topic} were not readable',
+              file=sys.stderr)
+    return 0
+
+
+def main(args: Optional[List[str]] = None) -> int:
+    """Run one command; return its exit status (see the module)."""
+    argv = sys.argv if args is None else args
+    options = parse_arguments(remove_ros_args(argv)[1:])
+    rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
+    node = Node('mouse_ctl', start_parameter_services=False)
+    executor = SingleThreadedExecutor(context=node.context)
+    executor.add_node(node)
+    try:
+        with StopRequest() as stop:
+            if options.command == 'echo':
+                return echo(node, executor, stop, options)
+            return call(node, executor, stop, options)
+    except Interrupted:
+        return INTERRUPTED_STATUS
+    except ExternalShutdownException:
+        return 1
+    finally:
+        executor.shutdown()
+        node.destroy_node()
+        rclpy.try_shutdown()
+
+
+if __name__ == '__main__':
+    sys.exit(main())

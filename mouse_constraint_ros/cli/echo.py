@@ -1,0 +1,139 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+What ``mouse_ctl echo`` prints: a line per message it shows, with the rate the messages come at.
+
+``ECHOES`` names what can be echoed: ``pose``, ``twist`` and ``force`` (what the node
+publishes; ``force`` is the force the pointer feels, with ``publish_force``) and ``wrench``
+(the pushes on the node's ``wrench`` input, a force through the COM and a torque);
+each is a relative topic of stamped doubles, read raw (``wire.cdr.stamped``), and the names
+and units of its fields. Another stamped output of the node is echoed by adding its row.
+
+``EchoPrinter`` takes each message as received. It keeps the stamps of the last second of them
+(``RateMeter``), so that each line ends with the rate the messages come at on the node's clock
+(the stamps: in lockstep or at any real-time factor, the node's own rate when none is lost),
+and shows at most ``print_rate`` lines per second of those stamps (a 1 kHz node would flood a
+terminal); 0 shows every message. A message whose bytes are not its type is counted, not shown.
+"""
+
+from collections import deque
+from typing import Callable, Deque, NamedTuple, Optional, Tuple
+
+from geometry_msgs.msg import PoseStamped, TwistStamped, WrenchStamped
+
+from ..wire.cdr.stamped import decode_stamped, Refusal
+from ..wire.interface import FORCE_TOPIC, POSE_TOPIC, TWIST_TOPIC, WRENCH_TOPIC
+
+# The stamps the rate is measured over (ns of the node's clock).
+RATE_WINDOW_NS = 1_000_000_000
+
+
+class Echo(NamedTuple):
+    """A stamped topic to echo: its name and type, and its fields as (label, size, unit)."""
+
+    topic: str
+    message_type: type
+    fields: Tuple[Tuple[str, int, str], ...]
+
+    @property
+    def count(self) -> int:
+        """Return the number of doubles after the header."""
+        return sum(size for _, size, _ in self.fields)
+
+
+ECHOES = {
+    'pose': Echo(POSE_TOPIC, PoseStamped,
+                 (('position', 3, 'm'), ('orientation', 4, '(x, y, z, w)'))),
+    'twist': Echo(TWIST_TOPIC, TwistStamped, (('linear', 3, 'm/s'), ('angular', 3, 'rad/s'))),
+    'force': Echo(FORCE_TOPIC, WrenchStamped, (('force', 3, 'N'), ('torque', 3, 'N m'))),
+    'wrench': Echo(WRENCH_TOPIC, WrenchStamped, (('force', 3, 'N'), ('torque', 3, 'N m'))),
+}
+
+
+class RateMeter:
+    """The rate of the stamps received within the last ``RATE_WINDOW_NS`` of them."""
+
+    def __init__(self) -> None:
+        """Start with no stamp."""
+        self._stamps: Deque[int] = deque()
+
+    def add(self, stamp_ns: int) -> None:
+        """Take a stamp; one that goes back (a reset, a clock jump) starts the window again."""
+        stamps = self._stamps
+        if stamps and stamp_ns < stamps[-1]:
+            stamps.clear()
+        stamps.append(stamp_ns)
+        while stamp_ns - stamps[0] > RATE_WINDOW_NS:
+            stamps.popleft()
+
+    def rate(self) -> Optional[float]:
+        """Return the messages per second of stamps, None before two distinct stamps."""
+        stamps = self._stamps
+        if len(stamps) < 2 or stamps[-1] == stamps[0]:
+            return None
+        return (len(stamps) - 1) * 1e9 / (stamps[-1] - stamps[0])
+
+
+def vector(values) -> str:
+    """Return numbers as '(x, y, z)', each to the micro-unit."""
+    return '(' + ', '.join(f'{value:.6f}' for value in values) + ')'
+
+
+class EchoPrinter:
+    """
+    Lines for the messages of one ``Echo``, at most ``print_rate`` a second of their stamps.
+
+    :param echo: what is echoed.
+    :param write: called with each line.
+    :param print_rate: the most lines a second of stamps (Hz); 0 shows every message.
+    """
+
+    def __init__(self, echo: Echo, write: Callable[[str], None], *,
+                 print_rate: float = 10.0) -> None:
+        """Show nothing yet."""
+        self._echo, self._write = echo, write
+        self._gap_ns = 0 if print_rate == 0.0 else round(1e9 / print_rate)
+        self._shown: Optional[int] = None
+        self.meter = RateMeter()
+        self.topic = echo.topic  # resolved once subscribed
+        self.received = 0
+        self.printed = 0
+        self.unreadable = 0
+
+    def take(self, data: bytes) -> None:
+        """Take one message as received (its serialized bytes)."""
+        fields = decode_stamped(data, self._echo.count)
+        if isinstance(fields, Refusal):
+            self.unreadable += 1
+            return
+        self.received += 1
+        stamp = fields.stamp_ns
+        self.meter.add(stamp)
+        shown = self._shown
+        if shown is not None and 0 <= stamp - shown < self._gap_ns:
+            return
+        self._shown = stamp
+        self.printed += 1
+        self._write(self.line(stamp, fields.values))
+
+    def line(self, stamp_ns: int, values) -> str:
+        """Return the line of one message: stamp, fields with units, the rate."""
+        parts, start = [f'{stamp_ns * 1e-9:.6f} s'], 0
+        for label, size, unit in self._echo.fields:
+            parts.append(f'{label} {vector(values[start:start + size])} {unit}')
+            start += size
+        rate = self.meter.rate()
+        parts.append('rate -' if rate is None else f'rate {rate:.1f} Hz')
+        return '  '.join(parts)
