@@ -58,7 +58,6 @@ from .wrench_input import WrenchInput
 from ..inputs.target_gate import Refusal
 from ..inputs.throttle import RefusalLog, Throttle
 from ..physics import MouseSimulation
-from ..physics.validation import shown
 from ..timing.guarded_time_source import guard_time_source
 from ..timing.spin import NodeRun
 from ..wire.interface import (GRAB_TOPIC, NODE_NAME, PAUSE_SERVICE, RELEASE_SERVICE,
@@ -242,8 +241,9 @@ class MouseConstraintNode(Node):
         self._monitors.configure(config)
         if self._anchor.setting:
             # A grab or a reset: one short line, at most every WARN_PERIOD (grabs can flood).
-            self._notes('anchor', lambda: f'anchor {shown(anchor)} m (body frame), set by the '
-                                          'node')
+            # Six digits: the line stays short with the count of the lines it stands for.
+            self._notes('anchor', lambda: 'anchor ({:.6g}, {:.6g}, {:.6g}) m (body frame), set '
+                                          'by the node'.format(*anchor))
         else:
             self.get_logger().info('parameters changed: ' + describe(config))
         return SetParametersResult(successful=True)

@@ -22,11 +22,13 @@ finds ready, one by one, which an ``EventsExecutor`` has no way to do); a watchd
 is not a finite number of seconds > 0 (``nan`` would switch it off); a number of ticks that is
 not a whole number >= 0 (``2.9`` is neither 2 nor 3); a stamp a ``builtin_interfaces/Time``
 cannot hold (its seconds are an int32: 2^31 s and later would wrap); and any use of a closed
-harness (``HarnessClosed``).
+harness (``HarnessClosed``). ``predicate_text`` words a condition that never held.
 """
 
+import inspect
 import math
 from numbers import Integral, Real
+from typing import Callable
 import weakref
 
 from rclpy.context import Context
@@ -132,3 +134,12 @@ def checked_stamp_ns(stamp) -> int:
         raise ValueError(f'stamp must be a finite time >= 0 s and below 2^31 s (a message '
                          f'stamp holds no more), got {stamp!r}')
     return min(round(stamp * 1e9), round(MAX_STAMP * 1e9) - 1)
+
+
+def predicate_text(predicate: Callable) -> str:
+    """Return the source of ``predicate`` on one line (at most 120 characters), or its name."""
+    try:
+        text = ' '.join(inspect.getsource(predicate).split())
+    except (OSError, TypeError):
+        text = getattr(predicate, '__qualname__', repr(predicate))
+    return text if len(text) <= 120 else text[:117] + '...'

@@ -24,47 +24,33 @@ simulated times, and what it publishes in response to tick k is taken before tic
 which it acts. Nothing waits on wall time but the watchdogs, which fail loudly.
 
 Inputs go out as a user's would, as messages and service calls from a probe node of the
-harness (``simulated_body``); the node's own validation judges them, and an input it refuses
-raises ``InputRefused`` with the node's reason. ``pose`` and ``twist`` are the latest the node
-published, as numpy arrays and as the messages themselves.
+harness (``probe``, named ``simulated_body``); the node's own validation judges them, and an
+input it refuses raises ``InputRefused`` with the node's reason. ``pose`` and ``twist`` are the
+latest the node published, as numpy arrays and as the messages themselves.
 """
 
-import inspect
 from typing import Any, Callable, List, Optional, Sequence
 
-from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped, WrenchStamped
 import numpy as np
 from rclpy.executors import Executor, SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-from std_srvs.srv import Trigger
 
-from .errors import HarnessClosed, InputRefused, NeverHeld
+from .errors import HarnessClosed, NeverHeld
 from .harness_checks import (check_context, check_executor, checked_seconds, checked_stamp_ns,
-                             checked_ticks, claim_context, release_context)
+                             checked_ticks, claim_context, predicate_text, release_context)
 from .harness_parameters import checked_parameters
 from .lockstep import drain, isolated_context, wait_matched
+from .probe import Probe
 from .readings import body_pose, body_twist, BodyPose, BodyTwist, world_point
 from ..node.mouse_constraint_node import MouseConstraintNode
-from ..wire.interface import (GRAB_TOPIC, POSE_TOPIC, STATE_QOS, TARGET_QOS, TARGET_TOPIC,
-                              TWIST_TOPIC, WRENCH_QOS, WRENCH_TOPIC)
-from ..wire.messages import point_message, set_stamp
+from ..wire.messages import point_message, set_stamp, wrench_message
 
 # Wall seconds a drain may keep finding work, and endpoints may take to match, before failing.
 DRAIN_TIMEOUT = 10.0
 MATCH_TIMEOUT = 5.0
-# The name of the harness's own node, which sends the inputs and reads pose and twist.
-PROBE_NAME = 'simulated_body'
 # ``transform_broadcaster`` not given: the node's own default.
 NODE_DEFAULT = object()
-
-
-def _predicate_text(predicate: Callable) -> str:
-    try:
-        text = ' '.join(inspect.getsource(predicate).split())
-    except (OSError, TypeError):
-        text = getattr(predicate, '__qualname__', repr(predicate))
-    return text if len(text) <= 120 else text[:117] + '...'
 
 
 class SimulatedBody:
@@ -112,12 +98,9 @@ class SimulatedBody:
         self.context = None
         self.executor: Executor = None
         self.node: MouseConstraintNode = None
-        self._probe: Node = None
+        self._probe: Optional[Probe] = None
         self._added: List[Node] = []
         self._tick_callbacks: List[Callable] = [] if on_tick is None else [on_tick]
-        self._pose: Optional[PoseStamped] = None
-        self._twist: Optional[TwistStamped] = None
-        self._pose_anchor: Optional[np.ndarray] = None
         if context is not None:
             claim_context(context, self)
         self.context = isolated_context() if context is None else context
@@ -131,35 +114,14 @@ class SimulatedBody:
                 context=self.context, namespace=namespace, stepped=True,
                 parameter_overrides=[Parameter(name, value=value)
                                      for name, value in values.items()], **broadcaster)
-            self._probe = Node(PROBE_NAME, namespace=namespace, context=self.context,
-                               start_parameter_services=False)
-            self._start_probe()
+            self._probe = Probe(self.node, namespace=namespace, drain=self.drain)
             self.executor.add_node(self.node)
-            self.executor.add_node(self._probe)
-            wait_matched(self.executor, self._probe, self.node, timeout=match_timeout,
+            self.executor.add_node(self._probe.node)
+            wait_matched(self.executor, self._probe.node, self.node, timeout=match_timeout,
                          drain_timeout=drain_timeout)
         except BaseException:
             self.close()
             raise
-
-    def _start_probe(self) -> None:
-        probe = self._probe
-        probe.create_subscription(PoseStamped, POSE_TOPIC, self._on_pose, STATE_QOS)
-        probe.create_subscription(TwistStamped, TWIST_TOPIC, self._on_twist, STATE_QOS)
-        self._target_publisher = probe.create_publisher(PointStamped, TARGET_TOPIC, TARGET_QOS)
-        self._grab_publisher = probe.create_publisher(PointStamped, GRAB_TOPIC, TARGET_QOS)
-        self._wrench_publisher = probe.create_publisher(WrenchStamped, WRENCH_TOPIC, WRENCH_QOS)
-        name = self.node.get_fully_qualified_name()
-        self._reset_client = probe.create_client(Trigger, f'{name}/reset')
-        self._release_client = probe.create_client(Trigger, f'{name}/release')
-
-    def _on_pose(self, message: PoseStamped) -> None:
-        self._pose = message
-        # The anchor in effect when the node published it: a grab changes it between ticks.
-        self._pose_anchor = self.node.get_parameter('anchor').value
-
-    def _on_twist(self, message: TwistStamped) -> None:
-        self._twist = message
 
     def __enter__(self) -> 'SimulatedBody':
         """Return the harness."""
@@ -186,12 +148,13 @@ class SimulatedBody:
             if executor is not None:
                 executor.remove_node(node)
         self._added = []
-        for node in (self._probe, self.node):
+        for node in (None if self._probe is None else self._probe.node, self.node):
             if node is not None:
                 if executor is not None:
                     executor.remove_node(node)
                 node.destroy_node()
-        self._probe = self.node = None
+        # The probe stays: what the node published stays readable.
+        self.node = None
         if executor is not None and self._own_executor:
             executor.shutdown()
         self.executor = None
@@ -199,6 +162,10 @@ class SimulatedBody:
             release_context(self.context, self)
             if self._own_context:
                 self.context.try_shutdown()
+
+    def _seen(self, what: str):
+        """Return the probe's latest ``what`` (pose, twist, pose_anchor), None before one."""
+        return None if self._probe is None else getattr(self._probe, what)
 
     def _open(self, what: str) -> None:
         """Raise ``HarnessClosed`` naming ``what`` when the harness is closed."""
@@ -215,7 +182,7 @@ class SimulatedBody:
     @property
     def pose(self) -> Optional[BodyPose]:
         """Return the latest ``pose`` the node published, or None before the first tick."""
-        return body_pose(self._pose)
+        return body_pose(self._seen('pose'))
 
     @property
     def anchor(self) -> Optional[np.ndarray]:
@@ -226,12 +193,12 @@ class SimulatedBody:
         (a grab's point once it grabbed), placed by the pose. What a drag brings to its target,
         where ``pose.position`` is the centre of mass.
         """
-        return world_point(self._pose, self._pose_anchor)
+        return world_point(self._seen('pose'), self._seen('pose_anchor'))
 
     @property
     def twist(self) -> Optional[BodyTwist]:
         """Return the latest ``twist`` the node published, or None before the first tick."""
-        return body_twist(self._twist)
+        return body_twist(self._seen('twist'))
 
     # --- nodes under test ---------------------------------------------------------------------
 
@@ -304,19 +271,10 @@ class SimulatedBody:
             if predicate():
                 return ticks
         paused = ' (the node is paused)' if self.node.ticker.paused else ''
-        raise NeverHeld(f'{_predicate_text(predicate)} did not hold within {max_ticks} ticks: '
+        raise NeverHeld(f'{predicate_text(predicate)} did not hold within {max_ticks} ticks: '
                         f'simulated time {self.time:.6f} s{paused}')
 
     # --- inputs -------------------------------------------------------------------------------
-
-    def _send(self, publisher, message) -> None:
-        """Publish ``message``, let the node take it, and raise if it refused an input."""
-        before = self.node.refusals[0]
-        publisher.publish(message)
-        self.drain()
-        count, refusal = self.node.refusals
-        if count > before:
-            raise InputRefused(refusal.key, refusal.reason)
 
     def grab(self, point: Sequence[float], *, frame_id: str = '') -> tuple:
         """
@@ -326,7 +284,7 @@ class SimulatedBody:
         :raises InputRefused: the node refused it (off the body, another frame ...).
         """
         self._open('grab')
-        self._send(self._grab_publisher, point_message(point, frame_id, 0))
+        self._probe.send('grab', point_message(point, frame_id, 0))
         return tuple(self.node.get_parameter('anchor').value)
 
     def target(self, point: Sequence[float], *, stamp: Optional[float] = None,
@@ -339,8 +297,7 @@ class SimulatedBody:
         :raises InputRefused: the node refused it (not finite, outside the workspace ...).
         """
         self._open('target')
-        self._send(self._target_publisher,
-                   point_message(point, frame_id, checked_stamp_ns(stamp)))
+        self._probe.send('target', point_message(point, frame_id, checked_stamp_ns(stamp)))
 
     def wrench(self, force: Sequence[float], torque: Sequence[float] = (0.0, 0.0, 0.0), *,
                stamp: Optional[float] = None, frame_id: str = '') -> None:
@@ -353,25 +310,14 @@ class SimulatedBody:
         :raises InputRefused: the node refused it (beyond its bounds, not finite ...).
         """
         self._open('wrench')
-        message = WrenchStamped()
-        message.header.frame_id = frame_id
+        message = wrench_message(force, torque, frame_id)
         set_stamp(message.header.stamp, checked_stamp_ns(stamp))
-        f, t = message.wrench.force, message.wrench.torque
-        f.x, f.y, f.z = (float(c) for c in force)
-        t.x, t.y, t.z = (float(c) for c in torque)
-        self._send(self._wrench_publisher, message)
-
-    def _call(self, what: str, client) -> Trigger.Response:
-        self._open(what)
-        future = client.call_async(Trigger.Request())
-        self.drain()
-        if not future.done():
-            raise AssertionError(f'{client.srv_name} did not answer within a drain')
-        return future.result()
+        self._probe.send('wrench', message)
 
     def release(self) -> str:
         """Call ``~/release``: the body flies free; return the node's reply."""
-        return self._call('release', self._release_client).message
+        self._open('release')
+        return self._probe.call('release').message
 
     def reset(self) -> str:
         """
@@ -379,7 +325,8 @@ class SimulatedBody:
 
         :raises RuntimeError: the node could not reset (its reply says why).
         """
-        response = self._call('reset', self._reset_client)
+        self._open('reset')
+        response = self._probe.call('reset')
         if not response.success:
             raise RuntimeError(response.message)
         return response.message
