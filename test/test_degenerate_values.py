@@ -35,7 +35,7 @@ from mouse_constraint_ros.physics import BodyState, MouseSimulation, RigidBody, 
 from mouse_constraint_ros.physics.gyroscopic import gyroscopic_step
 from mouse_constraint_ros.physics.limits import (MAX_ACCELERATION, MAX_CONDITION, MAX_DISTANCE,
                                                  MAX_MASS, MAX_MOMENT, MIN_MASS, MIN_MOMENT)
-from mouse_constraint_ros.physics.simulation import MAX_STEP, MIN_STEP
+from mouse_constraint_ros.physics.limits import MAX_STEP, MIN_STEP
 
 REPRODUCIBLE = settings(derandomize=True, database=None, deadline=None,
                         suppress_health_check=[HealthCheck.too_slow])

@@ -32,7 +32,7 @@ from mouse_constraint_ros.monitoring.diagnostics import TickWindow
 from mouse_constraint_ros.monitoring.diagnostics import USER_TARGET
 from mouse_constraint_ros.monitoring.diagnostics import Window
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
-from mouse_constraint_ros.physics.simulation import force_bound
+from mouse_constraint_ros.physics.settings import force_bound
 from mouse_constraint_ros.wire.messages import stamp_nanoseconds
 
 OK, WARN, ERROR = DiagnosticStatus.OK, DiagnosticStatus.WARN, DiagnosticStatus.ERROR

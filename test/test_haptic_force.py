@@ -22,7 +22,7 @@ from visualization_msgs.msg import Marker, MarkerArray
 
 from mouse_constraint_ros.monitoring.markers import marker_array
 from mouse_constraint_ros.physics import BodyState, MouseSimulation, RigidBody, Settings
-from mouse_constraint_ros.physics.simulation import STANDARD_GRAVITY
+from mouse_constraint_ros.physics.settings import STANDARD_GRAVITY
 from mouse_constraint_ros.testing import SimulatedBody
 from mouse_constraint_ros.wire import messages
 from mouse_constraint_ros.wire.interface import FORCE_TOPIC

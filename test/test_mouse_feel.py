@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from mouse_constraint_ros.physics import MouseConstraint, MouseSimulation, RigidBody, Settings
-from mouse_constraint_ros.physics.simulation import friction_torque_bound, weight_scale
+from mouse_constraint_ros.physics.settings import friction_torque_bound, weight_scale
 from mouse_constraint_ros.physics.target_motion import Guide, TargetMotion
 from mouse_constraint_ros.physics.target_stream import TargetStream
 from test_support.mouse_feel import circle, click, seed_joint, SOFT

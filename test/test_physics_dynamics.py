@@ -214,7 +214,7 @@ def test_max_force_bounds_the_momentum_change(frequency_hz, substeps):
     Test 7: |m dv - m g dt| <= F_max dt every step, and the bound is reached.
 
     The first step also moves the given velocities back half a substep h (the leapfrog start,
-    see ``MouseSimulation._stagger``): by gravity's m g h / 2 and the constraint's reaction,
+    see ``kernel.stagger``): by gravity's m g h / 2 and the constraint's reaction,
     bounded by F_max h / 2.
     """
     max_force, dt = 15.0, 0.002

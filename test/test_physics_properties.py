@@ -46,11 +46,11 @@ from mouse_constraint_ros.physics.limits import MAX_CONDITION
 from mouse_constraint_ros.physics.limits import MAX_DISTANCE
 from mouse_constraint_ros.physics.limits import MAX_MASS
 from mouse_constraint_ros.physics.limits import MAX_MOMENT
+from mouse_constraint_ros.physics.limits import MAX_STEP
 from mouse_constraint_ros.physics.limits import MIN_MASS
 from mouse_constraint_ros.physics.limits import MIN_MOMENT
+from mouse_constraint_ros.physics.limits import MIN_STEP
 from mouse_constraint_ros.physics.mouse_joint import soft_gains
-from mouse_constraint_ros.physics.simulation import MAX_STEP
-from mouse_constraint_ros.physics.simulation import MIN_STEP
 
 NO_GRAVITY = (0.0, 0.0, 0.0)
 NON_FINITE = st.sampled_from([math.nan, math.inf, -math.inf])

@@ -35,7 +35,7 @@ target age, if target_timeout > 0  < timeout / 2      >= timeout / 2
 (*) allowing one tick of jitter at the window's edges: (ticks + 1) / (seconds * rate_hz).
 (**) the clock jumped backwards (a /clock replay restarting) or changed source (``use_sim_time``
 flipped): the node restarts its tick grid there, with no catch-up and no ticks dropped.
-(***) the bound the joint enforces (``physics.simulation.force_bound``): the smaller of
+(***) the bound the joint enforces (``physics.settings.force_bound``): the smaller of
 ``max_force`` and ``max_force_per_weight`` m |g|; no check when both are unlimited.
 
 Dropped ticks are named with their cause: missed time beyond the catch-up bound, or a timer

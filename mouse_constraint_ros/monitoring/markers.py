@@ -47,7 +47,7 @@ from visualization_msgs.msg import Marker, MarkerArray
 
 from ..physics import BodyState, Floor, Settings, STANDARD_GRAVITY
 from ..physics.algebra import Vector3
-from ..physics.simulation import force_bound
+from ..physics.settings import force_bound
 from ..wire.messages import fill_point, fill_pose, set_stamp
 
 # Sphere diameter as a fraction of the box's longest edge; the line is a third as wide.

@@ -35,7 +35,7 @@ from ..monitoring.diagnostics import (constraint_status, diagnostic_array, INITI
                                       simulator_status, Thresholds, TickWindow, USER_TARGET)
 from ..monitoring.markers import marker_array, reference_force, wrench_reference
 from ..physics import MouseSimulation
-from ..physics.simulation import force_bound
+from ..physics.settings import force_bound
 from ..wire.interface import DIAGNOSTICS_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH
 from ..wire.messages import felt_force
 from ..wire.state_publishers import StatePublishers

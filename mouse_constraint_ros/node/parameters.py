@@ -34,7 +34,7 @@ from ..physics import BodyState, MouseConstraint, RigidBody, Settings
 from ..physics.algebra import Vector3
 from ..physics.limits import (MAX_ACCELERATION, MAX_CONDITION, MAX_DISTANCE, MAX_MASS, MAX_MOMENT,
                               MIN_MASS, MIN_MOMENT)
-from ..physics.simulation import check_lever
+from ..physics.settings import check_lever
 from ..physics.target_motion import TargetMotion
 from ..physics.validation import finite_vector, scalar, shown
 

@@ -33,7 +33,7 @@ import re
 from typing import Any, Iterable, List, Optional, Sequence, Tuple
 
 from .parameters import NodeConfig, ParameterSpec
-from ..physics.simulation import force_bound
+from ..physics.settings import force_bound
 
 # Why publish_clock and use_sim_time cannot both be true.
 CLOCK_LOOP = ('publish_clock: true with use_sim_time: true: a node cannot follow the clock it '

@@ -23,7 +23,8 @@ to it, and ``limits`` the ranges of the settings.
 from .body import RigidBody
 from .floor import Floor
 from .mouse_joint import MouseConstraint
-from .simulation import MouseSimulation, Settings, STANDARD_GRAVITY
+from .settings import Settings, STANDARD_GRAVITY
+from .simulation import MouseSimulation
 from .state import BodyState
 
 __all__ = ['BodyState', 'Floor', 'MouseConstraint', 'MouseSimulation', 'RigidBody', 'Settings',

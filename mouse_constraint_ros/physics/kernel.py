@@ -238,8 +238,8 @@ def coefficients(settings: Settings, h: float, start: bool = False) -> Tuple[flo
     """
     Return what a substep of ``h`` needs from ``settings``, computed once per change.
 
-    :param h: the substep; negative for the backward half step of ``MouseSimulation._stagger``.
-    :param start: for ``MouseSimulation._stagger``: the physical part of the constraint only
+    :param h: the substep; negative for the backward half step that starts a new state.
+    :param start: for that start: the physical part of the constraint only
         (no Baumgarte correction; the spring's own acceleration).
     """
     gx, gy, gz = settings.gravity

@@ -28,27 +28,23 @@ substep is symplectic Euler, as Box2D and Bounce order it:
 4. positions: x += h v and the orientation rotated by w h, renormalized; a free body's by its
    gyroscopic step's own turn instead (``gyroscopic.free_rotation``), which keeps its world L.
 
-Stages 1-2 are ``kernel.velocities``, 3-4 ``step``: plain floats, deterministic to the bit.
+Stages 1-2 are ``kernel.velocities``, 3-4 ``step``, on what ``step_plan`` prepared once per
+settings and substep: plain floats, deterministic to the bit.
 """
 
 import math
 from typing import Optional, Tuple
 
 from .algebra import Vector3
-from .floor import coefficients as floor_coefficients
 from .floor_contact import contact_points, solve as solve_floor, touching
-from .kernel import coefficients, stagger, velocities, ZERO
-from .limits import MAX_STEP, MIN_STEP
-# The settings and bounds, importable from here as before the kernel had its own module.
-from .settings import (check_lever, force_bound, friction_torque_bound,  # noqa: F401
-                       Settings, STANDARD_GRAVITY, weight_scale)
+from .kernel import stagger, velocities, ZERO
+from .limits import MAX_STEP
+from .settings import Settings
 from .state import BodyState
+from .step_plan import step_plan, StepPlan
 from .target_motion import Guide, pull_point
 from .target_stream import TargetStream
 from .validation import finite_vector, scalar
-
-__all__ = ['check_lever', 'force_bound', 'friction_torque_bound', 'MAX_STEP', 'MIN_STEP',
-           'MouseSimulation', 'Settings', 'STANDARD_GRAVITY', 'weight_scale']
 
 
 class MouseSimulation:
@@ -81,12 +77,9 @@ class MouseSimulation:
         self._guide: Optional[Guide] = None
         # False until the velocities of a given state have been moved back half a substep.
         self._staggered = False
-        self._cache_for: Tuple[Optional[Settings], float] = (None, 0.0)
-        self._cache: Tuple[float, ...] = ()
-        # Whether the cached settings move the joint's target (a guide or feed-forward).
-        self._moving_target = False
-        # The floor's coefficients, the last substep's contacts (the warm start) and their COM.
-        self._floor: Optional[Tuple] = None
+        # The prepare stage of the steps (``step_plan``), made again when settings or h change.
+        self._plan: Optional[StepPlan] = None
+        # The last substep's contacts (the floor's warm start) and their COM.
         self._contacts: list = []
         self._contact_origin: Vector3 = ZERO
 
@@ -280,35 +273,28 @@ class MouseSimulation:
         settings = self._settings
         substeps = settings.substeps
         h = dt / substeps
-        cached_settings, cached_h = self._cache_for
-        if cached_settings is not settings or cached_h != h:
-            # Checked here only: a cached h has passed.
-            if h < MIN_STEP:
-                raise ValueError(
-                    f'dt / substeps must be >= {MIN_STEP} s, got {dt!r} / {substeps}')
-            self._cache = coefficients(settings, h)
-            self._cache_for = (settings, h)
-            motion = settings.target_motion
-            self._moving_target = motion.feed_forward or motion.guided
-            self._floor = floor_coefficients(settings.floor)
+        plan = self._plan
+        if plan is None or plan.settings is not settings or plan.h != h:
+            plan = self._plan = step_plan(settings, dt)  # checks h against MIN_STEP
         if not self._staggered:
-            self._stagger(h)
-        cached = self._cache
+            # The velocities of a new state move back half a substep, once (``kernel.stagger``).
+            start = self._target if self._guide is None else self._guide.position
+            self._state, self._friction_torque = stagger(
+                settings, self._state, start, self._wrench, self._friction_torque, h)
+            self._staggered = True
+        cached = plan.coefficients
         wrench = self._wrench
         friction_torque = self._friction_torque
-        floor = self._floor
+        floor = plan.floor
         (px, py, pz), q, v, w = self._state
         time = self._time
         # Decided once per step: a joint without a guide or feed-forward pulls at the target
         # itself, taken as still, in every substep (what ``pull_point`` returns for it).
         target = self._target
-        moving = target is not None and self._moving_target
-        if target is None:
-            joint = None
-        else:
-            joint = (target, None)
-            if not moving:
-                self._guide = None
+        moving = target is not None and plan.moving_target
+        joint = None if target is None else (target, None)
+        if target is not None and not moving:
+            self._guide = None
         sum_x = sum_y = sum_z = 0.0
         for index in range(substeps):
             if moving:
@@ -362,10 +348,3 @@ class MouseSimulation:
         self._friction_torque = friction_torque
         self._time = time + dt
         return self._state
-
-    def _stagger(self, h: float) -> None:
-        """Move the velocities of the state back half a substep, once (``kernel.stagger``)."""
-        target = self._target if self._guide is None else self._guide.position
-        self._state, self._friction_torque = stagger(
-            self._settings, self._state, target, self._wrench, self._friction_torque, h)
-        self._staggered = True
