@@ -20,6 +20,7 @@ under a stand-in for make (the recipe's shell, its process dying of SIGINT as ma
 and the terminal's Ctrl-C and Ctrl-Z are typed into it.
 """
 
+import contextlib
 import os
 from pathlib import Path
 import pty
@@ -85,15 +86,20 @@ def read_until(fd: int, text: bytes, timeout: float = 30.0) -> bytes:
     return out
 
 
+@contextlib.contextmanager
 def run_in_a_terminal(target: str):
-    """Start ``target``'s recipe under make's stand-in on a new terminal; return (pid, fd)."""
+    """Yield (pid, fd) of ``target``'s recipe under make's stand-in on a new terminal."""
     pid, fd = pty.fork()
     if pid == 0:  # the child: make's stand-in, in the repository, on the terminal
         os.chdir(ROOT)
         os.execv(sys.executable, [sys.executable, '-c', MAKE_STAND_IN, recipe(target)])
-    started = read_until(fd, b'Hz x')
-    assert b'Hz x' in started, started
-    return pid, fd
+    try:
+        started = read_until(fd, b'Hz x')
+        assert b'Hz x' in started, started
+        yield pid, fd
+    finally:
+        kill_session(pid)
+        os.close(fd)
 
 
 def wait(pid: int, options: int = 0, timeout: float = 20.0):
@@ -110,21 +116,16 @@ def wait(pid: int, options: int = 0, timeout: float = 20.0):
 @pytest.mark.system
 def test_ctrl_c_of_make_run_in_a_terminal_exits_0():
     """The node alone gets Ctrl-C and exits 0, and so does make (it died of SIGINT: 130)."""
-    pid, fd = run_in_a_terminal('run')
-    try:
+    with run_in_a_terminal('run') as (pid, fd):
         os.write(fd, b'\x03')
         status = wait(pid)
         assert status is not None and os.waitstatus_to_exitcode(status) == 0, status
-    finally:
-        kill_session(pid)
-        os.close(fd)
 
 
 @pytest.mark.system
 def test_ctrl_z_of_make_run_stops_it_until_fg():
     """Ctrl-Z stops the node, then make; going on (fg), Ctrl-C ends both with 0."""
-    pid, fd = run_in_a_terminal('run')
-    try:
+    with run_in_a_terminal('run') as (pid, fd):
         os.write(fd, b'\x1a')
         status = wait(pid, os.WUNTRACED)
         assert status is not None and os.WIFSTOPPED(status)
@@ -133,9 +134,6 @@ def test_ctrl_z_of_make_run_stops_it_until_fg():
         os.write(fd, b'\x03')
         status = wait(pid)
         assert status is not None and os.waitstatus_to_exitcode(status) == 0, status
-    finally:
-        kill_session(pid)
-        os.close(fd)
 
 
 def kill_session(session: int) -> None:

@@ -38,13 +38,12 @@ import sys
 import time
 from typing import Callable, List, NamedTuple, Optional
 
-import rclpy
-from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
-from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 from std_srvs.srv import SetBool, Trigger
 
+from .command_node import command_node, SHUTDOWN_STATUS
 from .echo import ECHOES, EchoPrinter
 from .help_text import plain_text
 from ..timing.spin import call_until_answered, Interrupted, spin_until, StopRequest, wait_until
@@ -208,23 +207,16 @@ def main(args: Optional[List[str]] = None) -> int:
     """Run one command; return its exit status (see the module)."""
     argv = sys.argv if args is None else args
     options = parse_arguments(remove_ros_args(argv)[1:])
-    rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
-    node = Node('mouse_ctl', start_parameter_services=False)
-    executor = SingleThreadedExecutor(context=node.context)
-    executor.add_node(node)
     try:
-        with StopRequest() as stop:
+        with command_node('mouse_ctl', argv, start_parameter_services=False) as (
+                node, executor), StopRequest() as stop:
             if options.command == 'echo':
                 return echo(node, executor, stop, options)
             return call(node, executor, stop, options)
     except Interrupted:
         return INTERRUPTED_STATUS
     except ExternalShutdownException:
-        return 1
-    finally:
-        executor.shutdown()
-        node.destroy_node()
-        rclpy.try_shutdown()
+        return SHUTDOWN_STATUS
 
 
 if __name__ == '__main__':

@@ -38,13 +38,12 @@ from typing import List, Optional
 
 from geometry_msgs.msg import WrenchStamped
 from rcl_interfaces.msg import ParameterType
-import rclpy
 from rclpy.duration import Duration
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
-from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
+from .command_node import command_node, SHUTDOWN_STATUS
 from .help_text import plain_text
 from ..inputs.wrench_gate import WrenchGate
 from ..node.parameters import DEFAULTS
@@ -139,15 +138,11 @@ def main(args: Optional[List[str]] = None) -> int:
     if refusal is not None:
         print(f'mouse_wrench: {refusal}', file=sys.stderr)
         return 1
-    rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
-    node = Node('mouse_wrench')
-    guard_time_source(node, lambda text: node.get_logger().warning(
-        text, throttle_duration_sec=2.0))
-    executor = SingleThreadedExecutor(context=node.context)
-    executor.add_node(node)
     push = Push(options)
     try:
-        with StopRequest() as stop:
+        with command_node('mouse_wrench', argv) as (node, executor), StopRequest() as stop:
+            guard_time_source(node, lambda text: node.get_logger().warning(
+                text, throttle_duration_sec=2.0))
             try:
                 return push.run(node, executor, stop)
             except Interrupted as interrupted:
@@ -155,11 +150,7 @@ def main(args: Optional[List[str]] = None) -> int:
             finally:
                 push.end(node)
     except ExternalShutdownException:
-        return 1
-    finally:
-        executor.shutdown()
-        node.destroy_node()
-        rclpy.try_shutdown()
+        return SHUTDOWN_STATUS
 
 
 class Push:
