@@ -30,6 +30,11 @@ the box about its edge at 30 rad/s, flung. So the bound falls with the anchor's 
 F_max up to HELD_BACK_START to the follow force m (|g| + max_target_acceleration) from
 HELD_BACK_FULL on: what moves the body along the guide's fastest motion, still enough to press
 it down, slide it along the floor and lift it.
+
+A body touching the floor gets the follow force at most, whatever its error: the contacts,
+solved after the joint, hold it back within the substep, so the error stays small while the
+full bound jams the box against the floor and spins it (a corner dragged across the far edge:
+30-40 rad/s).
 """
 
 import math
@@ -76,8 +81,8 @@ def velocities(px: float, py: float, pz: float, q, v: Vector3, w: Vector3, h: fl
     :param wrench: the external (force through the COM (N), torque (N m)), world frame.
     :param friction_torque: the angular friction's torque so far (N m), returned as it is
         where the substep has none to say (the backward half step of a free body).
-    :param touching: whether other constraints (the floor's contacts) act on the body after
-        this stage: it then turns by the final w, as a body held by the joint does.
+    :param touching: whether the floor's contacts act on the body after this stage: it then
+        turns by the final w, as a held body does, and the joint pulls with the follow force.
     :returns: v, w (world frame), the joint's impulse, the friction torque and, for a free
         body, the world-frame unit quaternion of its turn over the substep (else None: the
         body turns by w h).
@@ -212,9 +217,11 @@ def velocities(px: float, py: float, pz: float, q, v: Vector3, w: Vector3, h: fl
     iz = k02 * sx + k12 * sy + k22 * sz + bz
     norm = math.sqrt(ix * ix + iy * iy + iz * iz)
     if follow_impulse < max_impulse:
-        # Held back: the bound falls from the full one to the follow force (``held_back``).
+        # On the floor, or held back: the bound falls to the follow force (module docstring).
         error = math.sqrt(cx * cx + cy * cy + cz * cz)
-        if error > HELD_BACK_START:
+        if touching:
+            max_impulse = follow_impulse
+        elif error > HELD_BACK_START:
             share = max(0.0, (HELD_BACK_FULL - error) / (HELD_BACK_FULL - HELD_BACK_START))
             max_impulse = follow_impulse + (max_impulse - follow_impulse) * share
     if norm > max_impulse:
