@@ -19,9 +19,10 @@ Late and mixed streams through the node in lockstep: every row of docs/dragging.
 the node with config/params.yaml, stepped on simulated time (``mouse_constraint_ros.testing``):
 a 0.5 m/s drag that stops at once or slows to rest, at 20 and 60 Hz, 0, 100 and 200 ms late;
 a still pointer jittering +-2 mm at 60 Hz, 0 to 240 ms late; a 1 m/s circle on time, mixed
-(every other point unstamped) and 100 ms late; a corner pressed into the floor and lifted; a
-flat elastic drop. Each row is printed with its goal and whether it was met. The numbers are
-simulated, the same on any machine and any run.
+(every other point unstamped) and 100 ms late; a corner pressed into the floor and lifted (1 s
+pressed, lifted over the pressed point; 3 s pressed, lifted back); a flat elastic drop. Each
+row is printed with its goal and whether it was met. The numbers are simulated, the same on
+any machine and any run.
 """
 
 import json
@@ -64,11 +65,13 @@ def _rows(quick: bool) -> list:
                                + (f', {row["behind_ms"]:g} ms behind' if delay else '')),
                      'goal': f'<= {error:g} mm' + (f', <= {wobble:g} %' if wobble else ''),
                      'met': met})
-    peaks = late_streams.floor_press()
-    rows.append({'case': 'corner pressed 0.5 m into the floor and 0.3 m aside, then lifted',
-                 'value': f'COM {peaks.speed:.2f} m/s, {peaks.spin:.2f} rad/s',
-                 'goal': '<= 2.5 m/s, <= 15 rad/s',
-                 'met': peaks.speed <= 2.5 and peaks.spin <= 15.0})
+    for case, press, back in (('for 1 s, then lifted', 1.0, False),
+                              ('for 3 s, then lifted back above where it was', 3.0, True)):
+        peaks = late_streams.floor_press(press=press, back=back)
+        rows.append({'case': f'corner pressed 0.5 m into the floor and 0.3 m aside {case}',
+                     'value': f'COM {peaks.speed:.2f} m/s, {peaks.spin:.2f} rad/s',
+                     'goal': '<= 2.5 m/s, <= 15 rad/s',
+                     'met': peaks.speed <= 2.5 and peaks.spin <= 15.0})
     drift, _ = floor_scenarios.elastic_drift(floor_scenarios.world(), height=0.5, seconds=30.0)
     rows.append({'case': 'flat drop from 0.5 m, restitution 1, threshold 0, 30 s',
                  'value': f'lateral drift {1e3 * drift:.4f} mm', 'goal': '<= 1 mm',

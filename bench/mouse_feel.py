@@ -23,7 +23,7 @@ row is config/params.yaml as shipped with the overrides named.
 import math
 import time
 
-from test_support.mouse_feel import circle, click, seed_joint, SOFT
+from test_support.mouse_feel import circle, click, FAR_CLICK, far_click, seed_joint, SOFT
 
 UNGUIDED = {'max_target_speed': math.inf, 'max_target_acceleration': math.inf}
 NO_BOUNDS = {'max_force_per_weight': math.inf, 'angular_friction': 0.0}
@@ -43,6 +43,9 @@ CLICKS = [
     ('shipped, 0.01 kg body', {'mass': 0.01}),
     ('shipped, 100 kg body', {'mass': 100.0}),
 ]
+
+# Substeps of the far click on the floor (shipped: 2).
+FAR_SUBSTEPS = (1, 2, 16)
 
 DRAGS = [
     ('rigid, no guide', UNGUIDED, 0.0),
@@ -64,6 +67,11 @@ def run(quick: bool = False) -> dict:
                      'a': f'{r.peak_speed:.3g} m/s', 'b': f'{r.peak_angular_speed:.3g} rad/s',
                      'c': f'{r.error_at_settle * 1e3:.3g} mm',
                      'd': f'{r.error_after_settle * 1e3:.3g} mm'})
+    for substeps in (2,) if quick else FAR_SUBSTEPS:
+        speed, spin = far_click({'substeps': substeps})
+        rows.append({'case': f'click 4 m away on the floor, box resting there: {substeps} '
+                             'substeps', 'a': f'{speed:.3g} m/s', 'b': f'{spin:.3g} rad/s',
+                     'c': '', 'd': ''})
     drags = [row for row in DRAGS if row[0].startswith('shipped')] if quick else DRAGS
     for label, overrides, jitter in drags:
         without = circle(overrides, jitter=jitter, target_feed_forward=False)
@@ -95,6 +103,12 @@ def main() -> None:
         print(f'| {label} | {r.peak_speed:.3g} | {r.peak_angular_speed:.3g} | '
               f'{r.error_at_settle * 1e3:.3g} | {r.error_after_settle * 1e3:.3g} | '
               f'{r.error_last_second * 1e3:.3g} |')
+    print(f'\n## A click on the floor {abs(FAR_CLICK[1]):g} m away, the box resting there\n')
+    print('| substeps | peak COM speed (m/s) | peak angular speed (rad/s) |')
+    print('| --- | --- | --- |')
+    for substeps in FAR_SUBSTEPS:
+        speed, spin = far_click({'substeps': substeps})
+        print(f'| {substeps} | {speed:.3g} | {spin:.3g} |')
     print('\n## A drag: target circling at 1 m/s (radius 0.25 m), streamed at 50 Hz\n')
     print('| joint | RMS error without feed-forward (mm) | with (mm) | ratio |')
     print('| --- | --- | --- | --- |')

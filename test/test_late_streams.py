@@ -80,6 +80,17 @@ def test_a_corner_pressed_into_the_floor_and_lifted_is_not_flung():
     assert peaks.speed <= 2.5 and peaks.spin <= 15.0
 
 
+def test_a_corner_pressed_for_long_and_lifted_back_is_not_flung():
+    """
+    Pressed 0.5 m in and 0.3 m aside for 3 s, then lifted 0.5 m above where it started.
+
+    The box tips onto its side and the anchor is held back the whole time; as the box leaves
+    the floor it closes on the guide at the guide's own bounds: <= 2.5 m/s, 15 rad/s.
+    """
+    peaks = late_streams.floor_press(press=3.0, back=True)
+    assert peaks.speed <= 2.5 and peaks.spin <= 15.0
+
+
 def test_a_flat_elastic_drop_stays_where_it_fell():
     """Restitution 1, threshold 0, dropped flat from 0.5 m for 30 s: lateral drift <= 1 mm."""
     world = floor_scenarios.world()

@@ -23,7 +23,7 @@ from mouse_constraint_ros.physics import MouseConstraint, MouseSimulation, Rigid
 from mouse_constraint_ros.physics.settings import friction_torque_bound, weight_scale
 from mouse_constraint_ros.physics.target_motion import Guide, TargetMotion
 from mouse_constraint_ros.physics.target_stream import TargetStream
-from test_support.mouse_feel import circle, click, seed_joint, SOFT
+from test_support.mouse_feel import circle, click, far_click, seed_joint, SOFT
 
 CORNER = (0.2, 0.1, 0.05)
 
@@ -37,6 +37,19 @@ def test_a_click_with_the_shipped_parameters_carries_the_body_over_gently():
     assert result.error_after_settle <= 0.005
     # Not growing: the last second is no worse than the settle time's bound.
     assert result.error_last_second <= 0.005
+
+
+@pytest.mark.parametrize('substeps', [1, 2, 16])
+def test_a_far_click_on_the_floor_drags_the_resting_box_without_rolling_it(substeps):
+    """
+    Clicked 4 m away on the floor, the box resting there: the click's bounds hold.
+
+    The corner is dragged along the floor; the box tips over and slides, spin <= 30 rad/s, and
+    the COM no faster than 3 m/s (the guide's 2 m/s and the box turning about its corner).
+    """
+    peak_speed, peak_spin = far_click({'substeps': substeps})
+    assert peak_spin <= 30.0
+    assert peak_speed <= 3.0
 
 
 def test_the_seed_joint_flings_the_body_on_the_same_click():

@@ -250,13 +250,14 @@ class Peaks(NamedTuple):
     spin: float
 
 
-def floor_press(depth: float = 0.5, aside: float = 0.3, lift: float = 0.5) -> Peaks:
+def floor_press(depth: float = 0.5, aside: float = 0.3, lift: float = 0.5, *,
+                press: float = 1.0, back: bool = False) -> Peaks:
     """
     Return the peaks of a resting box whose held corner is pressed into the floor, then lifted.
 
     The box rests on the floor (shipped: z = 0) holding its top corner; after 0.5 s the target
-    is the corner ``depth`` below the floor and ``aside`` along x, for 1 s; then ``lift``
-    above where the corner started, for 1.5 s.
+    is the corner ``depth`` below the floor and ``aside`` along x, for ``press`` seconds; then
+    ``lift`` above where the corner started (``back``) or above the pressed point, for 1.5 s.
     """
     values = {**parameters(), 'marker_rate_hz': 0.0, 'diagnostics_rate_hz': 0.0}
     values['initial_position'] = [0.0, 0.0, 0.5 * values['box_size'][2]]
@@ -270,8 +271,8 @@ def floor_press(depth: float = 0.5, aside: float = 0.3, lift: float = 0.5) -> Pe
             peaks[1] = max(peaks[1], float(np.linalg.norm(b.twist.angular)))
         body.add_tick_callback(peak)
         body.target(tuple(corner + (aside, 0.0, -depth)))
-        body.step(1000)
-        body.target(tuple(corner + (aside, 0.0, lift)))
+        body.step(round(press * 1000))
+        body.target(tuple(corner + (0.0 if back else aside, 0.0, lift)))
         body.step(1500)
     return Peaks(*peaks)
 

@@ -17,14 +17,15 @@ Scenarios of how a click and a drag move the body, shared by test/test_mouse_fee
 
 ``click`` holds the anchor where it starts (the body hangs from its corner and swings), then
 jumps the target ``distance`` m along x and reports the peak COM and angular speeds and the
-anchor error from 1.5 s after the click on. ``circle`` streams a target circling at ``speed``
-at ``rate_hz`` (arrival times optionally jittered) and reports the RMS distance between the
-anchor and where the target really is, once the drag is under way.
+anchor error from 1.5 s after the click on. ``far_click`` clicks on the floor metres from the
+box resting on it, held by its corner, and reports the peak speeds. ``circle`` streams a target
+circling at ``speed`` at ``rate_hz`` (arrival times optionally jittered) and reports the RMS
+distance between the anchor and where the target really is, once the drag is under way.
 """
 
 import math
 from pathlib import Path
-from typing import Any, Dict, NamedTuple
+from typing import Any, Dict, NamedTuple, Tuple
 
 import numpy as np
 import yaml
@@ -36,6 +37,8 @@ PARAMS_FILE = Path(__file__).resolve().parent.parent / 'config' / 'params.yaml'
 # When the click comes after start (s), and how long after it the anchor must be on target.
 CLICK_AT = 1.0
 SETTLE = 1.5
+# A click on the floor (the view's grid) this far (m) from the box resting on it, along -y.
+FAR_CLICK = (0.0, -4.0, 0.0)
 
 
 def shipped_parameters() -> Dict[str, Any]:
@@ -77,6 +80,33 @@ def click(overrides: Dict[str, Any] = {}, *, distance: float = 0.5, seconds: flo
     settled = round(SETTLE * config.rate_hz) - 1
     return Click(max(speeds), max(spins), errors[settled], max(errors[settled:]),
                  max(errors[-round(config.rate_hz):]))
+
+
+def far_click(overrides: Dict[str, Any] = {}, *, target: Tuple[float, float, float] = FAR_CLICK,
+              rest: float = 0.3, seconds: float = 3.0) -> Tuple[float, float]:
+    """
+    Return the peak COM speed (m/s) and angular speed (rad/s) of a click on the floor.
+
+    The box of params.yaml with ``overrides`` lies on its floor, held by its corner where it
+    starts, for ``rest`` s; then the target jumps to ``target`` (on the floor), and the box is
+    dragged there by its corner for ``seconds``.
+    """
+    values = {**shipped_parameters(), **overrides}
+    floor = float(values.get('floor_height', 0.0))
+    config = configured({'initial_position': [0.0, 0.0, floor + 0.5 * values['box_size'][2]],
+                         **overrides})
+    simulation = MouseSimulation(config.settings, config.initial_state)
+    simulation.target = config.initial_anchor()
+    dt = 1.0 / config.rate_hz
+    for _ in range(round(rest * config.rate_hz)):
+        simulation.step(dt)
+    simulation.set_target(target, time=simulation.time)
+    speed = spin = 0.0
+    for _ in range(round(seconds * config.rate_hz)):
+        state = simulation.step(dt)
+        speed = max(speed, math.hypot(*state.linear_velocity))
+        spin = max(spin, math.hypot(*state.angular_velocity))
+    return speed, spin
 
 
 def circle(overrides: Dict[str, Any] = {}, *, speed: float = 1.0, radius: float = 0.25,

@@ -30,6 +30,13 @@ the box about its edge at 30 rad/s, flung. So the bound falls with the anchor's 
 F_max up to HELD_BACK_START to the follow force m (|g| + max_target_acceleration) from
 HELD_BACK_FULL on: what moves the body along the guide's fastest motion, still enough to press
 it down, slide it along the floor and lift it.
+
+A body touching the floor gets the follow force at most, whatever its error: the contacts,
+solved after the joint, hold it back within the substep, so the error stays small while the
+full bound jams the box against the floor and spins it (a corner dragged across the far edge:
+30-40 rad/s). An anchor held back and let go (lifted off the floor) closes on the guide as the
+guide closes on a target, b |C| <= a sqrt(2 A |C|) for A = max_target_acceleration: rigid
+mode's b = delta / h would close 4 cm at 16 m/s, a snap that flings the box.
 """
 
 import math
@@ -76,8 +83,8 @@ def velocities(px: float, py: float, pz: float, q, v: Vector3, w: Vector3, h: fl
     :param wrench: the external (force through the COM (N), torque (N m)), world frame.
     :param friction_torque: the angular friction's torque so far (N m), returned as it is
         where the substep has none to say (the backward half step of a free body).
-    :param touching: whether other constraints (the floor's contacts) act on the body after
-        this stage: it then turns by the final w, as a body held by the joint does.
+    :param touching: whether the floor's contacts act on the body after this stage: it then
+        turns by the final w, as a held body does, and the joint pulls with the follow force.
     :returns: v, w (world frame), the joint's impulse, the friction torque and, for a free
         body, the world-frame unit quaternion of its turn over the substep (else None: the
         body turns by w h).
@@ -86,7 +93,7 @@ def velocities(px: float, py: float, pz: float, q, v: Vector3, w: Vector3, h: fl
     are written out inline here, in the same operation order, because a Python call and its
     tuples cost as much as the arithmetic they wrap.
     """
-    (gx, gy, gz, linear_decay, angular_decay, a, b, max_impulse, follow_impulse,
+    (gx, gy, gz, linear_decay, angular_decay, a, b, max_impulse, follow_impulse, catch_up,
      max_turn_impulse, carry, kick, gyroscopic, inertia, joint_body, body_inertia,
      inverse_inertia) = coefficients
     # R(q), as algebra.rotation_matrix.
@@ -186,6 +193,11 @@ def velocities(px: float, py: float, pz: float, q, v: Vector3, w: Vector3, h: fl
     jvz = r02 * ux + r12 * uy + r22 * uz + wbx * rby - wby * rbx
     # The position correction -K^-1 b C, limited in the turn it asks of a substep.
     sx, sy, sz = -b * cx, -b * cy, -b * cz
+    error = math.sqrt(cx * cx + cy * cy + cz * cz)
+    if target_velocity is not None and b * b * error > a * a * catch_up:
+        # Held back, then let go: it closes at a sqrt(2 A |C|) at most (module docstring).
+        scale = a * math.sqrt(catch_up / error) / b
+        sx, sy, sz = sx * scale, sy * scale, sz * scale
     bx = k00 * sx + k01 * sy + k02 * sz
     by = k01 * sx + k11 * sy + k12 * sz
     bz = k02 * sx + k12 * sy + k22 * sz
@@ -212,9 +224,10 @@ def velocities(px: float, py: float, pz: float, q, v: Vector3, w: Vector3, h: fl
     iz = k02 * sx + k12 * sy + k22 * sz + bz
     norm = math.sqrt(ix * ix + iy * iy + iz * iz)
     if follow_impulse < max_impulse:
-        # Held back: the bound falls from the full one to the follow force (``held_back``).
-        error = math.sqrt(cx * cx + cy * cy + cz * cz)
-        if error > HELD_BACK_START:
+        # On the floor, or held back: the bound falls to the follow force (module docstring).
+        if touching:
+            max_impulse = follow_impulse
+        elif error > HELD_BACK_START:
             share = max(0.0, (HELD_BACK_FULL - error) / (HELD_BACK_FULL - HELD_BACK_START))
             max_impulse = follow_impulse + (max_impulse - follow_impulse) * share
     if norm > max_impulse:
@@ -262,6 +275,7 @@ def coefficients(settings: Settings, h: float, start: bool = False) -> Tuple[flo
             _decay(settings.angular_damping, h, start), a, b,
             force_bound(settings) * abs(h),
             math.inf if start else follow_force(settings) * abs(h),
+            math.inf if start else 2.0 * settings.target_motion.max_acceleration,
             0.0 if start else friction_torque_bound(settings) * abs(h),
             1.0 - a if constraint.gravity_feed_forward and not start else 0.0,
             h * body.inverse_mass, *_gyroscopic(body),
