@@ -60,11 +60,15 @@ $(STAMP): $(REQS) setup.py setup.cfg
 	  { echo 'error: .venv/bin/mouse_constraint_node or mouse_view was not installed' >&2; exit 1; }
 	@touch $@
 
+# One worker per core (pytest-xdist), each taking whole modules: a module's tests share its
+# fixtures and files. PARALLEL= runs them in one process.
+PARALLEL ?= -n auto --dist loadfile
+
 # -rs: every skipped test is listed with its reason, so a user sees what was not tested and why.
 test: venv
-	@if [ -x $(CHROMIUM) ]; then $(VPY) -m pytest test/ -q -rs $(PYTEST_ARGS); else \
+	@if [ -x $(CHROMIUM) ]; then $(VPY) -m pytest test/ -q -rs $(PARALLEL) $(PYTEST_ARGS); else \
 	  echo 'browser tier skipped: no $(CHROMIUM) (apt-get install chromium, then make test-browser)'; \
-	  $(VPY) -m pytest test/ -q -rs -m 'not browser' $(PYTEST_ARGS); fi
+	  $(VPY) -m pytest test/ -q -rs -m 'not browser' $(PARALLEL) $(PYTEST_ARGS); fi
 
 test-browser: venv
 	$(VPY) -m pytest test/ -q -m browser $(PYTEST_ARGS)
@@ -75,7 +79,7 @@ test-loaded: venv
 	$(VPY) -m test_support.loaded_runs --runs $(RUNS) --hogs 1 -- $(MAKE) --no-print-directory test
 
 test-unit: venv
-	$(VPY) -m pytest test/ -q -m unit $(PYTEST_ARGS)
+	$(VPY) -m pytest test/ -q -m unit $(PARALLEL) $(PYTEST_ARGS)
 
 lint: venv
 	$(VPY) -m flake8 --max-line-length 99 $(LINT_PATHS)

@@ -17,12 +17,27 @@ Shared fixtures: DDS isolation and a fresh rclpy context per test.
 
 Every test process uses its own ROS_DOMAIN_ID (derived from the pid, away from the default 0,
 or ``MOUSE_TEST_DOMAIN_ID`` when set, so that concurrent test runs can be kept apart for certain)
-and localhost-only discovery, so tests never see a developer's nodes or each other's.
+and localhost-only discovery, so tests never see a developer's nodes or each other's. Under
+``pytest -n`` (pytest-xdist) the workers of one run take domains spread apart by their index,
+so that they never share one.
 """
 
+import hashlib
 import os
 
-os.environ['ROS_DOMAIN_ID'] = os.environ.get('MOUSE_TEST_DOMAIN_ID', str(40 + os.getpid() % 60))
+
+def _domain_id() -> int:
+    """Return this test process's ROS_DOMAIN_ID, in 40 .. 99."""
+    worker = os.environ.get('PYTEST_XDIST_WORKER')  # gw0, gw1, ... under pytest -n
+    if worker is None:
+        return 40 + os.getpid() % 60
+    run = int(hashlib.sha256(os.environ.get('PYTEST_XDIST_TESTRUNUID', '').encode()).hexdigest(),
+              16)
+    workers = int(os.environ.get('PYTEST_XDIST_WORKER_COUNT', '1'))
+    return 40 + (run + int(worker[2:]) * 60 // max(workers, 1)) % 60
+
+
+os.environ['ROS_DOMAIN_ID'] = os.environ.get('MOUSE_TEST_DOMAIN_ID', str(_domain_id()))
 os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
 
 import pytest  # noqa: E402 (after the environment is set, as rclpy reads it)
