@@ -20,8 +20,10 @@
 # shipped joint catches up: at most max_target_speed, with the force bounded in body weights.
 #
 # It runs in your ROS_DOMAIN_ID, so RViz (Fixed Frame `world`, a MarkerArray display on
-# /mouse_constraint/markers) can watch it; nothing else named mouse_constraint should be running
-# there: stop `make run` first. The recording ends SETTLE_SECONDS (default 3) after the jump.
+# /mouse_constraint/markers) can watch it; another mouse_constraint in the root namespace there
+# (`make run` left running) would take its inputs, so the demo looks for one first and, when it
+# sees one, says so with its namespace and domain and exits 1 before it starts anything. The
+# recording ends SETTLE_SECONDS (default 3) after the jump.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -32,6 +34,7 @@ UPDATE_FIGURE=${UPDATE_FIGURE:-0}
 # The node and mouse_record: what each mouse_target waits for.
 SUBSCRIBERS=2
 RADIUS=0.3
+"$BIN/python" -m mouse_constraint_ros.cli.already_running --namespace /
 mkdir -p "$OUT"
 rm -f "$OUT"/recording.* "$OUT"/*.log "$OUT"/figure.png
 

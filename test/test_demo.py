@@ -28,8 +28,11 @@ from pathlib import Path
 import re
 import subprocess
 import sys
+import time
 
 import pytest
+
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 
 ROOT = Path(__file__).resolve().parent.parent
 BIN = Path(sys.executable).parent
@@ -116,3 +119,22 @@ def test_the_summary_reads_the_run_phase_by_phase(demo):
     # clock figure: 0.5 to 0.7 mm mostly, 5.4 mm for 40 ms once on a loaded machine where a
     # target of the 50 Hz stream came 3 ms late, never the fling of a stream extrapolated on.
     assert float(circle.group(1)) < 1.0 and float(circle.group(2)) < 19.0, lines[1]
+
+
+def test_a_node_already_running_stops_the_demo_at_once(ros, tmp_path):
+    """
+    ``make run`` left running: the demo says a mouse_constraint runs, where, and exits 1.
+
+    Nothing is started (no node log): the other node would have taken the demo's grab.
+    """
+    ros.add(MouseConstraintNode(context=ros.context))
+    environment = dict(os.environ, DEMO_OUTPUT=str(tmp_path), DEMO_BIN=str(BIN))
+    start = time.monotonic()
+    run = subprocess.run([str(ROOT / 'demo' / 'run_demo.sh')], capture_output=True, text=True,
+                         env=environment, timeout=120)
+    assert run.returncode == 1, run.stdout + run.stderr
+    domain = os.environ['ROS_DOMAIN_ID']
+    assert (f'a mouse_constraint is already running: /mouse_constraint in namespace / on '
+            f'ROS_DOMAIN_ID {domain}') in run.stderr
+    assert 'Traceback' not in run.stderr and not (tmp_path / 'node.log').exists()
+    assert time.monotonic() - start < 30.0

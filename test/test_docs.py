@@ -44,6 +44,22 @@ def test_readme_parameter_table_matches_the_declarations():
         assert rows[parameter.name] == yaml_literal(parameter.default), parameter.name
 
 
+def test_readme_closed_ranges_are_the_declared_ones():
+    """
+    A range README writes [low, high] is the declared one: ``ros2 param describe`` shows it.
+
+    A value outside it is refused at start and at run time in the node's words, which name the
+    same bounds (``test_startup``).
+    """
+    section = README.read_text().split('### Parameters', 1)[1].split('\n## ', 1)[0]
+    rows = re.findall(r'^\| `(\w+)` \| `[^`]*` \| \[([^,\]]+), ([^\])]+)\] \|', section,
+                      re.MULTILINE)
+    declared = {p.name: p.bounds for p in PARAMETERS}
+    assert len(rows) >= 10
+    for name, low, high in rows:
+        assert declared[name] == (float(low), float(high)), name
+
+
 def architecture_module_paths():
     """
     Yield (line, path) for every module docs/architecture.md names.

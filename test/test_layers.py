@@ -35,7 +35,7 @@ ALLOWED = {
     'pointer': {'pointer', 'physics', 'wire'},
     # The two tools import neither each other: what they share is pointer/.
     'view': {'view', 'pointer', 'physics', 'timing', 'inputs', 'wire', 'monitoring'},
-    'marker': {'marker', 'pointer', 'physics', 'timing', 'wire', 'monitoring'},
+    'marker': {'marker', 'pointer', 'physics', 'timing', 'inputs', 'wire', 'monitoring'},
     'testing': {'testing', 'node', 'physics', 'timing', 'inputs', 'wire', 'monitoring'},
 }
 

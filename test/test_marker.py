@@ -21,6 +21,7 @@ from scipy.spatial.transform import Rotation
 from visualization_msgs.msg import InteractiveMarkerControl
 
 from mouse_constraint_ros.marker.drag import MarkerDrag
+from mouse_constraint_ros.marker.input_pacer import InputPacer
 from mouse_constraint_ros.marker.presence import departed, watched
 from mouse_constraint_ros.marker.updates import (MARKER_NAME, MarkerUpdates, MAX_POSE_RATE,
                                                  pose_of)
@@ -33,13 +34,15 @@ ANCHOR = (0.2, 0.1, 0.05)
 SHOWN = Pose((0.0, 0.0, 1.0), tuple(Rotation.from_euler('z', 0.3).as_quat()))
 NOW = Pose((0.05, 0.0, 0.98), tuple(Rotation.from_euler('zy', [0.35, 0.1]).as_quat()))
 LOCAL = (0.1, -0.1, 0.02)  # a point of the -y face, body frame
+# The node's box and grab_margin, which a press is checked against.
+NODE = {'box_size': BOX, 'margin': 0.01}
 
 
 def test_a_press_on_the_body_grabs_the_pressed_point_carried_to_the_latest_pose():
     """The hit point of the shown pose, at the node's pose now; moves carry it with the marker."""
     drag = MarkerDrag()
     hit = world_point(SHOWN, LOCAL)
-    [grab] = drag.press('/rviz', shown=SHOWN, hit=hit, now=NOW, anchor=ANCHOR)
+    [grab] = drag.press('/rviz', shown=SHOWN, hit=hit, now=NOW, anchor=ANCHOR, **NODE)
     assert grab.kind == GRAB and grab.point == pytest.approx(world_point(NOW, LOCAL), abs=1e-12)
     moved = Pose((0.3, 0.2, 1.1), SHOWN.orientation)
     [target] = drag.move('/rviz', moved)
@@ -52,13 +55,13 @@ def test_a_press_on_the_body_grabs_the_pressed_point_carried_to_the_latest_pose(
 def test_a_held_release_keeps_the_target_and_a_failed_pick_drags_the_anchor():
     """Hold: no release. No hit point (RViz's pick failed): no grab, the anchor is dragged."""
     drag = MarkerDrag()
-    assert drag.press('/rviz', shown=SHOWN, hit=None, now=NOW, anchor=ANCHOR) == []
+    assert drag.press('/rviz', shown=SHOWN, hit=None, now=NOW, anchor=ANCHOR, **NODE) == []
     moved = Pose((0.3, 0.2, 1.1), SHOWN.orientation)
     assert drag.move('/rviz', moved) == [Action(TARGET, world_point(moved, ANCHOR))]
     assert drag.release('/rviz', hold=True) == []
     # A point that is not finite is no hit either.
-    assert drag.press('/rviz', shown=SHOWN, hit=(math.nan, 0.0, 1.0), now=NOW,
-                      anchor=ANCHOR) == []
+    assert drag.press('/rviz', shown=SHOWN, hit=(math.nan, 0.0, 1.0), now=NOW, anchor=ANCHOR,
+                      **NODE) == []
     assert drag.dragging
 
 
@@ -68,10 +71,11 @@ def test_one_drag_at_a_time_and_nothing_without_a_press_or_from_nan():
     moved = Pose((0.3, 0.2, 1.1), SHOWN.orientation)
     assert drag.move('/rviz', moved) == [] and drag.release('/rviz', hold=False) == []
     nan_pose = Pose((math.nan, 0.0, 1.0), SHOWN.orientation)
-    assert drag.press('/rviz', shown=nan_pose, hit=None, now=NOW, anchor=ANCHOR) == []
+    assert drag.press('/rviz', shown=nan_pose, hit=None, now=NOW, anchor=ANCHOR, **NODE) == []
     assert not drag.dragging
-    drag.press('/rviz', shown=SHOWN, hit=world_point(SHOWN, LOCAL), now=NOW, anchor=ANCHOR)
-    assert drag.press('/other', shown=SHOWN, hit=None, now=NOW, anchor=ANCHOR) == []
+    drag.press('/rviz', shown=SHOWN, hit=world_point(SHOWN, LOCAL), now=NOW, anchor=ANCHOR,
+               **NODE)
+    assert drag.press('/other', shown=SHOWN, hit=None, now=NOW, anchor=ANCHOR, **NODE) == []
     assert drag.move('/other', moved) == [] and drag.release('/other', hold=False) == []
     assert drag.move('/rviz', nan_pose) == []
     assert drag.client == '/rviz'
@@ -142,3 +146,67 @@ def test_a_drag_hangs_on_its_own_rviz_or_on_every_client_when_none_is_named_so()
     # None known at the press: the drag ends when no feedback publisher is left.
     assert watched('/rviz', []) == frozenset()
     assert not departed(frozenset(), [b]) and departed(frozenset(), [])
+
+
+def _scaled(pose: Pose, factor: float) -> Pose:
+    return Pose(pose.position, tuple(factor * c for c in pose.orientation))
+
+
+def test_a_non_unit_quaternion_is_normalised_and_one_that_cannot_be_is_passed_over():
+    """A quaternion scaled by 3 or 10 turns as the unit one; zero, NaN, 1e300 drag nothing."""
+    unit, scaled = MarkerDrag(), MarkerDrag()
+    hit = world_point(SHOWN, LOCAL)
+    [grab] = unit.press('/rviz', shown=SHOWN, hit=hit, now=NOW, anchor=ANCHOR, **NODE)
+    assert scaled.press('/rviz', shown=_scaled(SHOWN, 3.0), hit=hit, now=_scaled(NOW, 0.1),
+                        anchor=ANCHOR, **NODE) == [
+        Action(GRAB, pytest.approx(grab.point, abs=1e-12))]
+    moved = Pose((0.3, 0.2, 1.1), SHOWN.orientation)
+    [target] = unit.move('/rviz', moved)
+    [scaled_target] = scaled.move('/rviz', _scaled(moved, 10.0))
+    assert scaled_target.point == pytest.approx(target.point, abs=1e-12)
+    for orientation in ((0.0, 0.0, 0.0, 0.0), (math.nan, 0.0, 0.0, 1.0),
+                        (1e300, 0.0, 0.0, 0.0), (0.0, math.inf, 0.0, 0.0)):
+        bad = Pose(moved.position, orientation)
+        assert scaled.move('/rviz', bad) == []
+        fresh = MarkerDrag()
+        assert fresh.press('/rviz', shown=bad, hit=hit, now=NOW, anchor=ANCHOR, **NODE) == []
+        assert fresh.press('/rviz', shown=SHOWN, hit=hit, now=bad, anchor=ANCHOR,
+                           **NODE) == []
+        assert not fresh.dragging
+
+
+def test_a_press_the_node_would_refuse_grabs_nothing_and_drags_the_anchor():
+    """A hit farther than the margin from the box at the latest pose: no grab, the anchor."""
+    drag = MarkerDrag()
+    off = world_point(SHOWN, (0.2 + 0.011, 0.0, 0.0))  # 11 mm off the +x face
+    assert drag.press('/rviz', shown=SHOWN, hit=off, now=NOW, anchor=ANCHOR, **NODE) == []
+    moved = Pose((0.3, 0.2, 1.1), SHOWN.orientation)
+    assert drag.move('/rviz', moved) == [Action(TARGET, world_point(moved, ANCHOR))]
+    drag.release('/rviz', hold=False)
+    within = world_point(SHOWN, (0.2 + 0.009, 0.0, 0.0))  # 9 mm off: taken, as by the node
+    [grab] = drag.press('/rviz', shown=SHOWN, hit=within, now=NOW, anchor=ANCHOR, **NODE)
+    assert grab.point == pytest.approx(world_point(NOW, (0.209, 0.0, 0.0)), abs=1e-12)
+
+
+def test_the_pacer_lets_one_input_go_per_slot_in_order_and_drops_what_is_moot():
+    """100 a second, any kind; the newest target; a grab or a release drops what waits after."""
+    pacer = InputPacer(100.0)
+    assert pacer.offer(GRAB, 'grab 1', 0.0) == (GRAB, 'grab 1')
+    assert pacer.offer(TARGET, 'target 1', 0.001) is None
+    assert pacer.offer(TARGET, 'target 2', 0.002) is None and pacer.waiting == [TARGET]
+    assert pacer.offer(RELEASE, 'release 1', 0.003) is None and pacer.waiting == [RELEASE]
+    assert pacer.offer(GRAB, 'grab 2', 0.004) is None
+    assert pacer.offer(TARGET, 'target 3', 0.005) is None
+    assert pacer.waiting == [RELEASE, GRAB, TARGET]
+    assert pacer.offer(RELEASE, 'release 2', 0.006) is None and pacer.waiting == [RELEASE]
+    assert pacer.offer(GRAB, 'grab 3', 0.007) is None and pacer.waiting == [RELEASE, GRAB]
+    assert pacer.offer(GRAB, 'grab 4', 0.008) is None and pacer.waiting == [RELEASE, GRAB]
+    assert pacer.flush(0.0099) is None
+    assert pacer.flush(0.01) == (RELEASE, 'release 1') and pacer.flush(0.015) is None
+    assert pacer.offer(TARGET, 'target 4', 0.02) == (GRAB, 'grab 4')
+    assert pacer.flush(0.03) == (TARGET, 'target 4') and pacer.waiting == []
+    assert pacer.offer(TARGET, 'target 5', 0.04) == (TARGET, 'target 5')
+    with pytest.raises(ValueError):
+        pacer.offer('push', 'x', 1.0)
+    with pytest.raises(ValueError):
+        InputPacer(0.0)

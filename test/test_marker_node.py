@@ -41,7 +41,7 @@ from std_srvs.srv import SetBool
 from visualization_msgs.msg import (InteractiveMarkerFeedback, InteractiveMarkerUpdate)
 from visualization_msgs.srv import GetInteractiveMarkers
 
-from mouse_constraint_ros.marker.node import (MAX_TARGET_RATE, MouseMarkerNode,
+from mouse_constraint_ros.marker.node import (MAX_INPUT_RATE, MouseMarkerNode,
                                               PRESENCE_PERIOD)
 from mouse_constraint_ros.marker.updates import MARKER_NAME, MAX_POSE_RATE, pose_message, pose_of
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
@@ -108,15 +108,19 @@ class FakeRviz:
         for pose in update.poses:
             self.marker_pose = pose_of(pose.pose)
 
-    def send(self, event: int, pose: Pose, point=None) -> None:
-        """Publish one feedback event of the body's marker."""
+    def feedback_message(self, event: int, pose: Pose, point=None) -> InteractiveMarkerFeedback:
+        """Return one feedback event of the body's marker, as this client signs it."""
         feedback = InteractiveMarkerFeedback(
             client_id=self.client_id, marker_name=MARKER_NAME, control_name='drag',
             event_type=event, pose=pose_message(pose), mouse_point_valid=point is not None)
         feedback.header.frame_id = self.frame_id
         if point is not None:
             feedback.mouse_point.x, feedback.mouse_point.y, feedback.mouse_point.z = point
-        self.feedback.publish(feedback)
+        return feedback
+
+    def send(self, event: int, pose: Pose, point=None) -> None:
+        """Publish one feedback event of the body's marker."""
+        self.feedback.publish(self.feedback_message(event, pose, point))
 
     def press(self, pose: Pose, point) -> None:
         """Press on the marker shown at ``pose``, the pick at ``point`` (None: it failed)."""
@@ -129,10 +133,10 @@ class FakeRviz:
         self.send(InteractiveMarkerFeedback.MOUSE_UP, pose)
 
 
-def _nodes(ros, **parameters):
+def _nodes(ros, *, marker_clock=time.monotonic, **parameters):
     node = ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
         Parameter(name, value=value) for name, value in {**AT_REST, **parameters}.items()]))
-    marker = ros.add(MouseMarkerNode(context=ros.context))
+    marker = ros.add(MouseMarkerNode(context=ros.context, clock=marker_clock))
     rviz = FakeRviz(ros.probe)
     assert ros.spin_until(lambda: marker.follower.parameters_known
                           and marker.updates.sequence > 0
@@ -218,7 +222,7 @@ def test_other_clients_floods_and_nan_are_passed_over(ros):
     """
     A second client mid-drag, a release without a press, a flood, a NaN pose: no harm.
 
-    The flood (2000 pose updates at once) sends targets at most MAX_TARGET_RATE a second; the
+    The flood (2000 pose updates at once) sends targets at most MAX_INPUT_RATE a second; the
     NaN pose sends none; the other client's feedback none; the drag goes on.
     """
     node, marker, rviz = _nodes(ros)
@@ -250,9 +254,111 @@ def test_other_clients_floods_and_nan_are_passed_over(ros):
         (targets[-1].point.x, targets[-1].point.y, targets[-1].point.z), last, atol=1e-9),
         timeout=20.0)
     flood = len(targets) - before
-    assert flood <= (time.monotonic() - start) * MAX_TARGET_RATE + 2
+    assert flood <= (time.monotonic() - start) * MAX_INPUT_RATE + 2
     rviz.release(shown)
     assert ros.spin_until(lambda: node.simulation.target is None)
+
+
+def test_scaled_quaternions_turn_as_unit_ones_and_a_refused_press_drags_the_anchor(ros):
+    """
+    Feedback whose quaternion is scaled drags as the unit one; one that holds no turn, nothing.
+
+    The press is 1.9 m off the body, turned by a quaternion scaled by 3: the node would refuse
+    it, so no grab goes and the drag moves the node's anchor, never the refused point; moves
+    with the quaternion scaled by 10 send the anchor moved with the marker; zero, 1e300 and NaN
+    quaternions send nothing.
+    """
+    node, marker, rviz = _nodes(ros)
+    grabs: List[PointStamped] = ros.collect(PointStamped, 'grab')
+    targets: List[PointStamped] = ros.collect(PointStamped, 'target')
+    anchor = tuple(node.get_parameter('anchor').value)
+    shown = rviz.marker_pose
+    off = world_point(shown, (0.1, -2.0, 0.0))
+
+    def scaled(pose: Pose, factor: float) -> Pose:
+        return Pose(pose.position, tuple(factor * c for c in pose.orientation))
+    rviz.press(scaled(shown, 3.0), off)
+    assert ros.spin_until(lambda: marker.drag.dragging)
+    moved = Pose(tuple(np.add(shown.position, (0.0, 0.0, 0.05))), shown.orientation)
+    rviz.send(InteractiveMarkerFeedback.POSE_UPDATE, scaled(moved, 10.0))
+    for orientation in ((0.0, 0.0, 0.0, 0.0), (1e300, 0.0, 0.0, 0.0), (math.nan, 0.0, 0.0, 1.0)):
+        rviz.send(InteractiveMarkerFeedback.POSE_UPDATE, Pose(moved.position, orientation))
+    ros.spin_for(0.5)
+    assert grabs == [] and tuple(node.get_parameter('anchor').value) == anchor
+    expected = world_point(moved, anchor)
+    assert [(t.point.x, t.point.y, t.point.z) for t in targets] == [
+        pytest.approx(expected, abs=1e-12)]
+    assert node.simulation.target == pytest.approx(expected, abs=1e-12)
+    rviz.release(moved)
+    assert ros.spin_until(lambda: node.simulation.target is None)
+
+
+class FakeClock:
+    """A monotonic clock that stands still until told: ``now`` seconds."""
+
+    def __init__(self) -> None:
+        """Start at 0 s."""
+        self.now = 0.0
+
+    def __call__(self) -> float:
+        """Return the time (s)."""
+        return self.now
+
+
+def _sends(marker: MouseMarkerNode, clock: FakeClock) -> List[tuple]:
+    """Record each input the marker sends to the node as (time, kind), and send it."""
+    sent: List[tuple] = []
+
+    def spy(kind: str, send):
+        def record(*args, **kwargs):
+            sent.append((clock.now, kind))
+            return send(*args, **kwargs)
+        return record
+    marker.grab_publisher.publish = spy('grab', marker.grab_publisher.publish)
+    marker.target_publisher.publish = spy('target', marker.target_publisher.publish)
+    marker.release_client.call_async = spy('release', marker.release_client.call_async)
+    return sent
+
+
+def test_press_move_release_cycles_send_at_most_max_input_rate_inputs_a_second(ros):
+    """
+    2000 press, move and release cycles in 1 s: 100 inputs a second at most, grabs included.
+
+    The marker's clock is a fake one that moves 0.5 ms per cycle; the feedback is handed to the
+    marker's callback in order and its work runs after each cycle, as its timer would. Grabs,
+    targets and releases together go at least 1 / MAX_INPUT_RATE s apart, the last a release;
+    then a press and a drag 5 ms after it grab and drag the body, each in its slot.
+    """
+    clock = FakeClock()
+    node, marker, rviz = _nodes(ros, marker_clock=clock)
+    sent = _sends(marker, clock)
+    shown = rviz.marker_pose
+    hit = world_point(shown, LOCAL)
+    moved = Pose(tuple(np.add(shown.position, (0.0, 0.0, 0.01))), shown.orientation)
+    cycles, step = 2000, 0.0005
+    for k in range(cycles):
+        clock.now = 10.0 + k * step
+        for event, pose, point in ((InteractiveMarkerFeedback.MOUSE_DOWN, shown, hit),
+                                   (InteractiveMarkerFeedback.POSE_UPDATE, moved, None),
+                                   (InteractiveMarkerFeedback.MOUSE_UP, moved, None)):
+            marker._on_feedback(rviz.feedback_message(event, pose, point))
+        marker._work()
+    while marker._inputs.waiting:  # what still waits goes in the next slots
+        clock.now += 1.0 / MAX_INPUT_RATE
+        marker._work()
+    flood = list(sent)
+    times = [t for t, _ in flood]
+    assert np.all(np.diff(times) >= 1.0 / MAX_INPUT_RATE - 1e-9)
+    assert len(flood) <= cycles * step * MAX_INPUT_RATE + 1 and flood[-1][1] == 'release'
+    clock.now += 0.005
+    marker._on_feedback(rviz.feedback_message(InteractiveMarkerFeedback.MOUSE_DOWN, shown, hit))
+    marker._on_feedback(rviz.feedback_message(InteractiveMarkerFeedback.POSE_UPDATE, moved))
+    for _ in range(3):
+        clock.now += 1.0 / MAX_INPUT_RATE
+        marker._work()
+    assert [kind for _, kind in sent[len(flood):]] == ['grab', 'target']
+    assert ros.spin_until(lambda: node.simulation.target == pytest.approx(
+        world_point(moved, LOCAL), abs=1e-9))
 
 
 def test_a_drag_ends_when_its_rviz_leaves(ros):

@@ -31,6 +31,8 @@ from rclpy.parameter import Parameter
 from scipy.spatial.transform import Rotation
 
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
+from mouse_constraint_ros.node.parameters import PARAMETERS
+from mouse_constraint_ros.node.startup import refusal_reason
 from mouse_constraint_ros.testing import InputRefused
 from mouse_constraint_ros.wire.messages import state_from_messages
 
@@ -158,6 +160,27 @@ def test_parameter_updates_apply_and_invalid_ones_are_rejected(simulated_body_fa
             body.set_parameters(**{name: value})
     assert simulation.settings is before
     assert body.node.get_parameter('mass').value == 3.0
+
+
+@pytest.mark.parametrize('name, value', [
+    ('mass', -1.0), ('mass', math.nan), ('mass', 1e200), ('substeps', 2.5),
+    ('substeps', 0), ('rate_hz', 0.5), ('grab_margin', -1.0), ('max_force', math.nan),
+])
+def test_a_change_rclpy_refuses_reads_as_the_same_value_refused_at_start(
+        simulated_body_factory, name, value):
+    """
+    A type or a declared range refused at run time: the start-up's reason, never rclpy's text.
+
+    rclpy checks the type and the range before the node's callback; its words ("Wrong parameter
+    type", "out of range Min: 0.0, Max: 1.797e308") are replaced by the node's own.
+    """
+    body = simulated_body_factory(rate_hz=200.0)
+    with pytest.raises(ValueError) as refused:
+        body.set_parameters(**{name: value})
+    given = (value, Parameter.Type.from_parameter_value(value).name)
+    spec = next(p for p in PARAMETERS if p.name == name)
+    assert str(refused.value) == refusal_reason(spec, '', given)
+    assert 'Min:' not in str(refused.value) and 'Type.' not in str(refused.value)
 
 
 def test_parameter_service_like_ros2_param_set(simulated_body_factory):

@@ -70,14 +70,35 @@ def test_type_hint_only_where_the_fix_is_plain(value, expected, hint):
     ('gravity', [0, 0, -10], 'gravity: [0, 0, -10] is a list of integers, gravity takes a list '
      'of doubles: write [0.0, 0.0, -10.0]'),
     ('frame_id', 3, 'frame_id: 3 is an integer, frame_id takes a string'),
-    ('rate_hz', 0.0, 'rate_hz: 0.0 is outside its range [1.0, 10000.0]'),
-    ('substeps', 0, 'substeps: 0 is outside its range [1, 1000]'),
-    ('mass', math.nan, 'mass: .nan is not a number, so not within its range [0.0, finite]'),
+    ('substeps', 2.5, 'substeps: 2.5 is a double, substeps takes an integer'),
+    ('rate_hz', 0.0, 'rate_hz must be >= 1.0, got 0.0'),
+    ('substeps', 0, 'substeps must be an integer >= 1, got 0'),
+    ('substeps', 5000, 'substeps must be <= 1000, got 5000'),
+    ('mass', -1.0, 'mass must be > 0.0, got -1.0'),
+    ('mass', 1e200, 'mass must be within [1e-100, 1e+100] kg, got 1e+200: beyond, the effective '
+     'mass (1 / m) or the impulses and energies (m) of the step overflow'),
+    ('mass', math.nan, 'mass must be finite, got nan'),
 ])
 def test_a_refusal_names_the_parameter_the_reason_and_the_fix(name, value, expected):
     """The lines test_startup_refusals reads from the executable, here from the function."""
     given = (value, Parameter.Type.from_parameter_value(value).name)
     assert refusal_reason(SPECS[name], 'rclpy text', given) == expected
+
+
+def test_a_value_out_of_range_reads_as_the_node_refuses_any_invalid_value():
+    """The declared range's refusal is node_config's own; one it would take, said plainly."""
+    for spec in PARAMETERS:
+        if spec.bounds is None:
+            continue
+        low, high = spec.bounds
+        for value in (low - 1, 2 * high + 1)[:1 if math.isinf(high) else 2]:
+            given = (type(spec.default)(value), value_type(spec.default))
+            with pytest.raises(ValueError) as refused:
+                node_config({**DEFAULTS, spec.name: given[0]})
+            assert refusal_reason(spec, 'rclpy text', given) == str(refused.value)
+    narrow = SPECS['mass']._replace(bounds=(3.0, 4.0))
+    assert refusal_reason(narrow, 'rclpy text', (2.5, 'DOUBLE')) == \
+        'mass: 2.5 is outside its range [3.0, 4.0]'
 
 
 def test_a_refusal_without_an_override_or_a_plainer_reason_is_rclpys():

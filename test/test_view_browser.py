@@ -22,7 +22,9 @@ field of view), away from the panel. The test checks that the loaded page is tur
 at a readable size, presses on the body and checks the node's
 ``anchor`` parameter becomes a point on the body, drags and checks the target is the pointer's
 ray met with the camera-facing plane through the grabbed point and that the anchor follows it,
-then releases and checks the body is free. It saves a screenshot of the drag: to
+then releases and checks the body is free; grabs again and lets go with shift pressed 30 ms
+before, and checks the body stays held. It checks the panel's hint and that the hold toggle's
+label reads dark. It saves a screenshot of the drag: to
 ``MOUSE_VIEW_SCREENSHOT`` when set (``docs/view.md`` names the command), else to the test's
 temporary folder.
 """
@@ -66,6 +68,8 @@ DRAG = np.array([120.0, -80.0])
 # How long presses are tried until the page has drawn the body (s): SwiftShader's first frame
 # takes 10-20 s, several times that on a loaded machine.
 GRAB_TIMEOUT = 180.0
+# The hint's first words.
+HINT_START = 'Press on the body'
 
 
 @contextlib.contextmanager
@@ -98,11 +102,17 @@ class PinholeCamera:
     """The browser's camera: pixels to rays and back (OpenCV axes: x right, y down, z ahead)."""
 
     def __init__(self, camera) -> None:
-        """Read the position, orientation, vertical field of view and canvas size."""
+        """
+        Read the position, orientation, vertical field of view and the image's aspect.
+
+        The pixels are the page's (CSS px, where the mouse goes): the image the browser
+        reports may be drawn smaller (viser lowers its resolution when frames come slowly).
+        """
         self.position = np.array(camera.position, dtype=float)
         w, x, y, z = camera.wxyz
         self.rotation = Rotation.from_quat([x, y, z, w]).as_matrix()
-        self.width, self.height = camera.image_width, camera.image_height
+        self.aspect = camera.image_width / camera.image_height
+        self.width, self.height = VIEWPORT['width'], VIEWPORT['height']
         self.focal = 0.5 * self.height / np.tan(0.5 * camera.fov)
 
     def pixel(self, point) -> np.ndarray:
@@ -151,6 +161,7 @@ def test_a_real_mouse_grabs_drags_and_releases_the_body(ros, chromium_page, tmp_
             wait_for(lambda: any(_camera_known(c) for c in server.get_clients().values()),
                      60.0, 'the browser reported its camera')
             _assert_framed(server, view)
+            _check_the_panel(page)
             camera, press = _grab(page, node, lambda: _aim(server, view))
             anchor = np.array(node.get_parameter('anchor').value)
             assert box_distance(anchor, BOX) <= node.get_parameter('grab_margin').value
@@ -173,8 +184,39 @@ def test_a_real_mouse_grabs_drags_and_releases_the_body(ros, chromium_page, tmp_
             assert shot.stat().st_size > 10_000
             page.mouse.up()
             wait_for(lambda: node.simulation.target is None, 10.0, 'the release freed the body')
+            assert not page.get_by_text(HINT_START).is_visible()
+            _shift_at_the_release_holds(page, node, lambda: _aim(server, view))
     finally:
         server.stop()
+
+
+def _shift_at_the_release_holds(page, node, aim) -> None:
+    """
+    README: hold shift to keep the body held where you let go; shift goes down 30 ms before.
+
+    The browser ends the drag's segment when shift goes down and holds back the next one; the
+    page confirms it at once and the view takes it as the same drag, held at the release.
+    """
+    _, press = _grab(page, node, aim, lambda: node.simulation.target is not None)
+    page.mouse.move(*(press + 0.5 * DRAG), steps=6)
+    page.keyboard.down('Shift')
+    time.sleep(0.03)
+    page.mouse.up()
+    page.keyboard.up('Shift')
+    time.sleep(1.0)  # far longer than SEGMENT_GAP: a release would have gone
+    assert node.simulation.target is not None, 'shift down at the release let the body go'
+
+
+def _check_the_panel(page) -> None:
+    """Check the hint says to press on the body and the hold toggle's label reads dark."""
+    wait_for(lambda: page.get_by_text(HINT_START).is_visible(), 30.0, 'the hint shown')
+    color = page.evaluate("""() => {
+        const label = [...document.querySelectorAll('label')].find(
+            (e) => e.textContent.includes('Hold on release'));
+        return getComputedStyle(label).color;
+    }""")
+    channels = [int(c) for c in color[color.index('(') + 1:color.index(')')].split(',')[:3]]
+    assert max(channels) <= 80, color
 
 
 def _camera_known(client) -> bool:
@@ -226,7 +268,7 @@ def _aim(server, view):
     view.scene.frame(client)
     time.sleep(0.5)
     camera = PinholeCamera(client.camera)
-    assert abs(camera.width / camera.height - 1280 / 720) < 0.05
+    assert abs(camera.aspect - 1280 / 720) < 0.05
     pose = view.latest_pose()
     faces = [tuple(s * h if i == axis else 0.0 for i, h in enumerate(np.array(BOX) / 2))
              for axis in range(3) for s in (-1.0, 1.0)]
@@ -236,14 +278,18 @@ def _aim(server, view):
     return camera, press
 
 
-def _grab(page, node, aim):
+def _grab(page, node, aim, grabbed=None):
     """
     Press on the body and move past the drag threshold until the node takes the grab.
 
     Each try aims anew, the camera put back where it starts.
 
+    :param grabbed: whether the node took the grab (default: its anchor left the default).
     :returns: the camera and the pressed pixel of the try that grabbed.
     """
+    if grabbed is None:
+        def grabbed() -> bool:
+            return not np.allclose(node.get_parameter('anchor').value, DEFAULT_ANCHOR)
     deadline = time.monotonic() + GRAB_TIMEOUT
     while True:
         camera, press = aim()
@@ -251,8 +297,7 @@ def _grab(page, node, aim):
         page.mouse.down()
         page.mouse.move(*(press + (6.0, 0.0)), steps=3)
         try:
-            wait_for(lambda: not np.allclose(node.get_parameter('anchor').value,
-                                             DEFAULT_ANCHOR), 3.0, 'grab')
+            wait_for(grabbed, 3.0, 'grab')
             return camera, press
         except pytest.fail.Exception:
             page.mouse.up()  # the page was not drawn yet: press again

@@ -27,7 +27,7 @@ from mouse_constraint_ros.pointer.geometry import (camera_plane_point, FRAME_FRA
                                                    material_point, Pose, ray_box_hit, world_point,
                                                    wxyz)
 from mouse_constraint_ros.pointer.gestures import (Action, Camera, Gestures, GRAB, HOLD_MODIFIER,
-                                                   RELEASE, TARGET)
+                                                   RELEASE, SEGMENT_GAP, TARGET)
 
 BOX = (0.4, 0.2, 0.1)
 TURNED = Pose((0.3, -0.2, 1.0), tuple(Rotation.from_euler('zyx', [0.7, -0.3, 0.4]).as_quat()))
@@ -144,15 +144,16 @@ def test_a_drag_grabs_the_pressed_point_moves_on_the_camera_plane_and_releases()
     gestures = Gestures()
     pressed = (0.1, -0.1, 1.02)
     assert gestures.start(7, pressed=pressed, camera=CAMERA, shown=AT_REST,
-                          now=AT_REST) == [Action(GRAB, pytest.approx(pressed))]
+                          now=AT_REST, at=0.0) == [Action(GRAB, pytest.approx(pressed))]
     assert gestures.dragging(7)
     # The pointer's ray passes through (0.5, 2.0, 1.5): it meets y = -0.1 at a fifth of the way.
     far = (0.5, 2.0, 1.5)
     fraction = (-0.1 - CAMERA.position[1]) / (far[1] - CAMERA.position[1])
     expected = tuple(c + fraction * (f - c) for c, f in zip(CAMERA.position, far))
     assert gestures.move(7, far) == [Action(TARGET, pytest.approx(expected))]
-    assert gestures.end(7, far, modifier=None, hold=False) == [
-        Action(TARGET, pytest.approx(expected)), Action(RELEASE)]
+    assert gestures.end(7, far, modifier=None, hold=False, at=1.0) == [
+        Action(TARGET, pytest.approx(expected))]
+    assert gestures.due(2.0) == [Action(RELEASE)]
     assert not gestures.dragging(7)
     assert gestures.move(7, far) == []
 
@@ -162,7 +163,7 @@ def test_a_body_that_moved_since_it_was_drawn_is_grabbed_at_the_pressed_material
     gestures = Gestures()
     now = Pose((0.0, 0.05, 0.98), AT_REST.orientation)
     actions = gestures.start(1, pressed=(0.1, -0.1, 1.02), camera=CAMERA, shown=AT_REST,
-                             now=now)
+                             now=now, at=0.0)
     assert actions == [Action(GRAB, pytest.approx((0.1, -0.05, 1.0)))]
     (target,) = gestures.move(1, (0.1, 2.0, 1.0))
     assert target.point[1] == pytest.approx(-0.05)
@@ -172,15 +173,17 @@ def test_a_body_that_moved_since_it_was_drawn_is_grabbed_at_the_pressed_material
 def test_a_hold_at_release_sends_no_release(modifier, hold):
     """Shift held at release, or the page's toggle: the last target stays, no release."""
     gestures = Gestures()
-    gestures.start(2, pressed=(0.0, -0.1, 1.0), camera=CAMERA, shown=AT_REST, now=AT_REST)
-    actions = gestures.end(2, (0.0, 0.0, 1.0), modifier=modifier, hold=hold)
-    assert [action.kind for action in actions] == [TARGET]
+    gestures.start(2, pressed=(0.0, -0.1, 1.0), camera=CAMERA, shown=AT_REST, now=AT_REST,
+                   at=0.0)
+    actions = gestures.end(2, (0.0, 0.0, 1.0), modifier=modifier, hold=hold, at=1.0)
+    assert [action.kind for action in actions] == [TARGET] and gestures.due(2.0) == []
 
 
 def test_without_the_camera_the_targets_are_the_web_views_plane_points():
     """A browser that has not reported its camera: the pointer's own plane point is sent."""
     gestures = Gestures()
-    gestures.start(3, pressed=(0.0, -0.1, 1.0), camera=None, shown=AT_REST, now=AT_REST)
+    gestures.start(3, pressed=(0.0, -0.1, 1.0), camera=None, shown=AT_REST, now=AT_REST,
+                   at=0.0)
     assert gestures.move(3, (0.3, -0.1, 1.2)) == [Action(TARGET, (0.3, -0.1, 1.2))]
 
 
@@ -193,3 +196,43 @@ def test_a_click_grabs_where_the_ray_meets_the_box_then_releases_unless_held():
     assert [action.kind for action in held] == [GRAB]
     assert Gestures.click((1.0, 0.0, 3.0), (0.0, 0.0, -1.0), now=AT_REST, box_size=BOX,
                           modifier=None, hold=False) == []
+
+
+def test_shift_pressed_before_the_release_holds_the_body_and_the_drag_goes_on():
+    """
+    The browser ends a drag's segment when shift goes down and starts the next: one drag.
+
+    The next segment's start within SEGMENT_GAP of the end continues the drag (no release, no
+    new grab); its end with shift holds. A plain release goes once SEGMENT_GAP has passed.
+    """
+    gestures = Gestures()
+    pressed = (0.1, -0.1, 1.02)
+    assert [a.kind for a in gestures.start(5, pressed=pressed, camera=CAMERA, shown=AT_REST,
+                                           now=AT_REST, at=1.0)] == [GRAB]
+    far = (0.5, 2.0, 1.5)
+    [target] = gestures.move(5, far)
+    assert gestures.end(5, far, modifier=None, hold=False, at=1.2) == [target]
+    assert gestures.due(1.2 + 0.5 * SEGMENT_GAP) == []
+    # shift down: the next segment starts, where the pointer is; the drag is the same one
+    assert gestures.start(5, pressed=far, camera=None, shown=AT_REST, now=AT_REST,
+                          at=1.2 + 0.5 * SEGMENT_GAP) == []
+    assert gestures.dragging(5) and gestures.move(5, far) == [target]
+    assert gestures.end(5, far, modifier=HOLD_MODIFIER, hold=False, at=1.3) == [target]
+    assert gestures.due(10.0) == [] and not gestures.dragging(5)
+
+
+def test_a_plain_release_goes_once_no_next_segment_came():
+    """No start within SEGMENT_GAP: the release; a start after it grabs anew, released first."""
+    gestures = Gestures()
+    gestures.start(6, pressed=(0.1, -0.1, 1.02), camera=CAMERA, shown=AT_REST, now=AT_REST,
+                   at=0.0)
+    assert gestures.end(6, (0.5, 2.0, 1.5), modifier=None, hold=False, at=1.0) != []
+    assert gestures.due(1.0 + SEGMENT_GAP) == []
+    assert gestures.due(1.0 + 1.01 * SEGMENT_GAP) == [Action(RELEASE)]
+    assert gestures.due(5.0) == []
+    gestures.start(6, pressed=(0.1, -0.1, 1.02), camera=CAMERA, shown=AT_REST, now=AT_REST,
+                   at=6.0)
+    gestures.end(6, (0.5, 2.0, 1.5), modifier=None, hold=False, at=7.0)
+    actions = gestures.start(6, pressed=(0.1, -0.1, 1.02), camera=CAMERA, shown=AT_REST,
+                             now=AT_REST, at=7.0 + 2.0 * SEGMENT_GAP)
+    assert [a.kind for a in actions] == [RELEASE, GRAB]

@@ -123,6 +123,19 @@ def test_a_held_release_keeps_the_target(ros, server):
     assert node.simulation.target is not None
 
 
+def test_the_hint_says_how_to_drag_until_the_first_grab(ros, server):
+    """One line in the panel says to press on the body; the first grab takes it away."""
+    node = _node(ros)
+    view = _view(ros, server)
+    _ready(ros, view, node)
+    assert view.scene.hint.visible and 'Press on the body' in view.scene.hint.content
+    _drag(view, 'start', start=world_point(view.scene.shown, (0.1, -0.1, 0.02)))
+    assert ros.spin_until(lambda: not view.scene.hint.visible)
+    _drag(view, 'end', end=(0.0, 0.0, 1.0))
+    assert ros.spin_until(lambda: node.simulation.target is None)
+    assert not view.scene.hint.visible
+
+
 def test_a_click_grabs_where_its_ray_meets_the_box_and_releases(ros, server):
     """A click on the body at rest: the anchor on its top face, then the body free."""
     node = _node(ros)

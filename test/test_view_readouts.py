@@ -81,7 +81,7 @@ def _value(kind: int, **fields) -> ParameterValue:
 
 
 def test_parameters_take_known_valid_values_and_pass_over_the_rest():
-    """box_size, anchor, frequency_hz, floor and floor_height are read; anything else ignored."""
+    """box_size, anchor, frequency_hz, floor, floor_height, grab_margin read; others ignored."""
     parameters = ViewParameters().with_values([
         ('box_size', _value(ParameterType.PARAMETER_DOUBLE_ARRAY,
                             double_array_value=[1.0, 0.5, 0.25])),
@@ -91,10 +91,11 @@ def test_parameters_take_known_valid_values_and_pass_over_the_rest():
         ('floor', _value(ParameterType.PARAMETER_BOOL, bool_value=True)),
         ('floor_height', _value(ParameterType.PARAMETER_DOUBLE, double_value=-0.5)),
         ('frame_id', _value(ParameterType.PARAMETER_STRING, string_value='map')),
+        ('grab_margin', _value(ParameterType.PARAMETER_DOUBLE, double_value=0.02)),
         ('a_parameter_of_tomorrow', _value(ParameterType.PARAMETER_INTEGER, integer_value=3)),
     ])
     assert parameters == ViewParameters('map', (1.0, 0.5, 0.25), (-0.5, 0.0, 0.1), 5.0, True,
-                                        -0.5)
+                                        -0.5, 0.02)
     assert parameters.mode == 'soft, 5 Hz' and ViewParameters().mode == 'rigid'
     unchanged = parameters.with_values([
         ('box_size', _value(ParameterType.PARAMETER_DOUBLE_ARRAY,
@@ -105,6 +106,8 @@ def test_parameters_take_known_valid_values_and_pass_over_the_rest():
         ('floor', _value(ParameterType.PARAMETER_DOUBLE, double_value=1.0)),
         ('frequency_hz', _value(ParameterType.PARAMETER_DOUBLE, double_value=math.inf)),
         ('floor_height', _value(ParameterType.PARAMETER_NOT_SET)),
+        ('grab_margin', _value(ParameterType.PARAMETER_DOUBLE, double_value=-0.01)),
+        ('grab_margin', _value(ParameterType.PARAMETER_DOUBLE, double_value=math.nan)),
     ])
     assert unchanged == parameters
 

@@ -24,7 +24,8 @@ feedback                               inputs to the node
 =====================================  ========================================================
 press (MOUSE_DOWN) with the hit point  ``grab`` at the pressed point of the body, carried from
                                        the pose RViz showed to the node's latest pose
-press whose pick failed                nothing yet: the drag moves the node's anchor
+press whose pick failed, or whose      nothing yet: the drag moves the node's anchor
+point the node would refuse
 move (POSE_UPDATE while pressed)       a ``target``: the grabbed point moved with the marker
 release (MOUSE_UP)                     ``~/release``, unless the drag holds: the last target
                                        keeps the body where it was let go
@@ -33,13 +34,22 @@ release (MOUSE_UP)                     ``~/release``, unless the drag holds: the
 One drag at a time: the client that pressed owns it until it releases; the feedback of others
 meanwhile is passed over, as is a move or a release without a press, and a pose or a point
 that is not finite.
+
+A pose's quaternion is read as the turn it stands for, normalised (``unit_pose``); a pose whose
+quaternion cannot be normalised (zero, not finite, overflowing) is passed over. A grab is sent
+only when the node takes it: its point, at the node's latest pose, within ``grab_margin`` of the
+box (the node's own test, ``inputs.grab``). A point the node would refuse is no hit, and the
+drag moves the node's anchor, which the node still holds: the drag never goes on from a point
+that is not the anchor.
 """
 
 import math
 from typing import List, Optional, Sequence
 
+from ..inputs.grab import grab
+from ..physics import BodyState
 from ..physics.algebra import Vector3
-from ..pointer.geometry import local_point, material_point, Pose, world_point
+from ..pointer.geometry import local_point, material_point, Pose, unit_pose, world_point
 from ..pointer.gestures import Action, GRAB, RELEASE, TARGET
 
 
@@ -61,7 +71,7 @@ class MarkerDrag:
         return self.client is not None
 
     def press(self, client: str, *, shown: Pose, hit: Optional[Vector3], now: Pose,
-              anchor: Vector3) -> List[Action]:
+              anchor: Vector3, box_size: Sequence[float], margin: float) -> List[Action]:
         """
         Start a drag: grab the pressed point of the body, or drag by the anchor without one.
 
@@ -70,20 +80,29 @@ class MarkerDrag:
         :param hit: the pressed point (world, m), None when RViz's pick found none.
         :param now: the body's latest pose from the node.
         :param anchor: the node's anchor (body frame, m), dragged when there is no hit.
+        :param box_size: the node's box (m).
+        :param margin: the node's ``grab_margin`` (m): how far off the box a grab is taken.
         :returns: the grab, or nothing.
         """
-        if self.client not in (None, client) or not _finite(*shown, *now):
+        shown, now = unit_pose(shown), unit_pose(now)
+        if self.client not in (None, client) or shown is None or now is None:
             return []
         self.client = client
         if hit is None or not _finite(hit):
             self._local = tuple(anchor)
             return []
-        self._local = local_point(hit, shown)
-        return [Action(GRAB, material_point(hit, shown=shown, now=now))]
+        local = local_point(hit, shown)
+        point = material_point(hit, shown=shown, now=now)
+        if not grab(BodyState(now.position, now.orientation), box_size, point).taken(margin):
+            self._local = tuple(anchor)
+            return []
+        self._local = local
+        return [Action(GRAB, point)]
 
     def move(self, client: str, marker: Pose) -> List[Action]:
         """Return the target for the marker moved to ``marker`` (none outside the drag)."""
-        if client != self.client or not _finite(*marker):
+        marker = unit_pose(marker)
+        if client != self.client or marker is None:
             return []
         return [Action(TARGET, world_point(marker, self._local))]
 

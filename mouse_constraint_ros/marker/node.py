@@ -26,8 +26,11 @@ and ``PushThrottle``:
 
 - the body's newest pose is taken every ``WORK_PERIOD`` and offered to the marker's updates (at
   most 30 a second, only when it moved, none during a drag);
-- targets go out at most ``MAX_TARGET_RATE`` a second, the newest held back going when its slot
-  comes: RViz sends one per frame (30 a second), a client gone wrong as many as it likes;
+- inputs go out at most ``MAX_INPUT_RATE`` a second, grabs, targets and releases counted
+  together over every client (``InputPacer``), each in its slot, in order, what a later one
+  makes moot dropped (the newest target replaces the one held back): RViz sends one target per
+  frame (30 a second), a client gone wrong as many targets, or press and release cycles, as it
+  likes;
 - ``hold_on_release`` (a parameter of this node, false by default) keeps the body held where
   the drag ends instead of calling ``~/release``;
 - a drag whose RViz closes or crashes ends as its release would, when a feedback publisher it
@@ -55,14 +58,14 @@ from visualization_msgs.msg import InteractiveMarkerFeedback, InteractiveMarkerU
 from visualization_msgs.srv import GetInteractiveMarkers
 
 from .drag import MarkerDrag
+from .input_pacer import InputPacer
 from .presence import departed, Endpoint, watched
 from .updates import MARKER_NAME, MarkerUpdates, pose_of
-from ..pointer.geometry import Pose
+from ..pointer.geometry import Pose, unit_pose
 from ..pointer.gestures import Action, GRAB, RELEASE
 from ..pointer.newest_message import NewestMessage
 from ..pointer.node_follower import DISCOVERY_SECONDS, NodeFollower
 from ..pointer.node_readouts import ViewParameters
-from ..pointer.push_throttle import PushThrottle
 from ..wire.interface import (GRAB_TOPIC, MARKER_FEEDBACK_TOPIC, MARKER_NODE_NAME, MARKER_QOS,
                               MARKER_SERVICE, MARKER_UPDATE_TOPIC, NODE_NAME, node_name,
                               POSE_TOPIC, RELEASE_SERVICE, TARGET_QOS, TARGET_TOPIC)
@@ -72,8 +75,8 @@ from ..wire.messages import point_message
 LATEST_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)
 # Periods (s): the pose taken and the held updates and targets flushed; the look for the node.
 WORK_PERIOD, PRESENCE_PERIOD = 0.01, 0.5
-# Targets a second at most.
-MAX_TARGET_RATE = 100.0
+# Inputs (grabs, targets and releases together) a second at most, from all clients.
+MAX_INPUT_RATE = 100.0
 # The parameter that keeps the body held where a drag ends.
 HOLD_PARAMETER = 'hold_on_release'
 
@@ -96,7 +99,8 @@ class MouseMarkerNode(Node):
         self._monotonic = clock
         self.drag = MarkerDrag()
         self.updates = MarkerUpdates(self.get_fully_qualified_name())
-        self._targets: PushThrottle[PointStamped] = PushThrottle(MAX_TARGET_RATE)
+        # The grabs, targets and releases that go to the node (a release has no message).
+        self._inputs: InputPacer[Optional[PointStamped]] = InputPacer(MAX_INPUT_RATE)
         self._latest: Optional[Pose] = None
         self.feedback_taken = 0
         self.grab_publisher = self.create_publisher(PointStamped, GRAB_TOPIC, TARGET_QOS)
@@ -150,7 +154,7 @@ class MouseMarkerNode(Node):
         raw = self.pose_subscription.take()
         if raw is not None:
             try:
-                pose = pose_of(deserialize_message(raw, PoseStamped).pose)
+                pose = unit_pose(pose_of(deserialize_message(raw, PoseStamped).pose))
             except Exception:  # A malformed pose is passed over.
                 pose = None
             if pose is not None:
@@ -161,9 +165,7 @@ class MouseMarkerNode(Node):
                 else:
                     self._publish(self.updates.pose(pose, now))
         self._publish(self.updates.flush(now))
-        held = self._targets.flush(now)
-        if held is not None:
-            self.target_publisher.publish(held)
+        self._out(self._inputs.flush(now))
 
     def _feedback_publishers(self) -> List[Endpoint]:
         return [(node_name(info.node_namespace, info.node_name), tuple(info.endpoint_gid))
@@ -183,7 +185,7 @@ class MouseMarkerNode(Node):
         """End ``client``'s drag: release (or hold) the body, and the marker back onto it."""
         dragging = self.drag.dragging
         actions = self.drag.release(client, hold=bool(self.get_parameter(HOLD_PARAMETER).value))
-        self._send(actions, stamp_ns)
+        self._send(actions, stamp_ns, self._monotonic())
         if dragging and not self.drag.dragging:
             self._publish(self.updates.drag_ended(self._latest))
 
@@ -197,18 +199,19 @@ class MouseMarkerNode(Node):
         if feedback.marker_name != MARKER_NAME or feedback.header.frame_id not in ('', frame_id):
             return
         self.feedback_taken += 1
-        stamp = self.get_clock().now().nanoseconds
+        stamp, now = self.get_clock().now().nanoseconds, self._monotonic()
         client, pose = feedback.client_id, pose_of(feedback.pose)
         kind = feedback.event_type
         if kind == InteractiveMarkerFeedback.MOUSE_DOWN:
-            now = self._latest
-            if now is None:
+            latest = self._latest
+            if latest is None:
                 return
             point = feedback.mouse_point
             hit = (point.x, point.y, point.z) if feedback.mouse_point_valid else None
-            was = self.drag.client
-            actions = self.drag.press(client, shown=pose, hit=hit, now=now,
-                                      anchor=self.follower.parameters.anchor)
+            was, parameters = self.drag.client, self.follower.parameters
+            actions = self.drag.press(client, shown=pose, hit=hit, now=latest,
+                                      anchor=parameters.anchor, box_size=parameters.box_size,
+                                      margin=parameters.grab_margin)
             if was is None and self.drag.client is not None:
                 self._hung_on = watched(client, self._feedback_publishers())
             self.updates.dragging = self.drag.dragging
@@ -219,27 +222,25 @@ class MouseMarkerNode(Node):
             return
         else:
             return
-        self._send(actions, stamp)
+        self._send(actions, stamp, now)
 
-    def _send(self, actions: List[Action], stamp_ns: int) -> None:
-        """Publish grabs, targets (at most MAX_TARGET_RATE a second) and releases."""
+    def _send(self, actions: List[Action], stamp_ns: int, now: float) -> None:
+        """Hand grabs, targets and releases to the pacer (MAX_INPUT_RATE); send what goes."""
         frame_id = self.follower.parameters.frame_id
         for action in actions:
-            if action.kind == RELEASE:
-                self._flush_target()
-                self._release()
-            elif action.kind == GRAB:
-                self._flush_target()
-                self.grab_publisher.publish(point_message(action.point, frame_id, stamp_ns))
-            else:
-                message = point_message(action.point, frame_id, stamp_ns)
-                if self._targets.offer(message, self._monotonic()) is not None:
-                    self.target_publisher.publish(message)
+            message = (None if action.kind == RELEASE else
+                       point_message(action.point, frame_id, stamp_ns))
+            self._out(self._inputs.offer(action.kind, message, now))
 
-    def _flush_target(self) -> None:
-        held = self._targets.take()
-        if held is not None:
-            self.target_publisher.publish(held)
+    def _out(self, item: Optional[Tuple[str, Optional[PointStamped]]]) -> None:
+        """Send one input the pacer let go: publish a grab or a target, call ~/release."""
+        if item is None:
+            return
+        kind, message = item
+        if kind == RELEASE:
+            self._release()
+        else:
+            (self.grab_publisher if kind == GRAB else self.target_publisher).publish(message)
 
     def _release(self) -> None:
         if not self.release_client.service_is_ready():

@@ -18,16 +18,22 @@ The node's parameters in rclpy: their declaration with ranges, and the state pub
 ``parameters`` validates a whole configuration; here each parameter is declared with its
 description and range (``declare``); ``publishing`` is what the state publishers are
 configured with, so that the node gives them a change only when their share changed.
+
+rclpy checks a change against the declared type and range before the node's own callback sees
+it, and refuses it in its words ("Wrong parameter type, expected 'Type.INTEGER'", "out of range
+Min: 0.0, Max: 1.797e308"). ``declare`` has such refusals say the node's reason instead, the
+one start-up gives for the same value (``refusal_reason``): one wording for every way in.
 """
 
-from typing import Iterable
+from typing import Iterable, Optional
 
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.exceptions import ParameterException
 from rclpy.node import Node
+from rclpy.parameter import Parameter
 
 from .parameters import NodeConfig, ParameterSpec
-from .startup import refusal_reason
+from .startup import refusal_reason, value_type
 
 
 def descriptor(parameter: ParameterSpec) -> ParameterDescriptor:
@@ -45,10 +51,11 @@ def descriptor(parameter: ParameterSpec) -> ParameterDescriptor:
 
 def declare(node: Node, parameters: Iterable[ParameterSpec]) -> None:
     """
-    Declare ``parameters`` on ``node``.
+    Declare ``parameters`` on ``node``; a change rclpy refuses is then refused in its words.
 
     :raises ValueError: one line naming the parameter whose given value rclpy refuses.
     """
+    parameters = tuple(parameters)
     for parameter in parameters:
         try:
             node.declare_parameter(parameter.name, parameter.default, descriptor(parameter))
@@ -57,6 +64,41 @@ def declare(node: Node, parameters: Iterable[ParameterSpec]) -> None:
             given = node._parameter_overrides.get(parameter.name)
             raise ValueError(refusal_reason(parameter, error, None if given is None else (
                 given.value, given.type_.name))) from None
+    _reword_refusals(node, {parameter.name: parameter for parameter in parameters})
+
+
+def _reword_refusals(node: Node, declared: dict) -> None:
+    """Give rclpy's refusals of a type or a range the node's reason (see the module)."""
+    check = getattr(node, '_apply_descriptor', None)
+    if check is None:  # Another rclpy: its own words stay.
+        return
+
+    def checked(parameter: Parameter, *args, **kwargs):
+        result = check(parameter, *args, **kwargs)
+        if not result.successful:
+            reason = _reason(node, declared, parameter)
+            if reason is not None:
+                result.reason = reason
+        return result
+    node._apply_descriptor = checked
+
+
+def _reason(node: Node, declared: dict, parameter: Parameter) -> Optional[str]:
+    """Return the node's reason to refuse ``parameter``'s type or range, None for another."""
+    declaration = declared.get(parameter.name)
+    kind = parameter.type_.name
+    if declaration is None or kind == 'NOT_SET':
+        return None
+    value = parameter.value
+    if kind == value_type(declaration.default):
+        if declaration.bounds is None:
+            return None
+        low, high = declaration.bounds
+        if not isinstance(value, (int, float)) or low <= value <= high:
+            return None  # In range: refused for another reason, said by rclpy.
+    values = {name: node.get_parameter(name).value for name in declared
+              if node.has_parameter(name)}
+    return refusal_reason(declaration, '', (value, kind), values)
 
 
 def publishing(config: NodeConfig) -> dict:

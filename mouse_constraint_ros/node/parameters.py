@@ -65,7 +65,7 @@ PARAMETERS = (
     ParameterSpec('mass', 2.0,
                   f'Body mass (kg), {MIN_MASS:g} .. {MAX_MASS:g}: beyond, the effective mass '
                   '(1 / m) or the impulses and energies (m) of the step overflow.',
-                  (0.0, FINITE_MAX)),
+                  (MIN_MASS, MAX_MASS)),
     ParameterSpec('box_size', [0.4, 0.2, 0.1],
                   f'Edge lengths of the body box (m), each in (0, {MAX_DISTANCE:g}]; gives the '
                   'inertia when inertia is all zeros, which must then be valid as below.'),

@@ -16,7 +16,8 @@
 What the node says when it starts: its refusals as one line each, its warnings, its summary.
 
 Start-up refuses what it cannot run with one FATAL line tagged with the node's real name and
-exit 1: a parameter of the wrong type or out of its declared range (``refusal_reason``), a
+exit 1: a parameter of the wrong type or out of its declared range (``refusal_reason``, also
+the reason of such a change refused at run time, which rclpy refuses before the node sees it), a
 configuration that is not valid as a whole (``node_config``'s reason), both ``publish_clock``
 and ``use_sim_time`` (``CLOCK_LOOP``), or a params file rcl cannot read (``rcl_reason``, under
 the name ``requested_logger_name`` finds in the command line, as rcl cannot say it then).
@@ -30,9 +31,9 @@ Plain Python only: parameter types are named as rclpy's ``Parameter.Type`` names
 import difflib
 import math
 import re
-from typing import Any, Iterable, List, Optional, Sequence, Tuple
+from typing import Any, Iterable, List, Mapping, Optional, Sequence, Tuple
 
-from .parameters import NodeConfig, ParameterSpec
+from .parameters import DEFAULTS, node_config, NodeConfig, ParameterSpec
 from ..physics.settings import force_bound
 
 # Why publish_clock and use_sim_time cannot both be true.
@@ -124,18 +125,23 @@ def type_hint(value: Any, expected: str) -> Optional[str]:
 
 
 def refusal_reason(declaration: ParameterSpec, error: object,
-                   given: Optional[Tuple[Any, str]] = None) -> str:
+                   given: Optional[Tuple[Any, str]] = None,
+                   values: Optional[Mapping[str, Any]] = None) -> str:
     """
     Return one line saying why the ``given`` value cannot be ``declaration``'s.
 
-    rclpy refuses an override of another type than the default's (a YAML ``2`` is an integer,
-    never a double: ``ros2 param set`` refuses it the same way, so the node does not convert it
-    at start either) or outside the declared range; its exception texts name neither the
-    parameter first nor the fix.
+    rclpy refuses an override or a change of another type than the default's (a YAML ``2`` is
+    an integer, never a double: ``ros2 param set`` refuses it the same way, so the node does not
+    convert it at start either) or outside the declared range; its texts name neither the
+    parameter first nor the fix, and differ between start-up and run time. A value of another
+    type is said so here, with how to write it; one out of range in the words the node refuses
+    any invalid value with (``node_config``'s, the other parameters at ``values``), so that a
+    value reads the same whichever check meets it first.
 
     :param declaration: the parameter as the node declares it.
     :param error: what rclpy raised (its text is the reason when nothing plainer is known).
-    :param given: the override the node was started with, as (value, type name), or None.
+    :param given: the value given, as (value, rclpy type name), or None.
+    :param values: the node's other parameters (the defaults where not given).
     """
     name = declaration.name
     if given is None:
@@ -148,6 +154,10 @@ def refusal_reason(declaration: ParameterSpec, error: object,
         hint = type_hint(value, expected)
         return reason + (f': write {hint}' if hint else '')
     if declaration.bounds is not None:
+        try:
+            node_config({**DEFAULTS, **(values or {}), name: value})
+        except ValueError as refusal:
+            return str(refusal)
         low, high = declaration.bounds
         # The largest float as the top: every finite value from low, not .inf.
         top = 'finite' if high == math.nextafter(math.inf, 0.0) else yaml_text(high)

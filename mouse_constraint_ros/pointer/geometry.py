@@ -22,7 +22,8 @@ grabbed point (``camera_plane_point``): the target stays at the grabbed point's 
 Box2D and Bounce testbeds and MuJoCo's perturbation. ``material_point`` carries a point of the
 body from the pose the browser showed to the pose the node has now, so that a grab lands on the
 point the user pressed even when the body moved since it was drawn. ``framing`` places a camera
-that shows the body at a readable size.
+that shows the body at a readable size. ``unit_pose`` takes a pose from a client as the turn its
+quaternion stands for (normalised), or not at all when no turn can be read from it.
 """
 
 import math
@@ -30,6 +31,8 @@ from typing import NamedTuple, Optional, Sequence
 
 from ..physics.algebra import multiply, multiply_transposed, Quaternion, rotation_matrix, Vector3
 
+# A quaternion whose squared norm is this close to 1 is unit to rounding.
+UNIT_ROUNDING = 1e-12
 # Below this |cos| between a ray and a plane's normal the ray counts as parallel to the plane.
 PARALLEL = 1e-9
 # A framed body's longest edge spans this fraction of the view's height, seen from this side
@@ -45,6 +48,28 @@ class Pose(NamedTuple):
 
     position: Vector3
     orientation: Quaternion
+
+
+def unit_pose(pose: Pose) -> Optional[Pose]:
+    """
+    Return ``pose`` with its quaternion normalised, or None when it holds no pose.
+
+    A quaternion q != 0 stands for the same turn as q / |q|; one unit to rounding (its squared
+    norm within ``UNIT_ROUNDING`` of 1, as the node sends them) is kept bit for bit. None: a
+    position or a quaternion component that is not finite, or a quaternion whose squared norm is
+    not a positive finite number (zero, or one that overflows such as (1e300, 0, 0, 0)).
+    """
+    position = tuple(float(c) for c in pose.position)
+    orientation = tuple(float(c) for c in pose.orientation)
+    if len(position) != 3 or len(orientation) != 4:
+        return None
+    squared = sum(c * c for c in orientation)
+    if not all(math.isfinite(c) for c in position) or not 0.0 < squared < math.inf:
+        return None
+    if abs(squared - 1.0) <= UNIT_ROUNDING:
+        return Pose(position, orientation)
+    norm = math.sqrt(squared)
+    return Pose(position, tuple(c / norm for c in orientation))
 
 
 def _sub(a: Sequence[float], b: Sequence[float]) -> Vector3:

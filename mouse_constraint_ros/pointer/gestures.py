@@ -22,9 +22,10 @@ press on the body and move    ``grab`` at the pressed point of the body, carried
                               node's latest pose (``material_point``)
 drag                          a ``target`` per pointer event: the pointer's ray on the plane
                               through the grabbed point that faces the camera
-release                       ``~/release``: the body flies free
-release with HOLD_MODIFIER,   nothing more: the last target holds the body where it was let
-or the page's hold toggle on  go
+release                       ``~/release``: the body flies free (``SEGMENT_GAP`` later)
+release with HOLD_MODIFIER    nothing more: the last target holds the body where it was let
+down, or the page's hold      go
+toggle on
 click (press, release, no     ``grab`` where the ray first meets the box at the latest pose
 motion)                       (``ray_box_hit``), then a release as above
 ============================  ==============================================================
@@ -33,9 +34,16 @@ A drag's plane is fixed when it starts, like the web view's own: the camera does
 during a drag (the view locks it), so each target is the pointer's ray from the camera met with
 that plane. ``Gestures`` keeps one drag per browser (client id); a drag whose start it never saw
 sends nothing.
+
+The web view splits a drag into one segment per modifier held: shift pressed mid-drag ends the
+segment (an end without the modifier, as a release would send) and starts the next (with it).
+So an end does not release at once: the drag waits ``SEGMENT_GAP`` for its next segment, which
+goes on with the same grab and plane, and only then releases (``due``). Shift down when the
+button is let go thus holds, however shortly before; the page confirms the next segment at
+once (``scene``), where the web view would wait for the pointer to move or 0.1 s.
 """
 
-from typing import Dict, List, NamedTuple, Optional, Sequence
+from typing import Dict, List, NamedTuple, Optional, Sequence, Tuple
 
 from .geometry import camera_plane_point, material_point, Pose, ray_box_hit
 from ..physics.algebra import Vector3
@@ -44,6 +52,10 @@ from ..physics.algebra import Vector3
 HOLD_MODIFIER = 'shift'
 
 GRAB, TARGET, RELEASE = 'grab', 'target', 'release'
+
+# How long an end waits for the next segment of its drag before it releases (s): the page
+# starts it within milliseconds; a throw is held this much longer.
+SEGMENT_GAP = 0.05
 
 
 class Action(NamedTuple):
@@ -69,21 +81,33 @@ def _holds(modifier: Optional[str], hold: bool) -> bool:
     return hold or modifier == HOLD_MODIFIER
 
 
-class Gestures:
-    """The drags in progress, one per browser, and what each pointer event sends."""
+class _Ending(NamedTuple):
+    drag: _Drag
+    due: float  # when it releases, if nothing goes on with it (s)
+    release: bool
 
-    def __init__(self) -> None:
+
+class Gestures:
+    """
+    The drags in progress, one per browser, and what each pointer event sends.
+
+    :param segment_gap: how long an end waits for the next segment of its drag (s).
+    """
+
+    def __init__(self, segment_gap: float = SEGMENT_GAP) -> None:
         """Start with no drag."""
+        self.segment_gap = segment_gap
         self._drags: Dict[int, _Drag] = {}
+        self._endings: Dict[int, _Ending] = {}
 
     def dragging(self, client: int) -> bool:
         """Return whether browser ``client`` is dragging the body."""
         return client in self._drags
 
     def start(self, client: int, *, pressed: Sequence[float], camera: Optional[Camera],
-              shown: Pose, now: Pose) -> List[Action]:
+              shown: Pose, now: Pose, at: float) -> List[Action]:
         """
-        Start a drag: grab the pressed point of the body.
+        Start a drag: grab the pressed point of the body; or go on with the one just ended.
 
         :param client: the browser's id.
         :param pressed: the pressed point on the body as the browser drew it (world, m).
@@ -91,11 +115,18 @@ class Gestures:
             then the web view's own drag-plane points.
         :param shown: the body's pose the browser drew.
         :param now: the body's latest pose from the node.
-        :returns: the grab.
+        :param at: the time of the event (s, monotonic).
+        :returns: the grab (after the release of an ended drag that was due); nothing when this
+            is the next segment of a drag that ended within ``segment_gap``.
         """
+        ending = self._endings.pop(client, None)
+        if ending is not None and at <= ending.due:
+            self._drags[client] = ending.drag
+            return []
+        released = [Action(RELEASE)] if ending is not None and ending.release else []
         grabbed = material_point(pressed, shown=shown, now=now)
         self._drags[client] = _Drag(camera, grabbed)
-        return [Action(GRAB, grabbed)]
+        return released + [Action(GRAB, grabbed)]
 
     def move(self, client: int, pointer: Sequence[float]) -> List[Action]:
         """
@@ -117,19 +148,31 @@ class Gestures:
         return [] if point is None else [Action(TARGET, point)]
 
     def end(self, client: int, pointer: Sequence[float], *, modifier: Optional[str],
-            hold: bool) -> List[Action]:
+            hold: bool, at: float) -> List[Action]:
         """
-        End a drag: the last target, then a release unless it holds.
+        End a drag's segment: the last target; a release ``segment_gap`` later unless it holds.
 
         :param client: the browser's id.
         :param pointer: the pointer's last point on its ray (world, m).
-        :param modifier: the modifier keys of the drag's last segment (None: none).
+        :param modifier: the modifier keys of the segment (None: none).
         :param hold: the page's hold toggle.
+        :param at: the time of the event (s, monotonic).
+        :returns: the last target; the release comes from ``due``.
         """
         actions = self.move(client, pointer)
-        if self._drags.pop(client, None) is not None and not _holds(modifier, hold):
-            actions.append(Action(RELEASE))
+        drag = self._drags.pop(client, None)
+        if drag is not None:
+            self._endings[client] = _Ending(drag, at + self.segment_gap,
+                                            not _holds(modifier, hold))
         return actions
+
+    def due(self, at: float) -> List[Action]:
+        """Return the releases of the drags that ended more than ``segment_gap`` before ``at``."""
+        over: List[Tuple[int, _Ending]] = [(client, ending) for client, ending
+                                           in self._endings.items() if at > ending.due]
+        for client, _ in over:
+            del self._endings[client]
+        return [Action(RELEASE) for _, ending in over if ending.release]
 
     @staticmethod
     def click(origin: Sequence[float], direction: Sequence[float], *, now: Pose,

@@ -17,10 +17,11 @@ What the view reads from the node: the parameters it draws with, and the panel's
 
 ``ViewParameters`` holds the node parameters the page needs: ``frame_id`` (of the points the
 view sends), ``box_size`` (the box drawn), ``anchor`` (the dragged point, in the body frame),
-``frequency_hz`` (0: rigid mode, else soft) and, where the node has them, ``floor`` and
-``floor_height``. ``with_values`` takes them from a ``GetParameters`` answer or a
-``/parameter_events`` message: a parameter it does not know, of another type or with a value it
-cannot draw (a non-finite or non-positive box edge) is passed over, never raised on.
+``frequency_hz`` (0: rigid mode, else soft), ``grab_margin`` (how far off the box a grab is
+taken) and, where the node has them, ``floor`` and ``floor_height``. ``with_values`` takes them
+from a ``GetParameters`` answer or a ``/parameter_events`` message: a parameter it does not
+know, of another type or with a value it cannot draw (a non-finite or non-positive box edge) is
+passed over, never raised on.
 
 ``Readouts`` picks the node's own statuses out of ``/diagnostics`` (``<node>: rate``,
 ``<node>: constraint``, ``<node>: simulator``): the achieved rate, the anchor error and whether
@@ -52,6 +53,7 @@ class ViewParameters(NamedTuple):
     frequency_hz: float = 0.0
     floor: bool = False
     floor_height: float = 0.0
+    grab_margin: float = 0.01
 
     @property
     def mode(self) -> str:
@@ -83,9 +85,10 @@ def _parse(name: str, value: ParameterValue):
         return value.string_value
     if name in ('box_size', 'anchor') and kind == ParameterType.PARAMETER_DOUBLE_ARRAY:
         return _vector(value, positive=name == 'box_size')
-    if name in ('frequency_hz', 'floor_height') and kind == ParameterType.PARAMETER_DOUBLE:
+    if name in ('frequency_hz', 'floor_height', 'grab_margin') \
+            and kind == ParameterType.PARAMETER_DOUBLE:
         number = value.double_value
-        return number if math.isfinite(number) and (name != 'frequency_hz' or number >= 0.0) \
+        return number if math.isfinite(number) and (name == 'floor_height' or number >= 0.0) \
             else None
     if name == 'floor' and kind == ParameterType.PARAMETER_BOOL:
         return value.bool_value

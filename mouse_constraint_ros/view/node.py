@@ -170,11 +170,13 @@ class MouseViewNode(Node):
             try:
                 work = self._work.get_nowait()
             except queue.Empty:
-                return
+                break
             try:
                 work()
             except Exception as error:  # A gesture or button must never end the view.
                 self.get_logger().error(f'{type(error).__name__}: {error}')
+        # After the queue: an end's next segment queued meanwhile goes on with its drag.
+        self.send(self.gestures.due(self._monotonic()), self._now_ns())
 
     def _bind_scene(self) -> None:
         scene = self.scene
@@ -192,26 +194,29 @@ class MouseViewNode(Node):
         return self.get_clock().now().nanoseconds
 
     async def _on_drag(self, event) -> None:
-        stamp, hold = self._now_ns(), bool(self.scene.hold.value)
+        stamp, at, hold = self._now_ns(), self._monotonic(), bool(self.scene.hold.value)
         if event.phase == 'start':
             camera = _camera(event.client)
             self.queue(lambda: self._start_drag(event.client_id, event.start_position,
-                                                camera, stamp))
+                                                camera, stamp, at))
         elif event.phase == 'update':
             self.queue(lambda: self.send(
                 self.gestures.move(event.client_id, event.end_position), stamp))
         else:
             self.queue(lambda: self.send(self.gestures.end(
-                event.client_id, event.end_position, modifier=event.modifier, hold=hold),
+                event.client_id, event.end_position, modifier=event.modifier, hold=hold, at=at),
                 stamp))
 
-    def _start_drag(self, client: int, pressed, camera: Optional[Camera], stamp: int) -> None:
+    def _start_drag(self, client: int, pressed, camera: Optional[Camera], stamp: int,
+                    at: float) -> None:
         now, shown = self.latest_pose(), self.scene.shown
         if now is None or shown is None:
             return
-        self.scene.show_reply('')  # the answer to an earlier release no longer holds
-        self.send(self.gestures.start(client, pressed=pressed, camera=camera, shown=shown,
-                                      now=now), stamp)
+        actions = self.gestures.start(client, pressed=pressed, camera=camera, shown=shown,
+                                      now=now, at=at)
+        if any(action.kind == GRAB for action in actions):
+            self.scene.show_reply('')  # the answer to an earlier release no longer holds
+        self.send(actions, stamp)
 
     async def _on_click(self, event) -> None:
         stamp, hold = self._now_ns(), bool(self.scene.hold.value)
@@ -235,6 +240,8 @@ class MouseViewNode(Node):
             message = point_message(action.point, self.parameters.frame_id, stamp_ns)
             (self.grab_publisher if action.kind == GRAB else self.target_publisher).publish(
                 message)
+            if action.kind == GRAB:
+                self.scene.grabbed()
 
     def call(self, service: str, data: Optional[bool] = None) -> None:
         """Call one of the node's services; show its answer on the page."""

@@ -25,6 +25,16 @@ comes.
 sets a pose or a point, which viser sends to every browser attached. The colours and the
 spheres' size are the RViz markers' (``markers`` module), so both views look alike. The pointer
 callbacks and the buttons are handed in by the node; viser calls them on its own threads.
+
+The panel starts with one line that says how to drag (``HINT``), gone at the first grab. Each
+page runs ``PAGE_SCRIPT`` once: the "Hold on release" label in the text's colour (viser draws
+input labels pale grey), and shift pressed mid-drag confirmed at once. viser ends a drag's
+segment when a modifier goes down and starts the next only once the pointer moves or 0.1 s
+passed, dropping it when the button is let go sooner; the script moves the pointer 4 px and
+back (past viser's 3 px threshold) right after shift goes down, and again as the button goes up
+with shift down (before viser sees the release), so that the next segment starts at once and
+``Gestures`` takes it as the same drag: shift down at the release holds, however shortly
+before.
 """
 
 from collections import deque
@@ -32,6 +42,7 @@ from typing import Callable, Deque, Optional, Sequence
 
 import numpy as np
 import viser
+from viser import _messages
 
 from ..monitoring.markers import (ANCHOR_COLOR, BODY_COLOR, LINE_FRACTION, SPHERE_FRACTION,
                                   TARGET_COLOR)
@@ -48,6 +59,47 @@ FLOOR_COLOR = (0.55, 0.55, 0.55)
 # longest edge below floor_height, so that the grid at z = 0 is drawn over it, not through it.
 FLOOR_WIDTH, FLOOR_THICKNESS, FLOOR_GAP = 6.0, 0.002, 0.005
 GRID_WIDTH, GRID_CELL = 4.0, 0.1
+# The panel's first line until the first grab.
+HINT = '*Press on the body and drag it; let go to release it.*'
+# Run once by every page (see the module).
+PAGE_SCRIPT = """
+(() => {
+  if (window.mouseViewPage) return;
+  window.mouseViewPage = true;
+  const style = document.createElement('style');
+  style.textContent = ':has(> label[for]) { color: var(--mantine-color-text) !important; }';
+  document.head.appendChild(style);
+  let pressed = null;
+  const nudge = (at) => {
+    for (const dx of [4, 0]) {
+      window.dispatchEvent(new PointerEvent('pointermove', {
+        pointerId: at.id, pointerType: at.type, isPrimary: true, buttons: 1,
+        clientX: at.x + dx, clientY: at.y, shiftKey: true}));
+    }
+  };
+  window.addEventListener('pointerdown', (e) => {
+    pressed = {id: e.pointerId, type: e.pointerType, x: e.clientX, y: e.clientY};
+  }, true);
+  window.addEventListener('pointermove', (e) => {
+    if (pressed !== null && e.isTrusted && e.pointerId === pressed.id) {
+      pressed.x = e.clientX;
+      pressed.y = e.clientY;
+    }
+  }, true);
+  const lift = (e) => {
+    if (pressed === null || e.pointerId !== pressed.id) return;
+    if (e.type === 'pointerup' && e.shiftKey) nudge(pressed);
+    pressed = null;
+  };
+  window.addEventListener('pointerup', lift, true);
+  window.addEventListener('pointercancel', lift, true);
+  window.addEventListener('keydown', (e) => {
+    if (e.key !== 'Shift' || e.repeat || pressed === null) return;
+    const at = pressed;
+    setTimeout(() => { if (pressed === at) nudge(at); }, 0);
+  }, true);
+})();
+"""
 
 
 def _rgb(color: Sequence[float]) -> tuple:
@@ -82,6 +134,7 @@ class ViewScene:
         self._trail: Deque[Vector3] = deque(maxlen=TRAIL_LENGTH)
         self.trail = scene.add_line_segments('/trail', np.zeros((1, 2, 3)), _rgb(TRAIL_COLOR),
                                              visible=False)
+        self.hint = gui.add_markdown(HINT)
         self.status = gui.add_markdown('')
         self.pause = gui.add_button('Pause')
         self.step = gui.add_button('Step')
@@ -99,6 +152,13 @@ class ViewScene:
         self._box_size = parameters.box_size
         self.apply_parameters(parameters)
         server.on_client_connect(self.frame)
+        # Kept with the scene: every page, now or later, runs it once.
+        gui._websock_interface.queue_message(_messages.RunJavascriptMessage(source=PAGE_SCRIPT))
+
+    def grabbed(self) -> None:
+        """Take the hint away: the body was grabbed."""
+        if self.hint.visible:
+            self.hint.visible = False
 
     def apply_parameters(self, parameters: ViewParameters) -> None:
         """
