@@ -61,8 +61,10 @@ $(STAMP): $(REQS) setup.py setup.cfg
 	@touch $@
 
 # One worker per core (pytest-xdist), each taking whole modules: a module's tests share its
-# fixtures and files. PARALLEL= runs them in one process.
+# fixtures and files. The unit tier's pure tests go to whichever worker is free. PARALLEL= and
+# UNIT_PARALLEL= run them in one process.
 PARALLEL ?= -n auto --dist loadfile
+UNIT_PARALLEL ?= -n auto
 
 # -rs: every skipped test is listed with its reason, so a user sees what was not tested and why.
 test: venv
@@ -79,7 +81,7 @@ test-loaded: venv
 	$(VPY) -m test_support.loaded_runs --runs $(RUNS) --hogs 1 -- $(MAKE) --no-print-directory test
 
 test-unit: venv
-	$(VPY) -m pytest test/ -q -m unit $(PARALLEL) $(PYTEST_ARGS)
+	$(VPY) -m pytest test/ -q -m unit $(UNIT_PARALLEL) $(PYTEST_ARGS)
 
 lint: venv
 	$(VPY) -m flake8 --max-line-length 99 $(LINT_PATHS)
