@@ -21,9 +21,10 @@ does what a user needs of them with the node, from the venv alone:
 - ``mouse_ctl pause`` / ``resume``: ``~/pause`` with true / false;
 - ``mouse_ctl step [N]``: ``~/step`` N times (default 1), while paused;
 - ``mouse_ctl reset`` / ``release``: ``~/reset`` / ``~/release``;
-- ``mouse_ctl echo [pose|twist|force]``: a line per message (at most ``--print-rate`` a second
-  of the node's clock), with the rate the messages come at; ``force`` is the pushes on the
-  node's ``wrench`` input. Until Ctrl-C, or ``--count`` lines.
+- ``mouse_ctl echo [pose|twist|force|wrench]``: a line per message (at most ``--print-rate`` a
+  second of the node's clock), with the rate the messages come at; ``force`` is the force the
+  pointer feels (with ``publish_force``), ``wrench`` the pushes on the node's ``wrench`` input.
+  Until Ctrl-C, or ``--count`` lines.
 
 A call prints the node's reply and exits 0; a reply that says the node could not (``step``
 while running, a ``reset`` it could not make) goes to stderr with exit status 1, as does no
@@ -139,9 +140,10 @@ def build_parser() -> argparse.ArgumentParser:
     commands.add_parser('release', parents=[common],
                         help='drop the target: the body flies free (~/release)')
     echo = commands.add_parser('echo', parents=[common],
-                               help='print pose, twist or force with their rate')
+                               help='print pose, twist, force or wrench with their rate')
     echo.add_argument('what', nargs='?', choices=sorted(ECHOES), default='pose',
-                      help='what to print (default: %(default)s; force: the wrench input)')
+                      help='what to print (default: %(default)s; force: the force the pointer '
+                           'feels, with publish_force; wrench: the wrench input)')
     echo.add_argument('--count', type=int, default=0,
                       help='lines to print before exiting (default: 0, until Ctrl-C)')
     echo.add_argument('--print-rate', type=_positive('--print-rate', True), default=10.0,
