@@ -91,7 +91,8 @@ class MouseConstraintNode(Node):
     """
 
     def __init__(self, *, transform_broadcaster: Optional[BroadcasterFactory] = (
-            _DEFAULT_BROADCASTER), stepped: bool = False, **kwargs: Any) -> None:
+            _DEFAULT_BROADCASTER), stepped: bool = False, loop_ticks: bool = False,
+                 **kwargs: Any) -> None:
         """
         Declare parameters, build the parts and start ticking.
 
@@ -102,6 +103,9 @@ class MouseConstraintNode(Node):
         :param stepped: no timer runs the ticks: each ``ticker.step()`` call runs one tick of
             the simulated clock, which the node publishes on /clock (``publish_clock`` must be
             true). ``mouse_constraint_ros.testing`` steps the node so.
+        :param loop_ticks: on system time the ticks are the spin loop's to run, not a timer's:
+            whoever spins the node calls ``ticker.run_due`` between events (``main`` does, with
+            ``NodeRun.serve``); that saves the executor's timer thread its wake per tick.
         :param kwargs: passed to ``rclpy.node.Node``.
         :raises StartupRefusal: (a ValueError) a parameter or the configuration is invalid; the
             node is destroyed then.
@@ -113,6 +117,7 @@ class MouseConstraintNode(Node):
         self._notes = Throttle(lambda text: self.get_logger().info(text), period=WARN_PERIOD)
         guard_time_source(self, lambda text: self._throttle('clock ignored', lambda: text))
         self._stepped = stepped
+        self._loop_ticks = loop_ticks
         try:
             declare(self, PARAMETERS)
             config = node_config(self._parameter_values())
@@ -136,7 +141,7 @@ class MouseConstraintNode(Node):
         simulation = self._simulation = MouseSimulation(config.settings, config.initial_state)
         record = TickRecord()
         ticker = self.ticker = Ticker(self, config=config, record=record, stepped=self._stepped,
-                                      warn=self._throttle)
+                                      warn=self._throttle, loop=self._loop_ticks)
         if transform_broadcaster is _DEFAULT_BROADCASTER:
             factory, unavailable = DEFAULT_BROADCASTER, TF_UNAVAILABLE
         else:
@@ -284,8 +289,8 @@ def main(args: Optional[List[str]] = None) -> int:
             rclpy.logging.set_logger_level('rcl', previous)
     with NodeRun() as run:
         try:
-            run.node = MouseConstraintNode()
-            return run.serve()
+            node = run.node = MouseConstraintNode(loop_ticks=True)
+            return run.serve(pace=node.ticker.run_due)
         except StartupRefusal as error:
             rclpy.logging.get_logger(error.logger_name).fatal(f'invalid parameters: {error}')
             return 1

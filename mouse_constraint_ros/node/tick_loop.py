@@ -20,6 +20,11 @@ The driver of the tick on the node's own clock: a timer, the due ticks, the budg
 how many ticks one timer period holds at the publish rate; each runs ``Tick.run``.
 ``ticker.Ticker`` owns this driver and says when it runs; with ``publish_clock`` the node is the
 clock and ``clock_ticks.ClockTicks`` drives instead.
+
+The timer is an rclpy timer, or, for a node served by its own spin loop (``main``) on system
+time, a ``LoopTimer`` whose calls that loop makes (``run_due``): the same schedule without the
+executor's timer thread. On simulated time (use_sim_time) the timer is rclpy's, which /clock
+drives; a loop timer that finds the clock switched to simulated time hands over to one.
 """
 
 from typing import Callable, Optional
@@ -28,6 +33,7 @@ from rclpy.node import Node
 
 from .tick import Tick
 from .tick_record import TickRecord
+from ..timing.loop_timer import LoopTimer
 from ..timing.publish_ticks import ticks_per_callback
 from ..timing.tick_budget import TickBudget
 from ..timing.tick_grid import (CATCH_UP_CAUSE, clock_change_text, clock_jump_text, drop_text,
@@ -42,12 +48,14 @@ class NodeClockTicks:
     :param ticker: the owner of time: the rate, the pause, the substeps of a tick.
     :param record: the ticks' record: late and dropped ticks and clock restarts are counted.
     :param warn: ``warn(key, message())``, throttled per key.
+    :param loop: on system time, the calls are the spin loop's (``run_due``), not a timer's.
     """
 
     def __init__(self, node: Node, ticker, record: TickRecord, *,
-                 warn: Callable[[str, Callable[[], str]], None]) -> None:
+                 warn: Callable[[str, Callable[[], str]], None], loop: bool = False) -> None:
         """Create no timer until ``start``."""
         self._node = node
+        self._loop = loop
         self._ticker = ticker
         self._record = record
         self._warn = warn
@@ -77,7 +85,27 @@ class NodeClockTicks:
         """Go on with the same grid on a timer of the batch ``publish_rate_hz`` gives."""
         self._destroy_timer()
         batch = ticks_per_callback(rate_hz, publish_rate_hz)
-        self._timer = self._node.create_timer(batch / rate_hz, self._on_timer)
+        if self._loop and not self._clock.ros_time_is_active:
+            self._timer = LoopTimer(round(batch / rate_hz * 1e9))
+        else:
+            self._timer = self._node.create_timer(batch / rate_hz, self._on_timer)
+
+    def run_due(self) -> Optional[float]:
+        """
+        Make the loop timer's call if it is due; return the time (s) until the next one.
+
+        None when no loop timer runs (stopped, or an rclpy timer makes the calls).
+        """
+        timer = self._timer
+        if type(timer) is not LoopTimer:
+            return None
+        if timer.take():
+            self._on_timer()
+            if self._clock.ros_time_is_active:
+                # use_sim_time came on: /clock drives the calls from now on, through rclpy.
+                self.retime(self._ticker.rate_hz, self._ticker.publish_rate_hz)
+                return None
+        return timer.time_until_next_call() * 1e-9
 
     def stop(self) -> None:
         """Destroy the timer: no tick runs until ``start``."""
@@ -100,9 +128,9 @@ class NodeClockTicks:
         return None
 
     def _destroy_timer(self) -> None:
-        if self._timer is not None:
+        if self._timer is not None and type(self._timer) is not LoopTimer:
             self._node.destroy_timer(self._timer)
-            self._timer = None
+        self._timer = None
 
     def _on_timer(self) -> None:
         if self._ticker.paused:

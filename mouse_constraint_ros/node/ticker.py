@@ -63,10 +63,12 @@ class Ticker:
     :param record: the ticks' record (late and dropped ticks, clock restarts, the tick length).
     :param stepped: a caller runs the ticks, one ``step`` each; no timer does.
     :param warn: ``warn(key, message())``, throttled per key.
+    :param loop: the node's spin loop makes the node clock's calls on system time
+        (``run_due``), not an rclpy timer: ``main`` serves the node so.
     """
 
     def __init__(self, node: Node, *, config: NodeConfig, record: TickRecord, stepped: bool,
-                 warn: Callable[[str, Callable[[], str]], None]) -> None:
+                 warn: Callable[[str, Callable[[], str]], None], loop: bool = False) -> None:
         """Create the drivers, idle until ``start``; watch for a clock that does not come."""
         self.record = record
         # The clock of the timers that must run while a simulated clock stands still.
@@ -80,7 +82,7 @@ class Ticker:
         self._stepped = stepped
         self._warn = warn
         self._tick: Optional[Tick] = None
-        self._node_clock = NodeClockTicks(node, self, record, warn=warn)
+        self._node_clock = NodeClockTicks(node, self, record, warn=warn, loop=loop)
         self._simulated = ClockTicks(node, self, rate_hz=config.rate_hz,
                                      real_time_factor=config.real_time_factor)
         node.create_timer(CLOCK_WATCH_PERIOD, self._watch_clock, clock=self.steady_clock)
@@ -96,6 +98,11 @@ class Ticker:
     def rate_hz(self) -> float:
         """Return the tick rate (Hz)."""
         return self._config.rate_hz
+
+    @property
+    def publish_rate_hz(self) -> float:
+        """Return the rate (Hz) the state is published at; 0: every tick."""
+        return self._config.publish_rate_hz
 
     @property
     def substeps(self) -> int:
@@ -125,6 +132,17 @@ class Ticker:
         if self.is_clock:
             return self._simulated.timer
         return self._node_clock.timer
+
+    def run_due(self) -> Optional[float]:
+        """
+        Run the ticks due now when the spin loop drives them; return the time (s) to the next.
+
+        The ``pace`` of ``timing.spin.spin_until``: None when no tick is the loop's to run (an
+        rclpy timer or a caller runs them, or the node clock runs on /clock).
+        """
+        if self.driver is not Driver.NODE_CLOCK:
+            return None
+        return self._node_clock.run_due()
 
     def pacing(self) -> Tuple[Optional[float], float]:
         """

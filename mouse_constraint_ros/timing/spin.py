@@ -107,7 +107,8 @@ class Interrupted(Exception):
 
 def spin_until(executor: Executor, stop: StopRequest, *,
                condition: Optional[Callable[[], bool]] = None,
-               deadline: Optional[float] = None, period: float = POLL_PERIOD) -> SpinEnd:
+               deadline: Optional[float] = None, period: float = POLL_PERIOD,
+               pace: Optional[Callable[[], Optional[float]]] = None) -> SpinEnd:
     """
     Spin ``executor`` with ``spin_once`` until one of the ends, and return which.
 
@@ -120,6 +121,9 @@ def spin_until(executor: Executor, stop: StopRequest, *,
     :param condition: spin until it returns true; None to spin until another end.
     :param deadline: ``time.monotonic()`` after which to give up; None for none.
     :param period: the ``spin_once`` timeout (s), the longest a stop goes unseen.
+    :param pace: called before each ``spin_once``: it makes the calls the loop owes (a
+        ``LoopTimer``'s) and returns the time (s) until the next, or None for none; the
+        ``spin_once`` waits no longer than that.
     """
     context = executor.context
     while True:
@@ -131,8 +135,13 @@ def spin_until(executor: Executor, stop: StopRequest, *,
             return SpinEnd.SHUTDOWN
         if deadline is not None and time.monotonic() > deadline:
             return SpinEnd.DEADLINE
+        timeout = period
+        if pace is not None:
+            until_next = pace()
+            if until_next is not None and until_next < period:
+                timeout = until_next if until_next > 0.0 else 0.0
         try:
-            executor.spin_once(timeout_sec=period)
+            executor.spin_once(timeout_sec=timeout)
         except ExternalShutdownException:
             return SpinEnd.SHUTDOWN
 
@@ -200,11 +209,15 @@ class NodeRun:
         """Have ``closer`` run on the way out, after the node is destroyed."""
         self._closers.append(closer)
 
-    def serve(self) -> int:
-        """Spin ``node`` until a signal or the context's shutdown; return 0, the exit status."""
+    def serve(self, pace: Optional[Callable[[], Optional[float]]] = None) -> int:
+        """
+        Spin ``node`` until a signal or the context's shutdown; return 0, the exit status.
+
+        :param pace: the calls the loop makes itself between events (``spin_until``).
+        """
         executor = EventsExecutor(context=self.node.context)
         executor.add_node(self.node)
-        spin_until(executor, self.stop)
+        spin_until(executor, self.stop, pace=pace)
         return 0
 
     def __enter__(self) -> 'NodeRun':

@@ -1,0 +1,152 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+
+"""
+The tick a spin loop runs itself: ``LoopTimer``'s schedule, ``spin_until``'s pace, the node.
+
+The schedule is an rclpy timer's (calls at start + k period, overrun periods skipped), read on
+a clock the test sets. The node served by its own loop (``loop_ticks``, as ``main`` serves it)
+runs its ticks with no rclpy timer: a test of that wall-clock path, on system time.
+"""
+
+import time
+
+import pytest
+from rclpy.experimental import EventsExecutor
+from rclpy.parameter import Parameter
+
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
+from mouse_constraint_ros.node.ticker import Driver
+from mouse_constraint_ros.timing.loop_timer import LoopTimer
+from mouse_constraint_ros.timing.spin import spin_until, SpinEnd, StopRequest
+
+MS = 1_000_000
+
+
+class SetClock:
+    """A steady clock that reads what the test sets (ns)."""
+
+    def __init__(self, now: int) -> None:
+        self.now = now
+
+    def __call__(self) -> int:
+        return self.now
+
+
+def test_calls_fall_on_the_grid_of_the_start_and_overrun_periods_are_skipped():
+    """Due at start + k period; a call late by 2.5 periods is one call, the next on the grid."""
+    clock = SetClock(1_000 * MS)
+    timer = LoopTimer(4 * MS, now_ns=clock)
+    assert timer.timer_period_ns == 4 * MS and timer.time_until_next_call() == 4 * MS
+    clock.now += 4 * MS - 1
+    assert not timer.take() and timer.time_until_next_call() == 1
+    clock.now += 1
+    assert timer.take() and not timer.take()
+    assert timer.time_until_next_call() == 4 * MS
+    clock.now += 4 * MS + 10 * MS  # the call at 1008 ms runs at 1018 ms
+    assert timer.take() and not timer.take()
+    assert timer.time_until_next_call() == 2 * MS  # next on the grid: 1020 ms
+
+
+@pytest.mark.parametrize('period', [0, -1])
+def test_a_period_that_is_not_positive_is_refused(period):
+    with pytest.raises(ValueError, match='period_ns must be > 0'):
+        LoopTimer(period)
+
+
+class RecordingExecutor:
+    """An executor stand-in that records each spin_once timeout; the pace ends the loop."""
+
+    def __init__(self, context) -> None:
+        self.context = context
+        self.timeouts = []
+
+    def spin_once(self, timeout_sec: float) -> None:
+        self.timeouts.append(timeout_sec)
+
+
+def test_the_pace_bounds_each_wait_and_runs_before_it(ros):
+    """spin_once waits until the pace's next call (not below 0), at most the poll period."""
+    executor = RecordingExecutor(ros.context)
+    paces = iter([0.002, None, -0.001, 1.0, 0.0005])
+    stop = StopRequest()
+
+    def pace():
+        try:
+            return next(paces)
+        except StopIteration:
+            stop.signal = 2
+            return None
+
+    assert spin_until(executor, stop, pace=pace, period=0.05) is SpinEnd.STOPPED
+    # The stop the last pace asks for is seen before the next spin, after its own.
+    assert executor.timeouts == [0.002, 0.05, 0.0, 0.05, 0.0005, 0.05]
+
+
+def test_a_node_served_by_its_loop_ticks_at_its_rate_with_no_rclpy_timer(ros):
+    """loop_ticks: the ticks are run_due's; 0.5 s of wall time holds the rate's ticks."""
+    node = MouseConstraintNode(context=ros.context, loop_ticks=True, parameter_overrides=[
+        Parameter('rate_hz', value=200.0)])
+    executor = EventsExecutor(context=ros.context)
+    executor.add_node(node)
+    try:
+        ticker = node.ticker
+        assert ticker.driver is Driver.NODE_CLOCK and type(ticker.timer) is LoopTimer
+        assert ticker.timer.timer_period_ns == 5 * MS
+        assert not node.timers or all(t.timer_period_ns != 5 * MS for t in node.timers)
+        # Unpaced, nobody runs the ticks.
+        spin_until(executor, StopRequest(), deadline=time.monotonic() + 0.1)
+        assert ticker.record.ticks_run == 0
+        start = time.monotonic()
+        ran_before = ticker.record.ticks_run
+        spin_until(executor, StopRequest(), deadline=start + 0.5, pace=ticker.run_due)
+        elapsed = time.monotonic() - start
+        ran = ticker.record.ticks_run - ran_before
+        # Every tick of the grid in the window, give or take the window's two ends.
+        assert abs(ran - 200.0 * elapsed) <= 2, (ran, elapsed)
+        assert ticker.record.dropped_ticks == 0
+    finally:
+        executor.shutdown()
+        node.destroy_node()
+
+
+def test_a_new_publish_rate_keeps_the_loop_timer_on_its_batch(ros):
+    """publish_rate_hz 100 at 1 kHz: one call per 10 ticks, still the loop's."""
+    node = MouseConstraintNode(context=ros.context, loop_ticks=True, parameter_overrides=[
+        Parameter('rate_hz', value=1000.0)])
+    try:
+        assert node.set_parameters([Parameter('publish_rate_hz', value=100.0)])[0].successful
+        assert type(node.ticker.timer) is LoopTimer
+        assert node.ticker.timer.timer_period_ns == 10 * MS
+    finally:
+        node.destroy_node()
+
+
+def test_use_sim_time_hands_the_ticks_to_an_rclpy_timer_that_clock_drives(ros):
+    """The loop's call that finds simulated time switches to a timer on /clock."""
+    node = MouseConstraintNode(context=ros.context, loop_ticks=True, parameter_overrides=[
+        Parameter('rate_hz', value=200.0)])
+    try:
+        ticker = node.ticker
+        assert node.set_parameters([Parameter('use_sim_time', value=True)])[0].successful
+        deadline = time.monotonic() + 5.0
+        while ticker.run_due() is not None:
+            assert time.monotonic() < deadline
+            time.sleep(0.001)
+        assert type(ticker.timer) is not LoopTimer and ticker.timer in node.timers
+        assert ticker.timer.timer_period_ns == 5 * MS
+        assert ticker.waiting_for_clock() is not None
+    finally:
+        node.destroy_node()
