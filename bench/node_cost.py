@@ -87,6 +87,12 @@ def cpu_per_tick(row: dict, rate: float) -> float:
     return 1e4 * row['cpu_pct'] / (row['achieved_hz'] * RATE / rate)
 
 
+def threads_per_tick(row: dict, rate: float) -> Dict[str, float]:
+    """Return the CPU (us) per physics tick of each kind of thread (``ros_process``)."""
+    ticks = row['achieved_hz'] * row['window_s'] * RATE / rate
+    return {kind: 1e6 * seconds / ticks for kind, seconds in row['threads_cpu_s'].items()}
+
+
 def run(quick: bool = False, rounds: int = 0, seconds: float = 0.0) -> dict:
     """Return the section: each case's CPU over alternating windows, and the ratios."""
     start = time.perf_counter()
@@ -94,12 +100,16 @@ def run(quick: bool = False, rounds: int = 0, seconds: float = 0.0) -> dict:
     seconds = seconds or (QUICK_SECONDS if quick else SECONDS)
     per_tick: Dict[str, List[float]] = {}
     per_second: Dict[str, List[float]] = {}
+    per_thread: Dict[str, Dict[str, List[float]]] = {}
     rows = []
     for round_ in range(rounds):
         for name, command, rate, reads in cases():
             row = node_rate.measure(command, rate, seconds, observer_arguments=reads)
             row['case'], row['round'] = name, round_ + 1
             row['cpu_us_per_tick'] = cpu_per_tick(row, rate)
+            for kind, us in threads_per_tick(row, rate).items():
+                row[f'{kind}_us_per_tick'] = us
+                per_thread.setdefault(name, {}).setdefault(kind, []).append(us)
             per_tick.setdefault(name, []).append(row['cpu_us_per_tick'])
             per_second.setdefault(name, []).append(row['cpu_pct'])
             rows.append(row)
@@ -111,6 +121,9 @@ def run(quick: bool = False, rounds: int = 0, seconds: float = 0.0) -> dict:
     ratios = {name: tick[name] / tick[floor] for name, (floor, _) in TARGETS.items()}
     notes = [f'{floor}: median {tick[floor]:.0f} us a tick, {second[floor]:.1f} % of a core, '
              f'over {rounds} windows.' for floor in (FLOOR, FLOOR_3)]
+    for name, kinds in per_thread.items():
+        notes.append(f'{name}, per tick by thread (medians): ' + ', '.join(
+            f'{kind} {statistics.median(values):.0f} us' for kind, values in kinds.items()))
     for name, (floor, target) in TARGETS.items():
         ratio = ratios[name]
         notes.append(f'{name}: median {tick[name]:.0f} us a tick, {ratio:.2f} x the {floor} '
@@ -124,6 +137,9 @@ def run(quick: bool = False, rounds: int = 0, seconds: float = 0.0) -> dict:
                  'topic read from another process. Ratios: median CPU per tick, node / floor.'),
         'columns': [['round', 'round', 'd'], ['case', 'case', ''],
                     ['cpu_us_per_tick', 'CPU per tick (us)', '.0f'],
+                    ['main_us_per_tick', 'main thread (us)', '.0f'],
+                    ['other_us_per_tick', 'rclpy timers thread (us)', '.0f'],
+                    ['dds_us_per_tick', 'DDS threads (us)', '.0f'],
                     ['cpu_pct', 'CPU (% core)', '.1f'], ['achieved_hz', 'poses (Hz)', '.1f'],
                     ['missing', 'missing', 'd'], ['wait_ms_per_s', 'wait (ms/s)', '.0f'],
                     ['load', 'load', '.1f']],

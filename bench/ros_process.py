@@ -19,7 +19,8 @@ Every process started here gets the bench's ``ROS_DOMAIN_ID`` (``MOUSE_TEST_DOMA
 set, else 20-29 from the bench's pid: away from the tests' 40-99 and from the default 0) and
 localhost-only discovery, so that the benchmarks never see a developer's nodes, the tests, or
 each other's leftovers. The processes themselves are ``test_support.processes.ChildProcess``;
-``Sample`` reads their CPU time, run-queue wait and RSS at one moment.
+``Sample`` reads their CPU time (also per kind of thread, ``thread_cpu``), run-queue wait and
+RSS at one moment.
 """
 
 import os
@@ -57,12 +58,45 @@ def start(command: Sequence[str]) -> processes.ChildProcess:
     return processes.ChildProcess(command, environment=environment())
 
 
+# The kinds of thread ``thread_cpu`` sorts a process's CPU time into.
+MAIN_THREAD = 'main'
+DDS_THREADS = 'dds'
+OTHER_THREADS = 'other'
+
+
+def thread_cpu(pid: int) -> Dict[str, float]:
+    """
+    Return the CPU time (s) of ``pid``'s threads by kind: main, Fast DDS's (``dds.*``), other.
+
+    In an rclpy process the other threads are rclpy's own: the EventsExecutor's timers thread,
+    which waits for each timer and hands its call to the spinning thread. A thread that ended
+    is not counted (``/proc`` no longer lists it).
+    """
+    kinds = {MAIN_THREAD: 0.0, DDS_THREADS: 0.0, OTHER_THREADS: 0.0}
+    for task in Path(f'/proc/{pid}/task').iterdir():
+        try:
+            stat = (task / 'stat').read_text()
+        except OSError:
+            continue  # the thread ended meanwhile
+        name = stat[stat.index('(') + 1:stat.rindex(')')]
+        fields = stat[stat.rindex(')') + 2:].split()
+        seconds = (int(fields[11]) + int(fields[12])) / processes.CLOCK_TICKS
+        if int(task.name) == pid:
+            kinds[MAIN_THREAD] += seconds
+        elif name.startswith('dds.'):
+            kinds[DDS_THREADS] += seconds
+        else:
+            kinds[OTHER_THREADS] += seconds
+    return kinds
+
+
 class Sample:
     """CPU time, run-queue wait and RSS of some processes at one moment, and the load."""
 
     def __init__(self, pids: Sequence[int]) -> None:
         self.wall = time.monotonic()
         self.cpu = {pid: processes.cpu_seconds(pid) for pid in pids}
+        self.threads = {pid: thread_cpu(pid) for pid in pids}
         self.wait = {pid: processes.run_delay_ns(pid) / 1e9 for pid in pids}
         self.rss = {pid: processes.rss_bytes(pid) / 1024.0 for pid in pids}
         self.load = os.getloadavg()[0]
