@@ -266,8 +266,8 @@ def test_mcap_reads_back_with_the_mcap_library(recording):
         assert reader.get_header().profile == 'ros2'
         summary = reader.get_summary()
         channels = {c.topic: c for c in summary.channels.values()}
-        assert set(channels) == {'/target', '/pose', '/twist', '/grab', '/parameter_events',
-                                 '/mouse_constraint/reset/_service_event',
+        assert set(channels) == {'/target', '/pose', '/twist', '/grab', '/wrench',
+                                 '/parameter_events', '/mouse_constraint/reset/_service_event',
                                  '/mouse_constraint/release/_service_event'}
         for topic, message_type in (('/target', PointStamped), ('/pose', PoseStamped),
                                     ('/twist', TwistStamped)):
@@ -355,7 +355,8 @@ def test_tick_rows_join_pose_and_twist_and_follow_the_target_path():
     assert rows[0].anchor == (1.0, 0.0, 1.0)
     assert rows[0].anchor_error is None and rows[1].anchor_error == 0.5
     assert rows[0].speed == 5.0
-    assert rows[0].fields()[-13:] == ['', '', '', '', 5.0, 0.0, 1.0, 0.0, 0.0, '', '', '', '']
+    assert rows[0].fields()[-19:] == ['', '', '', '', 5.0, 0.0, 1.0, 0.0, 0.0, '', '', '', '',
+                                      0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
     assert all(row.body_anchor == (1.0, 0.0, 0.0) and row.grab is None for row in rows)
 
 
@@ -441,7 +442,7 @@ def test_tick_rows_take_a_grab_on_the_row_the_node_took_it():
     assert [row.anchor_error for row in rows] == [None, 0.0, 0.0, 0.0]
     assert [(row.grab, row.grab_taken) for row in rows] == [
         (None, None), (None, None), (grabbed, True), (None, None)]
-    assert rows[2].fields()[-7:] == [*grabbed, *grabbed, 1]
+    assert rows[2].fields()[-13:-6] == [*grabbed, *grabbed, 1]
 
 
 def test_tick_rows_mark_an_ignored_grab_and_keep_the_target():
