@@ -589,6 +589,45 @@ def test_ctrl_c_ends_the_recording_early_and_keeps_it(harness, tmp_path):
     assert prefix.with_suffix('.png').is_file() and not prefix.with_suffix('.mcap').exists()
 
 
+def test_a_push_given_while_recording_is_in_the_csv_and_the_figure(harness, tmp_path):
+    """
+    mouse_wrench --subscribers 2 beside mouse_record, as README's worked example runs them.
+
+    The push waits until the node and the recorder both listen, so that the recorder, a
+    subscriber that would otherwise match after the push was sent, holds it: its rows carry the
+    force for the push's duration (its stamps, to a tick).
+    """
+    ros, force, duration = harness, 5.0, 0.1
+    prefix = tmp_path / 'pushed'
+    recorder, lines, reader = start_recorder('--duration', '6', '--output', str(prefix))
+    push = None
+    try:
+        assert ros.spin_until(lambda: any(line.startswith('recording') for line in lines),
+                              timeout=30.0), ''.join(lines)
+        push = subprocess.Popen(
+            [str(BIN / 'mouse_wrench'), '--subscribers', '2', '--force', '0', '0', str(force),
+             '--duration', str(duration)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+            text=True)
+        assert ros.spin_until(lambda: recorder.poll() is not None and push.poll() is not None,
+                              timeout=40.0), 'mouse_record or mouse_wrench did not finish'
+    finally:
+        for process in (recorder, push):
+            if process is not None and process.poll() is None:
+                process.kill()
+        recorder.wait()
+        reader.join(timeout=5.0)
+    stdout, stderr = push.communicate(timeout=5.0)
+    assert push.returncode == 0 and f'for {duration:g} s' in stdout, stderr
+    assert recorder.returncode == 0, ''.join(lines)
+    rows = read_csv(prefix.with_suffix('.csv'))
+    pushed = [index for index, row in enumerate(rows) if row['wrench_fz'] != 0.0]
+    assert pushed == list(range(pushed[0], pushed[-1] + 1))
+    assert {(row['wrench_fx'], row['wrench_fy'], row['wrench_fz'], row['wrench_tz'])
+            for row in (rows[index] for index in pushed)} == {(0.0, 0.0, force, 0.0)}
+    assert abs(len(pushed) - duration * RATE) <= 1
+    assert 'wrote' in ''.join(lines) and prefix.with_suffix('.png').is_file()
+
+
 def unwritable_outputs(tmp_path: Path) -> list:
     """Return (arguments, the path that fails) for outputs that cannot be written."""
     a_file = tmp_path / 'a_file'

@@ -20,16 +20,22 @@ at that tick, bit for bit: a push stamped from its start to the zero wrench that
 push that ends at ``wrench_timeout``, a wrench the node refuses (nothing), a push a ``~/reset``
 ends. The figure of a recording with a push draws its force on a row of its own and marks its
 span on every time plot and its stretch of the anchor's path; the CSV has the wrench in columns
-after the old ones, so that a reader of the old columns reads the same values.
+after the old ones, so that a reader of the old columns reads the same values. ``mouse_wrench
+--subscribers 2`` pushes only once the recorder listens too.
 """
 
 import csv
 import math
 
+from geometry_msgs.msg import WrenchStamped
+
 from matplotlib.colors import to_rgb
 import numpy as np
 import pytest
+from rclpy.node import Node
 
+from mouse_constraint_ros.cli.wrench import build_parser
+from mouse_constraint_ros.cli.wrench import Push
 from mouse_constraint_ros.recording.applied_wrench import push_spans
 from mouse_constraint_ros.recording.applied_wrench import PushSpan
 from mouse_constraint_ros.recording.capture import fetch_start
@@ -43,6 +49,7 @@ from mouse_constraint_ros.recording.rows import Row
 from mouse_constraint_ros.recording.rows import tick_rows
 from mouse_constraint_ros.testing import InputRefused
 from mouse_constraint_ros.timing.spin import StopRequest
+from mouse_constraint_ros.wire.interface import WRENCH_TOPIC
 
 # A node in this process: the ros tier, the pure test of the figure's rows with it.
 pytestmark = pytest.mark.ros
@@ -134,10 +141,11 @@ def test_the_pushes_are_read_back_as_spans(pushed_recording):
 
 def test_the_figure_draws_the_pushes(pushed_recording):
     """
-    A row for the applied force, a span per push on each time plot, the pushed path in red.
+    A row for the applied force, a span per push on each time plot, the pushed path marked.
 
-    The spans are those of ``push_spans``; the force lines are the rows' force components; the
-    red stretch of each path holds exactly the anchor positions of the pushed rows.
+    The spans are those of ``push_spans``, each with a line at its start; the force lines are
+    the rows' force components; the marked stretch of each path holds exactly the anchor
+    positions of the pushed rows, with a triangle at each push's first.
     """
     rows = pushed_recording['rows']
     spans = push_spans(rows)
@@ -148,6 +156,8 @@ def test_the_figure_draws_the_pushes(pushed_recording):
         assert [(patch.get_x(), patch.get_x() + patch.get_width()) for patch in axes.patches] \
             == [(span.start, span.end) for span in spans]
         assert all(patch.get_facecolor()[:3] == to_rgb(PUSH_COLOR) for patch in axes.patches)
+        starts = [line.get_xdata() for line in axes.get_lines() if line.get_color() == PUSH_COLOR]
+        assert [tuple(x) for x in starts] == [(span.start, span.start) for span in spans]
     assert 'push' in [text.get_text() for text in speed.get_legend().get_texts()]
     forces = np.array([row.wrench_force for row in rows])
     lines = {line.get_label(): line for line in wrench.get_lines()}
@@ -157,23 +167,28 @@ def test_the_figure_draws_the_pushes(pushed_recording):
     assert torque_line.get_ydata().max() == 0.5
     pushed = np.array([wrench_of(row) != (ZERO, ZERO) for row in rows])
     anchors = np.array([row.anchor for row in rows])
+    first = [rows.index(next(row for row in rows if row.time == span.start)) for span in spans]
     for axes, (i, j) in ((top, (0, 1)), (side, (0, 2))):
-        [red] = [line for line in axes.get_lines() if line.get_label() == 'anchor while pushed']
-        assert red.get_color() == PUSH_COLOR
-        x, y = red.get_xdata(), red.get_ydata()
+        lines = {line.get_label(): line for line in axes.get_lines()}
+        marked, starts = lines['anchor while pushed'], lines['push start']
+        assert marked.get_color() == starts.get_color() == PUSH_COLOR
+        x, y = marked.get_xdata(), marked.get_ydata()
         np.testing.assert_array_equal(~np.isnan(x), pushed)
         np.testing.assert_array_equal(x[pushed], anchors[pushed, i])
         np.testing.assert_array_equal(y[pushed], anchors[pushed, j])
+        np.testing.assert_array_equal(starts.get_xdata(), anchors[first, i])
+        np.testing.assert_array_equal(starts.get_ydata(), anchors[first, j])
 
 
 def test_a_figure_without_a_push_is_drawn_as_before(pushed_recording):
-    """No push: two rows of plots, no span, no red path, no push in the title."""
+    """No push: two rows of plots, no span, no marked path, no push in the title."""
     rows = [row for row in pushed_recording['rows'] if row.time < push_spans(
         pushed_recording['rows'])[0].start]
     figure = draw_figure(rows, anchor=pushed_recording['start']['anchor'], frame_id='world')
     assert len(figure.axes) == 5 and 'push' not in figure.get_suptitle()
     assert not any(axes.patches for axes in figure.axes)
-    assert not any(line.get_label() == 'anchor while pushed'
+    assert not any(line.get_label() in ('anchor while pushed', 'push start') or
+                   line.get_color() == PUSH_COLOR
                    for axes in figure.axes for line in axes.get_lines())
 
 
@@ -214,3 +229,43 @@ def test_a_short_push_in_a_long_thinned_recording_keeps_its_ticks():
     assert kept.stride > 256 and len(kept.rows()) < 16
     assert push_spans(kept.rows()) == push_spans(every) == [
         PushSpan(every[1001].time, every[1004].time, math.hypot(*UP))]
+
+
+def test_the_wrench_cli_pushes_once_the_subscribers_asked_for_listen(ros):
+    """
+    --subscribers 2 waits for both the node and the recorder; with one it sends nothing.
+
+    A subscriber that matches after the push was sent never gets it: the recorder would miss a
+    short push. Here one subscription (the node's) is there at first: the push waits its
+    --timeout and ends with exit status 1, nothing sent; with the second (the recorder's) it
+    pushes, and both get the wrench and the zero wrench that ends it.
+    """
+    node_side = ros.collect(WrenchStamped, WRENCH_TOPIC)
+    arguments = ['--force', '0', '0', '3', '--duration', '0.05', '--subscribers', '2',
+                 '--timeout', '0.3']
+    alone = Push(build_parser().parse_args(arguments))
+    pusher = ros.add(Node('mouse_wrench', context=ros.context))
+    assert alone.run(pusher, ros.executor, StopRequest()) == 1
+    assert alone.started_ns is None and not node_side
+    recorder_side = ros.collect(WrenchStamped, WRENCH_TOPIC)
+    push = Push(build_parser().parse_args(arguments))
+    assert push.run(pusher, ros.executor, StopRequest()) == 0
+
+    def forces(received) -> list:
+        return [(m.wrench.force.x, m.wrench.force.y, m.wrench.force.z) for m in received]
+
+    assert ros.spin_until(lambda: all(
+        forces(received)[-1:] == [ZERO] for received in (node_side, recorder_side)))
+    for received in (node_side, recorder_side):
+        assert forces(received)[0] == (0.0, 0.0, 3.0)
+        assert set(forces(received)[:-1]) == {(0.0, 0.0, 3.0)}
+
+
+@pytest.mark.parametrize('text', ['0', '-1', '1.5', 'two'])
+def test_the_wrench_cli_refuses_fewer_than_one_subscriber(text, capsys):
+    """--subscribers is a whole number >= 1, else a usage error (exit 2)."""
+    assert build_parser().parse_args(['--subscribers', '3']).subscribers == 3
+    with pytest.raises(SystemExit) as exit_info:
+        build_parser().parse_args(['--subscribers', text])
+    assert exit_info.value.code == 2
+    assert '--subscribers must be a whole number >= 1' in capsys.readouterr().err

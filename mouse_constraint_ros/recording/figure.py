@@ -16,8 +16,8 @@
 The figure of a recording: anchor and target paths, anchor error, speed and angular speed.
 
 A recording with pushes (a wrench the node applied) gets a third row, the applied force over
-time, and each push is marked where it acted: a shaded span on the time plots and its stretch of
-the anchor's path drawn over in red.
+time, and each push is marked where it acted: a shaded span and a line at its start on the time
+plots, and its stretch of the anchor's path drawn over in magenta from a triangle where it began.
 
 matplotlib is imported when a figure is drawn, with its Agg canvas: no display is needed. Axes
 show plain numbers (no offset such as ``1e-9+1``, which a body at rest would otherwise get), a
@@ -45,7 +45,7 @@ ERROR_FLOOR = 1e-9
 # Headroom of the speed axes: a body at rest draws its zero speed inside the axes (m/s, rad/s).
 SPEED_HEADROOM = 0.05
 # How a push is marked: its colour, and the opacity of its span on the time plots.
-PUSH_COLOR = 'tab:red'
+PUSH_COLOR = 'magenta'
 PUSH_ALPHA = 0.15
 # The height of the applied wrench's row, relative to the other two rows.
 WRENCH_ROW_HEIGHT = 0.6
@@ -70,8 +70,9 @@ def draw_figure(rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
     cross at the grabbed point on the paths (black when the node took it, grey when it ignored
     it), a dotted vertical line at its time below. With pushes (``applied_wrench.push_spans``)
     a third row draws the applied force's components (and |torque|, when there was one) over
-    time; each push is a shaded span on every time plot, labelled 'push', and its stretch of the
-    anchor path is drawn over in red, labelled 'anchor while pushed'.
+    time; each push is a shaded span on every time plot with a line at its start, labelled
+    'push', and its stretch of the anchor path is drawn over in magenta, labelled 'anchor while
+    pushed', from a triangle at the anchor where it began, labelled 'push start'.
 
     :param rows: the ticks, at least one.
     :param anchor: the anchor in the body frame (m) at the start, named in the title (with the
@@ -113,6 +114,10 @@ def draw_figure(rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
             axes.plot(np.where(pushed, anchors[:, i], np.nan),
                       np.where(pushed, anchors[:, j], np.nan), color=PUSH_COLOR,
                       linewidth=2.0, label='anchor while pushed')
+            starts = anchors[[index for index in range(len(rows)) if pushed[index] and (
+                index == 0 or not pushed[index - 1])]]
+            axes.plot(starts[:, i], starts[:, j], '^', color=PUSH_COLOR, markersize=8,
+                      label='push start')
         for taken, color, label in ((True, 'black', 'grab'), (False, 'grey', 'grab ignored')):
             points = np.array([row.grab for row in grabbed if row.grab_taken is taken])
             if len(points):
@@ -136,10 +141,12 @@ def draw_figure(rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
         time_axes.append(_draw_wrench(figure.add_subplot(grid[2, :]), t, rows))
     for axes in time_axes:
         for index, push in enumerate(pushes):
-            axes.axvspan(push.start, push.end, color=PUSH_COLOR, alpha=PUSH_ALPHA, linewidth=0,
+            # The span, and a line at its start: a push of a few ticks is narrower than a pixel.
+            axes.axvspan(push.start, push.end, color=PUSH_COLOR, alpha=PUSH_ALPHA, linewidth=0)
+            axes.axvline(push.start, color=PUSH_COLOR, linewidth=1.0,
                          label='push' if index == 0 and axes is speed_axes else None)
-    lines = [artist for artist in speed_axes.get_lines() + spin_axes.get_lines()
-             + speed_axes.patches if not (artist.get_label() or '_').startswith('_')]
+    lines = [line for line in speed_axes.get_lines() + spin_axes.get_lines()
+             if not line.get_label().startswith('_')]
     speed_axes.legend(lines, [line.get_label() for line in lines], loc='upper right',
                       fontsize='small')
     for axes in (top, side, speed_axes, spin_axes):
