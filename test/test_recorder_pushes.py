@@ -27,12 +27,15 @@ after the old ones, so that a reader of the old columns reads the same values. `
 import csv
 import math
 
+from geometry_msgs.msg import PoseStamped
+from geometry_msgs.msg import TwistStamped
 from geometry_msgs.msg import WrenchStamped
 
 from matplotlib.colors import to_rgb
 import numpy as np
 import pytest
 from rclpy.node import Node
+from rclpy.serialization import serialize_message
 
 from mouse_constraint_ros.cli.wrench import build_parser
 from mouse_constraint_ros.cli.wrench import Push
@@ -44,12 +47,15 @@ from mouse_constraint_ros.recording.csv_file import write_csv
 from mouse_constraint_ros.recording.figure import draw_figure
 from mouse_constraint_ros.recording.figure import PUSH_COLOR
 from mouse_constraint_ros.recording.figure_rows import FigureRows
+from mouse_constraint_ros.recording.received import Received
 from mouse_constraint_ros.recording.rows import COLUMNS
 from mouse_constraint_ros.recording.rows import Row
 from mouse_constraint_ros.recording.rows import tick_rows
 from mouse_constraint_ros.testing import InputRefused
 from mouse_constraint_ros.timing.spin import StopRequest
 from mouse_constraint_ros.wire.interface import WRENCH_TOPIC
+from mouse_constraint_ros.wire.messages import set_stamp
+from mouse_constraint_ros.wire.messages import wrench_message
 
 # A node in this process: the ros tier, the pure test of the figure's rows with it.
 pytestmark = pytest.mark.ros
@@ -117,6 +123,43 @@ def test_each_row_carries_the_wrench_the_node_applied_at_its_tick(pushed_recordi
     assert [wrench_of(row) for row in rows] == applied
     # The node applied each push: up, sideways with its torque, and the one the reset ended.
     assert set(applied) == {(ZERO, ZERO), (UP, ZERO), (SIDEWAYS, TWIST), ((0.0, 5.0, 0.0), ZERO)}
+
+
+def received(topic: str, message, stamp_ns: int) -> Received:
+    """Return ``message`` stamped ``stamp_ns``, as received on ``topic``."""
+    set_stamp(message.header.stamp, stamp_ns)
+    return Received(topic, 0, serialize_message(message))
+
+
+def test_a_wrench_applies_from_its_stamp_whatever_the_order_of_arrival():
+    """
+    The rows follow the node's policy, not the order in which the recorder got the messages.
+
+    1 ms ticks in 'world'. A push stamped at tick 3 that reaches the recorder after tick 5's
+    pose, and its zero wrench stamped at tick 8 after tick 9's: ticks 3 to 7 carry it. A wrench
+    in 'map' (the node takes none but its own frame) changes nothing; an unstamped one, come
+    after tick 12's pose, applies from tick 13; one over max_wrench_force changes nothing.
+    """
+    ms = 1_000_000
+
+    def tick(k: int) -> list:
+        pose, twist = PoseStamped(), TwistStamped()
+        pose.header.frame_id = twist.header.frame_id = 'world'
+        pose.pose.orientation.w = 1.0
+        return [received('pose', pose, k * ms), received('twist', twist, k * ms)]
+
+    def wrench(force, stamp_ns: int, frame: str = '') -> Received:
+        return received('wrench', wrench_message(force, ZERO, frame), stamp_ns)
+    messages = []
+    for k in range(1, 21):
+        messages += tick(k)
+        messages += {5: [wrench(UP, 3 * ms)], 9: [wrench(ZERO, 8 * ms)],
+                     10: [wrench(SIDEWAYS, 10 * ms, 'map')], 12: [wrench(SIDEWAYS, 0)],
+                     15: [wrench((0.0, 0.0, 2 * MAX_WRENCH_FORCE), 0)]}.get(k, [])
+    rows = tick_rows(messages, {'anchor': ZERO, 'max_wrench_force': MAX_WRENCH_FORCE})
+    assert [row.stamp_ns // ms for row in rows] == list(range(1, 21))
+    forces = [row.wrench_force for row in rows]
+    assert forces == [ZERO] * 2 + [UP] * 5 + [ZERO] * 5 + [SIDEWAYS] * 8
 
 
 def test_the_pushes_are_read_back_as_spans(pushed_recording):

@@ -65,7 +65,8 @@ class WrenchView:
 
     :param parameters: the node's parameters as the recording follows them (``NodeView``): the
         bounds and the timeout are read from it when a wrench is taken and a tick made.
-    :param frame: the node's frame (the latest pose's), read when a wrench is taken.
+    :param frame: the node's frame (the latest pose's; '' before the first), read when a
+        wrench is taken.
     """
 
     def __init__(self, parameters: Mapping[str, object], frame: Callable[[], str]) -> None:
@@ -76,7 +77,8 @@ class WrenchView:
     def take(self, wrench: ReceivedWrench) -> None:
         """Schedule a wrench the node takes; a refused one changes nothing."""
         p = self._parameters
-        gate = WrenchGate(self._frame(), p.get('max_wrench_force', math.inf),
+        # Before the first pose the node's frame is not known: the wrench's own is taken.
+        gate = WrenchGate(self._frame() or wrench.frame_id, p.get('max_wrench_force', math.inf),
                           p.get('max_wrench_torque', math.inf))
         if gate.refusal(wrench.frame_id, wrench.force, wrench.torque) is None:
             self._held.schedule(wrench.force, wrench.torque, wrench.at_ns)
