@@ -29,7 +29,7 @@ ALLOWED = {
     'wire': {'wire', 'physics', 'timing'},
     'monitoring': {'monitoring', 'physics', 'wire'},
     'node': {'node', 'physics', 'timing', 'inputs', 'wire', 'monitoring'},
-    'recording': {'recording', 'physics', 'timing', 'wire'},
+    'recording': {'recording', 'physics', 'timing', 'inputs', 'wire'},
     'cli': {'cli', 'physics', 'timing', 'inputs', 'wire', 'recording', 'node/parameters.py'},
     # The pointer on the body and the node it drags, shared by the web view and the RViz marker.
     'pointer': {'pointer', 'physics', 'wire'},

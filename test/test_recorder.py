@@ -266,8 +266,8 @@ def test_mcap_reads_back_with_the_mcap_library(recording):
         assert reader.get_header().profile == 'ros2'
         summary = reader.get_summary()
         channels = {c.topic: c for c in summary.channels.values()}
-        assert set(channels) == {'/target', '/pose', '/twist', '/grab', '/parameter_events',
-                                 '/mouse_constraint/reset/_service_event',
+        assert set(channels) == {'/target', '/pose', '/twist', '/grab', '/wrench',
+                                 '/parameter_events', '/mouse_constraint/reset/_service_event',
                                  '/mouse_constraint/release/_service_event'}
         for topic, message_type in (('/target', PointStamped), ('/pose', PoseStamped),
                                     ('/twist', TwistStamped)):
@@ -355,7 +355,8 @@ def test_tick_rows_join_pose_and_twist_and_follow_the_target_path():
     assert rows[0].anchor == (1.0, 0.0, 1.0)
     assert rows[0].anchor_error is None and rows[1].anchor_error == 0.5
     assert rows[0].speed == 5.0
-    assert rows[0].fields()[-13:] == ['', '', '', '', 5.0, 0.0, 1.0, 0.0, 0.0, '', '', '', '']
+    assert rows[0].fields()[-19:] == ['', '', '', '', 5.0, 0.0, 1.0, 0.0, 0.0, '', '', '', '',
+                                      0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
     assert all(row.body_anchor == (1.0, 0.0, 0.0) and row.grab is None for row in rows)
 
 
@@ -441,7 +442,7 @@ def test_tick_rows_take_a_grab_on_the_row_the_node_took_it():
     assert [row.anchor_error for row in rows] == [None, 0.0, 0.0, 0.0]
     assert [(row.grab, row.grab_taken) for row in rows] == [
         (None, None), (None, None), (grabbed, True), (None, None)]
-    assert rows[2].fields()[-7:] == [*grabbed, *grabbed, 1]
+    assert rows[2].fields()[-13:-6] == [*grabbed, *grabbed, 1]
 
 
 def test_tick_rows_mark_an_ignored_grab_and_keep_the_target():
@@ -586,6 +587,45 @@ def test_ctrl_c_ends_the_recording_early_and_keeps_it(harness, tmp_path):
     rows = read_csv(prefix.with_suffix('.csv'))
     assert 0.2 * RATE < len(rows) < 10 * RATE
     assert prefix.with_suffix('.png').is_file() and not prefix.with_suffix('.mcap').exists()
+
+
+def test_a_push_given_while_recording_is_in_the_csv_and_the_figure(harness, tmp_path):
+    """
+    mouse_wrench --subscribers 2 beside mouse_record, as README's worked example runs them.
+
+    The push waits until the node and the recorder both listen, so that the recorder, a
+    subscriber that would otherwise match after the push was sent, holds it: its rows carry the
+    force for the push's duration (its stamps, to a tick).
+    """
+    ros, force, duration = harness, 5.0, 0.1
+    prefix = tmp_path / 'pushed'
+    recorder, lines, reader = start_recorder('--duration', '6', '--output', str(prefix))
+    push = None
+    try:
+        assert ros.spin_until(lambda: any(line.startswith('recording') for line in lines),
+                              timeout=30.0), ''.join(lines)
+        push = subprocess.Popen(
+            [str(BIN / 'mouse_wrench'), '--subscribers', '2', '--force', '0', '0', str(force),
+             '--duration', str(duration)], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+            text=True)
+        assert ros.spin_until(lambda: recorder.poll() is not None and push.poll() is not None,
+                              timeout=40.0), 'mouse_record or mouse_wrench did not finish'
+    finally:
+        for process in (recorder, push):
+            if process is not None and process.poll() is None:
+                process.kill()
+        recorder.wait()
+        reader.join(timeout=5.0)
+    stdout, stderr = push.communicate(timeout=5.0)
+    assert push.returncode == 0 and f'for {duration:g} s' in stdout, stderr
+    assert recorder.returncode == 0, ''.join(lines)
+    rows = read_csv(prefix.with_suffix('.csv'))
+    pushed = [index for index, row in enumerate(rows) if row['wrench_fz'] != 0.0]
+    assert pushed == list(range(pushed[0], pushed[-1] + 1))
+    assert {(row['wrench_fx'], row['wrench_fy'], row['wrench_fz'], row['wrench_tz'])
+            for row in (rows[index] for index in pushed)} == {(0.0, 0.0, force, 0.0)}
+    assert abs(len(pushed) - duration * RATE) <= 1
+    assert 'wrote' in ''.join(lines) and prefix.with_suffix('.png').is_file()
 
 
 def unwritable_outputs(tmp_path: Path) -> list:

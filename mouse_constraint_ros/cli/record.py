@@ -13,22 +13,23 @@
 # limitations under the License.
 
 """
-The ``mouse_record`` command: record target, pose, twist and grabs, and draw the motion.
+The ``mouse_record`` command: record target, pose, twist, grabs and pushes, and draw the motion.
 
 ``mouse_record --duration 10 --output run`` records the relative topics ``target``, ``pose``,
-``twist`` and ``grab`` for 10 s of the node's clock from the first pose, with a progress bar,
-into
+``twist``, ``grab`` and ``wrench`` for 10 s of the node's clock from the first pose, with a
+progress bar, into
 
 - ``run.csv``: one row per tick (pose and twist of the same stamp), with the anchor's world
   position, the target path at the tick's time (within a stream of targets the point between
   the two around it; else the node's target: the latest received, a grab it took, what
   ``~/reset`` and ``~/release`` leave), the anchor error to it, speed and angular speed, the
-  body-frame anchor in effect and the grabs, taken or ignored;
+  body-frame anchor in effect, the grabs, taken or ignored, and the wrench the node applied;
 - ``run.mcap`` with ``--mcap``: the topics as received (CDR, ``ros2`` profile), with the
   recorded node's changes from ``/parameter_events`` and its reset and release service events,
   which Foxglove and ``ros2 bag info/play`` open;
 - ``run.png`` at the end: anchor and target paths from above and from the side, the anchor
-  error, speed and angular speed over time, grabs marked.
+  error, speed and angular speed over time, grabs marked; pushes as spans, the anchor's path
+  while pushed in red, and the applied force over time.
 
 The CSV and the MCAP file are written while recording (``RecordingFiles``): a recorder killed
 outright leaves all but its last half second. The anchor (body frame), ``hold_initial_anchor``,

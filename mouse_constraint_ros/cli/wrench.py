@@ -25,7 +25,9 @@ node's ``frame_id``, ``max_wrench_force``, ``max_wrench_torque`` and ``wrench_ti
 (``--node``, default ``mouse_constraint`` in this command's namespace) and refuses, with the
 reason and exit status 1, a wrench the node would ignore (another frame, non-finite, over a
 bound) or cut short (fewer than two wrenches per ``wrench_timeout``); without an answer it
-checks against the defaults and says so. No subscriber within ``--timeout`` is exit status 1
+checks against the defaults and says so. It pushes once ``--subscribers`` subscribers (default
+1) have matched: 2 for the node and a ``mouse_record`` that must see the push (a subscriber that
+matches later never gets what was sent before); fewer within ``--timeout`` is exit status 1
 too. Once the push is sent, the zero wrench is sent on every way out: the end, Ctrl-C or
 SIGTERM (exit 0), an error. Before the push, a signal exits 128 + the signal, nothing sent.
 """
@@ -97,9 +99,25 @@ def build_parser() -> argparse.ArgumentParser:
                         help='the node whose wrench parameters the push must fit '
                              '(default: %(default)s, in this namespace)')
     parser.add_argument('--timeout', type=_number('--timeout', 1e-3, 1e6), default=10.0,
-                        help='seconds to wait for a subscriber and for the parameters '
+                        help='seconds to wait for the subscribers and for the parameters '
                              '(default: %(default)g)')
+    parser.add_argument('--subscribers', type=_count('--subscribers'), default=1, metavar='N',
+                        help='push once N subscribers have matched, e.g. 2 for the node and a '
+                             'mouse_record that must see the push (default: %(default)s)')
     return parser
+
+
+def _count(name: str):
+    """Return an argparse type: a whole number >= 1."""
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            value = 0
+        if value < 1:
+            raise argparse.ArgumentTypeError(f'{name} must be a whole number >= 1, got {text}')
+        return value
+    return parse
 
 
 def push_refusal(gate: WrenchGate, wrench_timeout: float, options: argparse.Namespace) -> \
@@ -173,10 +191,13 @@ class Push:
         logger = node.get_logger()
         self.publisher = publisher = node.create_publisher(WrenchStamped, WRENCH_TOPIC,
                                                            WRENCH_QOS)
-        if not wait_until(executor, stop, lambda: publisher.get_subscription_count() > 0,
+        wanted = options.subscribers
+        if not wait_until(executor, stop,
+                          lambda: publisher.get_subscription_count() >= wanted,
                           deadline=time.monotonic() + options.timeout):
-            logger.error(f'no subscriber on {publisher.topic_name} within '
-                         f'{options.timeout:g} s')
+            matched = publisher.get_subscription_count()
+            logger.error(f'{f"{matched} of {wanted} subscribers" if matched else "no subscriber"}'
+                         f' on {publisher.topic_name} within {options.timeout:g} s')
             return 1
         try:
             values = fetch_parameters(node, executor, stop, target_node=options.node,

@@ -19,6 +19,7 @@ The parts of ``mouse_record``, one idea a module, below the thin command ``cli/r
 - ``capture``: the recording node, the anchor read from the recorded node, the progress line;
 - ``node_view``: the recorded node's target and anchor as the messages make them;
 - ``target_path``: where a stream of targets is at a tick's time;
+- ``applied_wrench``: the wrench the node applied at a tick, and the pushes of a recording;
 - ``rows``: messages to CSV rows (one per tick), made as the messages come;
 - ``recording_files``: the files written while recording; ``csv_file`` and ``mcap_file`` the
   CSV and the MCAP file (and the ``ros2msg`` schemas it carries);

@@ -40,9 +40,9 @@ from rclpy.serialization import deserialize_message
 from service_msgs.msg import ServiceEventInfo
 
 from .mcap_file import offered_qos_yaml
-from .received import (header_stamp, MESSAGE_TYPES, NODE_PARAMETERS, parameter_changes,
-                       PARAMETER_EVENTS_TOPIC, Received, service_event_topic, SERVICE_EVENTS,
-                       TOPICS)
+from .received import (COUNTED_TOPICS, header_stamp, MESSAGE_TYPES, NODE_PARAMETERS,
+                       parameter_changes, PARAMETER_EVENTS_TOPIC, Received, service_event_topic,
+                       SERVICE_EVENTS, TOPICS)
 from ..timing.guarded_time_source import guard_time_source
 from ..timing.spin import spin_until, SpinEnd, StopRequest, wait_until
 from ..wire.interface import NODE_NAME, POSE_TOPIC, SERVICE_EVENT_QOS, TWIST_TOPIC
@@ -75,7 +75,7 @@ class Recorder(Node):
         self.target_name = self.resolve_topic_name(target_node)
         self.parameter_changes = 0
         self.received: List[Received] = []
-        self.counts = dict.fromkeys(TOPICS, 0)
+        self.counts = dict.fromkeys(COUNTED_TOPICS, 0)
         self.offered_qos: Dict[str, str] = {}
         # The node's clock is the stamps: the first pose's, and the latest of pose and twist.
         self.first_pose_ns: Optional[int] = None

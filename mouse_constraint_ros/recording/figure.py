@@ -15,20 +15,28 @@
 """
 The figure of a recording: anchor and target paths, anchor error, speed and angular speed.
 
+A recording with pushes (a wrench the node applied) gets a third row, the applied force over
+time, and each push is marked where it acted: a shaded span and a line at its start on the time
+plots, and its stretch of the anchor's path drawn over in magenta from a triangle where it began.
+
 matplotlib is imported when a figure is drawn, with its Agg canvas: no display is needed. Axes
 show plain numbers (no offset such as ``1e-9+1``, which a body at rest would otherwise get), a
 panel with nothing to draw says so, and text the font cannot draw (an emoji frame id) is shown
 as its escapes rather than as missing glyphs.
 """
 
+import math
 from pathlib import Path
 from typing import Optional, Sequence
 
 import numpy as np
 
+from .applied_wrench import push_spans
 from .rows import Row
 from ..physics.algebra import Vector3
 
+# A row without a wrench: zero force and torque.
+_NO_WRENCH = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
 # The figure: FIGURE_INCHES at FIGURE_DPI, i.e. 1500 x 1000 pixels.
 FIGURE_INCHES = (15.0, 10.0)
 FIGURE_DPI = 100
@@ -36,6 +44,11 @@ FIGURE_DPI = 100
 ERROR_FLOOR = 1e-9
 # Headroom of the speed axes: a body at rest draws its zero speed inside the axes (m/s, rad/s).
 SPEED_HEADROOM = 0.05
+# How a push is marked: its colour, and the opacity of its span on the time plots.
+PUSH_COLOR = 'magenta'
+PUSH_ALPHA = 0.15
+# The height of the applied wrench's row, relative to the other two rows.
+WRENCH_ROW_HEIGHT = 0.6
 
 
 def drawable(text: str) -> str:
@@ -55,7 +68,11 @@ def draw_figure(rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
     Top left the paths seen from above (x, y), top right from the side (x, z); bottom left the
     anchor error on a log scale, bottom right speed and angular speed. Each grab is marked: a
     cross at the grabbed point on the paths (black when the node took it, grey when it ignored
-    it), a dotted vertical line at its time below.
+    it), a dotted vertical line at its time below. With pushes (``applied_wrench.push_spans``)
+    a third row draws the applied force's components (and |torque|, when there was one) over
+    time; each push is a shaded span on every time plot with a line at its start, labelled
+    'push', and its stretch of the anchor path is drawn over in magenta, labelled 'anchor while
+    pushed', from a triangle at the anchor where it began, labelled 'push start'.
 
     :param rows: the ticks, at least one.
     :param anchor: the anchor in the body frame (m) at the start, named in the title (with the
@@ -77,8 +94,15 @@ def draw_figure(rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
     errors = np.array([np.nan if row.anchor_error is None else row.anchor_error
                        for row in rows])
     grabbed = [row for row in rows if row.grab is not None]
+    pushes = push_spans(rows)
+    pushed = np.array([(row.wrench_force, row.wrench_torque) != _NO_WRENCH for row in rows])
     figure = Figure(figsize=FIGURE_INCHES, dpi=FIGURE_DPI, layout='constrained')
-    (top, side), (error_axes, speed_axes) = figure.subplots(2, 2)
+    if pushes:
+        grid = figure.add_gridspec(3, 2, height_ratios=(1.0, 1.0, WRENCH_ROW_HEIGHT))
+        top, side = figure.add_subplot(grid[0, 0]), figure.add_subplot(grid[0, 1])
+        error_axes, speed_axes = figure.add_subplot(grid[1, 0]), figure.add_subplot(grid[1, 1])
+    else:
+        (top, side), (error_axes, speed_axes) = figure.subplots(2, 2)
     for axes, (i, j), view in ((top, (0, 1), 'top view'), (side, (0, 2), 'side view')):
         axes.plot(anchors[:, i], anchors[:, j], color='tab:orange', linewidth=1.2,
                   label='anchor')
@@ -86,6 +110,14 @@ def draw_figure(rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
                   linewidth=1.0, label='target')
         axes.plot(anchors[0, i], anchors[0, j], 'o', color='tab:orange', label='anchor start')
         axes.plot(anchors[-1, i], anchors[-1, j], 's', color='tab:orange', label='anchor end')
+        if pushes:
+            axes.plot(np.where(pushed, anchors[:, i], np.nan),
+                      np.where(pushed, anchors[:, j], np.nan), color=PUSH_COLOR,
+                      linewidth=2.0, label='anchor while pushed')
+            starts = anchors[[index for index in range(len(rows)) if pushed[index] and (
+                index == 0 or not pushed[index - 1])]]
+            axes.plot(starts[:, i], starts[:, j], '^', color=PUSH_COLOR, markersize=8,
+                      label='push start')
         for taken, color, label in ((True, 'black', 'grab'), (False, 'grey', 'grab ignored')):
             points = np.array([row.grab for row in grabbed if row.grab_taken is taken])
             if len(points):
@@ -104,6 +136,15 @@ def draw_figure(rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
             axes.axvline(row.time, color='black' if row.grab_taken else 'grey', linestyle=':',
                          linewidth=1.0,
                          label='grab' if index == 0 and axes is speed_axes else None)
+    time_axes = [error_axes, speed_axes]
+    if pushes:
+        time_axes.append(_draw_wrench(figure.add_subplot(grid[2, :]), t, rows))
+    for axes in time_axes:
+        for index, push in enumerate(pushes):
+            # The span, and a line at its start: a push of a few ticks is narrower than a pixel.
+            axes.axvspan(push.start, push.end, color=PUSH_COLOR, alpha=PUSH_ALPHA, linewidth=0)
+            axes.axvline(push.start, color=PUSH_COLOR, linewidth=1.0,
+                         label='push' if index == 0 and axes is speed_axes else None)
     lines = [line for line in speed_axes.get_lines() + spin_axes.get_lines()
              if not line.get_label().startswith('_')]
     speed_axes.legend(lines, [line.get_label() for line in lines], loc='upper right',
@@ -119,9 +160,10 @@ def draw_figure(rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
     last = point(rows[-1].body_anchor)
     changed = '' if last == point(anchor) else f', {last} at the end'
     grab_note = f', {len(grabbed)} grab{"s" if len(grabbed) != 1 else ""}' if grabbed else ''
+    push_note = f', {len(pushes)} push{"es" if len(pushes) != 1 else ""}' if pushes else ''
     ticks = len(rows) if ticks is None else ticks
     figure.suptitle(f'{drawable(title)}: {t[-1]:.1f} s, {ticks} ticks, anchor '
-                    f'{point(anchor)}{changed} m in the body frame{grab_note}')
+                    f'{point(anchor)}{changed} m in the body frame{grab_note}{push_note}')
     return figure
 
 
@@ -158,6 +200,30 @@ def _draw_speeds(axes, t, rows):
     axes.set_title('Speed and angular speed')
     axes.grid(True, alpha=0.3)
     return spin_axes
+
+
+def _draw_wrench(axes, t, rows):
+    """Draw the applied force's components (and |torque|, when any) as steps; return ``axes``."""
+    forces = np.array([row.wrench_force for row in rows])
+    torques = np.array([math.hypot(*row.wrench_torque) for row in rows])
+    for index, color in enumerate(('tab:blue', 'tab:orange', 'tab:green')):
+        axes.plot(t, forces[:, index], color=color, linewidth=1.2, drawstyle='steps-post',
+                  label=f'force {"xyz"[index]} (N)')
+    axes.set_xlim(0.0, max(t[-1], 1e-3))
+    axes.set_xlabel('time (s)')
+    axes.set_ylabel('force (N, through the COM)')
+    axes.set_title('Applied wrench (wrench topic, world frame)')
+    axes.grid(True, alpha=0.3)
+    handles = axes.get_lines()
+    if np.any(torques):
+        torque_axes = axes.twinx()
+        torque_axes.plot(t, torques, color='tab:purple', linewidth=1.0, linestyle='--',
+                         drawstyle='steps-post', label='|torque| (N m)')
+        torque_axes.set_ylabel('|torque| (N m)', color='tab:purple')
+        handles = handles + torque_axes.get_lines()
+    axes.legend(handles, [line.get_label() for line in handles], loc='upper right',
+                fontsize='small')
+    return axes
 
 
 def write_figure(path: Path, rows: Sequence[Row], *, anchor: Vector3, frame_id: str,

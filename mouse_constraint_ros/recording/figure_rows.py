@@ -21,8 +21,11 @@ is kept: 20 s at 1 kHz, the figure is drawn from every tick. Past it, every seco
 then every fourth, and so on: row n is kept while n is a multiple of the stride, which doubles
 each time the rows kept reach ``FIGURE_ROWS``, so that the kept rows stay evenly spread over
 the whole recording (a figure 1500 pixels wide shows no more). The rows that mark a grab are
-kept besides, up to a quarter of ``FIGURE_ROWS``, and the last row always, so that the
-figure's end, its grabs and its title's anchor are the recording's own.
+kept besides, up to a quarter of ``FIGURE_ROWS``, and so are the rows whose applied wrench
+differs from the row's before (a push's first tick and the tick after its last), up to another
+quarter, and the last row always, so that the figure's end, its grabs, its pushes and its
+title's anchor are the recording's own: a push of a few ticks in an hour's recording is drawn
+from its first tick to its end.
 """
 
 from typing import List, Optional, Tuple
@@ -46,9 +49,11 @@ class FigureRows:
             raise ValueError(f'limit must be at least 8, got {limit}')
         self._limit = limit
         self._stride = 1
-        # (index, row, whether kept as a grab's row)
+        # (index, row, whether kept as a grab's or a wrench change's row)
         self._kept: List[Tuple[int, Row, bool]] = []
         self._grabs = 0
+        self._wrench_changes = 0
+        self._wrench = (Row._field_defaults['wrench_force'], Row._field_defaults['wrench_torque'])
         self._last: Optional[Tuple[int, Row]] = None
         self.count = 0
 
@@ -57,17 +62,22 @@ class FigureRows:
         index = self.count
         self.count += 1
         self._last = (index, row)
-        grab = row.grab is not None and self._grabs < self._limit // 4
-        if grab:
+        mark = row.grab is not None and self._grabs < self._limit // 4
+        if mark:
             self._grabs += 1
-        elif index % self._stride:
+        wrench = (row.wrench_force, row.wrench_torque)
+        if wrench != self._wrench and self._wrench_changes < self._limit // 4:
+            self._wrench_changes += 1
+            mark = True
+        self._wrench = wrench
+        if not mark and index % self._stride:
             return
-        self._kept.append((index, row, grab))
+        self._kept.append((index, row, mark))
         if len(self._kept) >= self._limit:
             self._thin()
 
     def _thin(self) -> None:
-        """Double the stride and drop the rows off it; the grab rows kept stay."""
+        """Double the stride and drop the rows off it; the grabs' and the pushes' rows stay."""
         self._stride *= 2
         self._kept = [kept for kept in self._kept if kept[2] or kept[0] % self._stride == 0]
 

@@ -15,24 +15,27 @@
 """
 What a recording keeps: the recorded topics and each message as it arrived, serialized.
 
-Besides the four topics it keeps what changes the recorded node's target and anchor without
-passing through them: the node's ``/parameter_events`` that change a parameter of
-``NODE_PARAMETERS`` (a grab sets ``anchor``), and the service events of its ``~/reset`` and
-``~/release`` (``<node>/reset/_service_event``, published by the node's service introspection).
+Besides the five topics (the node's inputs ``target``, ``grab`` and ``wrench``, its ``pose``
+and ``twist``) it keeps what changes the recorded node's target and anchor without passing
+through them: the node's ``/parameter_events`` that change a parameter of ``NODE_PARAMETERS``
+(a grab sets ``anchor``), and the service events of its ``~/reset`` and ``~/release``
+(``<node>/reset/_service_event``, published by the node's service introspection).
 """
 
 import struct
 from typing import Dict, NamedTuple, Optional
 
-from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
+from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped, WrenchStamped
 from rcl_interfaces.msg import ParameterEvent, ParameterType
 from std_srvs.srv import Trigger
 
-from ..wire.interface import GRAB_TOPIC, POSE_TOPIC, TARGET_TOPIC, TWIST_TOPIC
+from ..wire.interface import GRAB_TOPIC, POSE_TOPIC, TARGET_TOPIC, TWIST_TOPIC, WRENCH_TOPIC
 
-# The recorded topics (relative: namespaces and remaps apply) and their types, in CSV order.
+# The recorded topics (relative: namespaces and remaps apply) and their types, in CSV order;
+# the progress line counts the messages of the first four.
 TOPICS = {TARGET_TOPIC: PointStamped, POSE_TOPIC: PoseStamped, TWIST_TOPIC: TwistStamped,
-          GRAB_TOPIC: PointStamped}
+          GRAB_TOPIC: PointStamped, WRENCH_TOPIC: WrenchStamped}
+COUNTED_TOPICS = (TARGET_TOPIC, POSE_TOPIC, TWIST_TOPIC, GRAB_TOPIC)
 # The recorded node's parameter events that change a parameter of NODE_PARAMETERS: kept too,
 # so that each row uses the anchor in effect when its pose came.
 PARAMETER_EVENTS_TOPIC = '/parameter_events'
@@ -45,14 +48,17 @@ SERVICE_EVENTS = (RESET_EVENTS, RELEASE_EVENTS)
 MESSAGE_TYPES = {**TOPICS, PARAMETER_EVENTS_TOPIC: ParameterEvent,
                  RESET_EVENTS: Trigger.Event, RELEASE_EVENTS: Trigger.Event}
 # The recorded node's parameters that the rows follow, and their types: the anchor, what
-# ~/reset makes the target (the initial anchor's world position, when held), and the rates of
-# the grid the stamps lie on.
+# ~/reset makes the target (the initial anchor's world position, when held), the rates of
+# the grid the stamps lie on, and which wrenches it takes and for how long.
 NODE_PARAMETERS = {'anchor': ParameterType.PARAMETER_DOUBLE_ARRAY,
                    'hold_initial_anchor': ParameterType.PARAMETER_BOOL,
                    'initial_position': ParameterType.PARAMETER_DOUBLE_ARRAY,
                    'initial_orientation': ParameterType.PARAMETER_DOUBLE_ARRAY,
                    'rate_hz': ParameterType.PARAMETER_DOUBLE,
-                   'publish_rate_hz': ParameterType.PARAMETER_DOUBLE}
+                   'publish_rate_hz': ParameterType.PARAMETER_DOUBLE,
+                   'max_wrench_force': ParameterType.PARAMETER_DOUBLE,
+                   'max_wrench_torque': ParameterType.PARAMETER_DOUBLE,
+                   'wrench_timeout': ParameterType.PARAMETER_DOUBLE}
 # The length of each array parameter of NODE_PARAMETERS.
 _LENGTHS = {'anchor': 3, 'initial_position': 3, 'initial_orientation': 4}
 

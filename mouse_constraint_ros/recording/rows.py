@@ -21,7 +21,9 @@ the first pose received after it, and from any pose stamped later than the node'
 change (a tick stamped after it ran after it, whatever the order of arrival on two topics). A
 row's target is where the target path is at the tick's time (``TargetPath``): within a stream
 of targets the point between the two around it, from its last target on that target, before
-its first the target the node holds; the anchor error is the anchor's distance to it.
+its first the target the node holds; the anchor error is the anchor's distance to it. A row's
+wrench is the one the node applied at that tick (``WrenchView``): a wrench stamped on the poses'
+clock applies from the tick stamped at its stamp, whatever the order of arrival.
 
 ``RowStream`` makes the rows while recording: a row is made once poses stamped ``SETTLE_NS``
 after it came (the changes it waits for and the next target of a stream are in by then), and
@@ -35,24 +37,29 @@ from typing import Deque, Dict, List, Mapping, NamedTuple, Optional, Sequence, T
 
 from rclpy.serialization import deserialize_message
 
-from .node_view import change_stamp, NodeView
-from .received import MESSAGE_TYPES, Received
+from .applied_wrench import received_wrench, WRENCH_DOUBLES, WrenchView
+from .node_view import change_stamp, NodeView, succeeded
+from .received import MESSAGE_TYPES, Received, RESET_EVENTS
 from .target_path import SAME_CLOCK_NS, TargetPath
 from ..physics import BodyState
 from ..physics.algebra import Vector3
 from ..wire.cdr.stamped import decode_stamped, POINT, POSE, Refusal, StampedFields, TWIST
-from ..wire.interface import GRAB_TOPIC, POSE_TOPIC, TARGET_TOPIC, TWIST_TOPIC
+from ..wire.interface import GRAB_TOPIC, POSE_TOPIC, TARGET_TOPIC, TWIST_TOPIC, WRENCH_TOPIC
 
 COLUMNS = ('time', 'stamp_ns', 'x', 'y', 'z', 'qx', 'qy', 'qz', 'qw', 'vx', 'vy', 'vz', 'wx', 'wy',
            'wz', 'anchor_x', 'anchor_y', 'anchor_z', 'target_x', 'target_y', 'target_z',
            'anchor_error', 'speed', 'angular_speed', 'body_anchor_x', 'body_anchor_y',
-           'body_anchor_z', 'grab_x', 'grab_y', 'grab_z', 'grab_taken')
+           'body_anchor_z', 'grab_x', 'grab_y', 'grab_z', 'grab_taken', 'wrench_fx', 'wrench_fy',
+           'wrench_fz', 'wrench_tx', 'wrench_ty', 'wrench_tz')
 # A row is made once a pose stamped this much later (ns) came, and handed out as much later.
 SETTLE_NS = 250_000_000
 # The messages done with are dropped this many at a time.
 FORGET_BATCH = 1024
 # The topics read raw, and the doubles after their header.
-_RAW = {POSE_TOPIC: POSE, TWIST_TOPIC: TWIST, TARGET_TOPIC: POINT, GRAB_TOPIC: POINT}
+_RAW = {POSE_TOPIC: POSE, TWIST_TOPIC: TWIST, TARGET_TOPIC: POINT, GRAB_TOPIC: POINT,
+        WRENCH_TOPIC: WRENCH_DOUBLES}
+# No wrench: the force and the torque of a row without one.
+_ZERO = (0.0, 0.0, 0.0)
 
 
 class Row(NamedTuple):
@@ -61,7 +68,8 @@ class Row(NamedTuple):
 
     ``body_anchor`` is the anchor in the body frame in effect at this tick, ``grab`` a grab
     point marked on this tick (None on the ticks without one), ``grab_taken`` whether the node
-    took it.
+    took it. ``wrench_force`` (N) and ``wrench_torque`` (N m) are the wrench the node applied at
+    this tick (``wrench`` topic), zero without one.
     """
 
     time: float
@@ -78,6 +86,8 @@ class Row(NamedTuple):
     body_anchor: Vector3
     grab: Optional[Vector3] = None
     grab_taken: Optional[bool] = None
+    wrench_force: Vector3 = _ZERO
+    wrench_torque: Vector3 = _ZERO
 
     def fields(self) -> list:
         """Return the row's values in ``COLUMNS`` order; '' where there is no target or grab."""
@@ -87,7 +97,8 @@ class Row(NamedTuple):
         taken = '' if self.grab_taken is None else int(self.grab_taken)
         return [self.time, self.stamp_ns, *self.position, *self.orientation,
                 *self.linear_velocity, *self.angular_velocity, *self.anchor, *target, error,
-                self.speed, self.angular_speed, *self.body_anchor, *grab, taken]
+                self.speed, self.angular_speed, *self.body_anchor, *grab, taken,
+                *self.wrench_force, *self.wrench_torque]
 
 
 class _Message(NamedTuple):
@@ -110,6 +121,8 @@ class RowStream:
     def __init__(self, parameters: Mapping[str, object]) -> None:
         """Start with no message."""
         self._view = NodeView(parameters)
+        self._frame = ''  # the node's frame: the poses'
+        self._wrench = WrenchView(self._view.parameters, lambda: self._frame)
         self._path = TargetPath()
         # The messages not yet done with, and the index of the first.
         self._messages: List[_Message] = []
@@ -140,6 +153,11 @@ class RowStream:
                 self._newest_pose = max(item.stamp_ns, self._newest_pose or item.stamp_ns)
             elif topic == TWIST_TOPIC:
                 self._twists.setdefault(item.stamp_ns, []).append(item)
+            elif topic == WRENCH_TOPIC:
+                stamp, item = item.stamp_ns, received_wrench(item, self._latest_pose)
+                if self._latest_pose is not None and item.at_ns == stamp:
+                    # From the tick stamped at its stamp on: a change just before that tick.
+                    self._changes.append((index, stamp - 1))
             else:
                 if topic == TARGET_TOPIC:
                     self._path.add(index, self._path.time_of(item.stamp_ns, self._latest_pose),
@@ -209,7 +227,12 @@ class RowStream:
             topic, item = self._at(self._applied)
             if topic == POSE_TOPIC:
                 view.pose = _state(item, self._twists.get(item.stamp_ns))
+                self._frame = item.frame_id
+            elif topic == WRENCH_TOPIC:
+                self._wrench.take(item)
             elif topic != TWIST_TOPIC:
+                if topic == RESET_EVENTS and succeeded(item):
+                    self._wrench.clear()
                 before = view.target
                 view.take(topic, item, self._made)
                 if topic == TARGET_TOPIC:
@@ -225,7 +248,7 @@ class RowStream:
         if self._held is not None:
             target = self._path.at(stamp, self._held) or target
         self._ready.append(_row(_state(pose, [twist]), stamp, target, view.anchor,
-                                self._first))
+                                self._first, self._wrench.at(stamp)))
         self._made += 1
 
     def _forget(self) -> None:
@@ -269,7 +292,7 @@ def _state(pose: StampedFields, twists: Optional[List[StampedFields]]) -> BodySt
 
 
 def _row(state: BodyState, stamp: int, target: Optional[Vector3], body_anchor: Vector3,
-         start: int) -> Row:
+         start: int, wrench: Tuple[Vector3, Vector3]) -> Row:
     world_anchor = state.world_point(body_anchor)
     return Row(
         time=(stamp - start) * 1e-9, stamp_ns=stamp, position=state.position,
@@ -277,4 +300,5 @@ def _row(state: BodyState, stamp: int, target: Optional[Vector3], body_anchor: V
         angular_velocity=state.angular_velocity, anchor=world_anchor, target=target,
         anchor_error=None if target is None else math.dist(world_anchor, target),
         speed=math.hypot(*state.linear_velocity),
-        angular_speed=math.hypot(*state.angular_velocity), body_anchor=body_anchor)
+        angular_speed=math.hypot(*state.angular_velocity), body_anchor=body_anchor,
+        wrench_force=wrench[0], wrench_torque=wrench[1])
