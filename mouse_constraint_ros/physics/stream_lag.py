@@ -30,8 +30,9 @@ from typing import Sequence
 
 import numpy as np
 
-# At most this share of the least latency is added to it: 200 ms late at 20 Hz with a
-# browser's jitter, 45 ms, and a stop overshoots by 26 mm instead of 46 (bench/late_streams.py).
+# At most this share of the least latency is added to it. A browser's 20 Hz drag 200 ms late
+# takes 37-40 ms of the 50 allowed, and a stop overshoots by 26 mm instead of 44-46 mm
+# (bench/late_streams.py).
 LATE_SHARE = 0.25
 # The lag goes to its goal at this rate (s per s): the presented time runs 5 % slower or faster
 # while it moves, and never jumps.
