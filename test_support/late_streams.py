@@ -18,8 +18,12 @@ Pointer streams as a network delivers them, run through the node in lockstep: be
 Each scenario is a list of pointer events (when the pointer was there, when the point is
 delivered to the node, where, and whether it carries its stamp) sent to the real node with the
 shipped parameters (config/params.yaml), stepped on simulated time (``SimulatedBody``): a point
-delivered at time d is taken before the first tick after d. The anchor's world position of
-every tick is recorded, and the metrics say what the anchor did:
+delivered at time d is published before the first tick after d and the executor drained, so
+the node takes it before that tick. Between deliveries the node's ticks run alone, undrained,
+and the node publishes its state once a second: nothing it hears changes between them and
+what it publishes is not read (the same ticks as ``SimulatedBody.step``'s with every state
+published, at a tenth of the cost; test_late_streams checks that). The anchor's world
+position of every tick is recorded, and the metrics say what the anchor did:
 
 - ``overshoot``: how far the anchor went past the last point, along the drag's direction (m);
 - ``speed_ratio``: the anchor's highest speed after the first second over the drag's speed
@@ -32,13 +36,14 @@ every tick is recorded, and the metrics say what the anchor did:
 - ``wobble``: the RMS of the anchor's speed over the pointer's, minus 1, over the same ticks.
 """
 
-from typing import Callable, Dict, List, NamedTuple, Optional, Sequence
+from functools import lru_cache
+from typing import Dict, List, NamedTuple, Optional, Sequence
 
 import numpy as np
 
 from mouse_constraint_ros.testing import SimulatedBody
 from test_support.mouse_feel import shipped_parameters
-from test_support.stream_timing import circle, schedule, SPEED, TAIL, WARM_UP
+from test_support.stream_timing import RADIUS, schedule, SPEED, TAIL, WARM_UP
 
 # The drag of the stop and slow-down scenarios (m/s), along +x from the held anchor.
 DRAG_SPEED = 0.5
@@ -46,6 +51,10 @@ DRAG_SPEED = 0.5
 SLOW_DOWN = 0.2
 # A still pointer's jitter: uniform within this (m) in x and y.
 JITTER = 0.002
+# The anchor has settled this long (s) after a stop's last point was delivered.
+STOP_TAIL = 0.4
+# What the node publishes, while its ticks run undrained: its state once a second, no markers.
+QUIET = {'marker_rate_hz': 0.0, 'diagnostics_rate_hz': 0.0, 'publish_rate_hz': 1.0}
 # The delays (s) the scenarios are delivered late by.
 DELAYS = (0.0, 0.1, 0.2)
 STILL_DELAYS = (0.0, 0.08, 0.16, 0.24)
@@ -75,34 +84,47 @@ def parameters() -> dict:
     return values
 
 
+@lru_cache(maxsize=1)
+def _start() -> tuple:
+    values = parameters()
+    return tuple(np.array(values['initial_position']) + np.array(values['anchor']))
+
+
 def start_point() -> np.ndarray:
     """Return where the shipped body's anchor is held at the start (m)."""
-    values = parameters()
-    return np.array(values['initial_position']) + np.array(values['anchor'])
+    return np.array(_start())
 
 
-def run(events: Sequence[Event], seconds: float, **overrides) -> Trace:
+def run(events: Sequence[Event], seconds: float, *, drained: bool = False,
+        **overrides) -> Trace:
     """
     Deliver ``events`` to the node (shipped parameters and ``overrides``) for ``seconds``.
 
     Stamped events carry their time as the stamp (the node's clock is the simulated one, from
     0); the others a zero stamp.
+
+    :param drained: step with ``SimulatedBody.step``, the executor drained after every tick,
+        every state published.
     """
     pending = sorted(events, key=lambda e: e.delivered)
-    values = {**parameters(), 'marker_rate_hz': 0.0, 'diagnostics_rate_hz': 0.0, **overrides}
+    quiet = {**QUIET, 'publish_rate_hz': 0.0} if drained else QUIET
+    values = {**parameters(), **quiet, **overrides}
     times, anchors = [], []
     with SimulatedBody(**values) as body:
-        anchor = np.array(values['anchor'])
-        simulation = body.node.simulation
+        anchor = tuple(values['anchor'])
+        simulation, ticker = body.node.simulation, body.node.ticker
         index = 0
         while body.time < seconds - 1e-9:
             while index < len(pending) and pending[index].delivered <= body.time + 1e-12:
                 event = pending[index]
                 body.target(event.point, stamp=event.time if event.stamped else None)
                 index += 1
-            body.step()
+            if drained:
+                body.step()
+            else:
+                ticker.step()
             times.append(body.time)
-            anchors.append(simulation.state.world_point(tuple(anchor)))
+            anchors.append(simulation.state.world_point(anchor))
     return Trace(np.array(times), np.array(anchors))
 
 
@@ -129,6 +151,22 @@ def line_events(rate_hz: float, delay: float, *, slow_down: bool,
                   tuple(start + (distance(k / rate_hz), 0.0, 0.0))) for k in range(count + 1)]
 
 
+def browser_line_events(rate_hz: float, delay: float, seed: int,
+                        seconds: float = 2.0) -> List[Event]:
+    """
+    Return the drag of ``line_events`` that stops at once, as a browser samples and sends it.
+
+    Each event is stamped with its time, irregular as ``stream_timing.schedule`` makes it
+    (within a fifth of a period of its slot, sent within half a period), and delivered
+    ``delay`` after it was sent.
+    """
+    start = start_point()
+    plan = schedule(rate_hz, seconds, seed)
+    return [Event(float(event), float(send) + delay,
+                  tuple(start + (DRAG_SPEED * float(event), 0.0, 0.0)))
+            for event, send in zip(plan.events, plan.sends)]
+
+
 def still_events(rate_hz: float, delay: float, seconds: float = 3.0, seed: int = 4) -> List[Event]:
     """Return a still pointer at the held anchor, jittering within JITTER in x and y."""
     start = start_point()
@@ -147,9 +185,8 @@ def circle_events(rate_hz: float, delay: float, seconds: float, *, mixed: bool =
     Delivered ``delay`` late besides the browser's own send delay; ``mixed``: every other
     point unstamped.
     """
-    path = circle(start_point())
     plan = schedule(rate_hz, seconds, seed)
-    return [Event(float(event), float(send) + delay, tuple(path(event)),
+    return [Event(float(event), float(send) + delay, tuple(circle_points(np.array([event]))[0]),
                   not (mixed and k % 2 == 1))
             for k, (event, send) in enumerate(zip(plan.events, plan.sends))]
 
@@ -163,9 +200,9 @@ class Stop(NamedTuple):
 
 def stop_metrics(trace: Trace, events: Sequence[Event]) -> Stop:
     """Return the overshoot past the last point and the highest speed over the drag's."""
-    last = np.array(events[-1].point)
-    past = trace.anchors[:, 0] - last[0]
-    after = trace.times >= events[-1].time
+    final = max(events, key=lambda e: e.time)
+    past = trace.anchors[:, 0] - final.point[0]
+    after = trace.times >= final.time
     speeds = np.linalg.norm(np.diff(trace.anchors, axis=0), axis=1) / np.diff(trace.times)
     return Stop(float(max(0.0, past[after].max())),
                 float(speeds[trace.times[1:] > 1.0].max() / DRAG_SPEED))
@@ -195,23 +232,29 @@ class Follow(NamedTuple):
     behind: float
 
 
+def circle_points(times: np.ndarray) -> np.ndarray:
+    """Return the pointer's positions on ``stream_timing.circle`` at ``times`` (s), one a row."""
+    angles = SPEED / RADIUS * np.asarray(times, dtype=float)
+    centre = start_point() - (RADIUS, 0.0, 0.0)
+    return centre + RADIUS * np.stack([np.cos(angles), np.sin(angles), 0.0 * angles], axis=1)
+
+
 def follow_metrics(trace: Trace, seconds: float, *, behind: Optional[float] = 0.0) -> Follow:
     """
     Return how closely the anchor followed the circle, at the tick's time less ``behind`` (s).
 
     ``behind`` None: at the delay that fits best (to the millisecond, up to 0.3 s).
     """
-    path = circle(start_point())
     if behind is None:
         behind = min((k * 1e-3 for k in range(301)),
-                     key=lambda d: _follow(trace, path, seconds, d).error)
-    return _follow(trace, path, seconds, behind)
+                     key=lambda d: _follow(trace, seconds, d).error)
+    return _follow(trace, seconds, behind)
 
 
-def _follow(trace: Trace, path: Callable, seconds: float, behind: float) -> Follow:
+def _follow(trace: Trace, seconds: float, behind: float) -> Follow:
     times, anchors = trace.times, trace.anchors
     inside = (times >= WARM_UP + behind) & (times <= seconds + behind - TAIL)
-    truth = np.array([path(t - behind) for t in times[inside]])
+    truth = circle_points(times[inside] - behind)
     error = float(np.sqrt(np.mean(np.sum((anchors[inside] - truth) ** 2, axis=1))))
     steps = np.linalg.norm(np.diff(anchors, axis=0), axis=1) / np.diff(times)
     paired = inside[1:] & inside[:-1]
@@ -226,9 +269,23 @@ def stop_rows(rates: Sequence[float] = (20.0, 60.0), delays: Sequence[float] = D
     for rate in rates:
         for delay in delays:
             events = line_events(rate, delay, slow_down=slow_down)
-            stop = stop_metrics(run(events, events[-1].delivered + 1.0), events)
+            stop = stop_metrics(run(events, events[-1].delivered + STOP_TAIL), events)
             rows.append({'rate_hz': rate, 'delay_s': delay, 'overshoot_mm': 1e3 * stop.overshoot,
                          'gap_mm': 1e3 * DRAG_SPEED / rate, 'speed_ratio': stop.speed_ratio})
+    return rows
+
+
+def browser_stop_rows(rate: float = 20.0, delay: float = 0.2,
+                      seeds: Sequence[int] = (1, 2)) -> List[Dict[str, float]]:
+    """Return a row per seed of a browser's drag that stops at once (``browser_line_events``)."""
+    rows = []
+    for seed in seeds:
+        events = browser_line_events(rate, delay, seed)
+        last = max(event.delivered for event in events)
+        stop = stop_metrics(run(events, last + STOP_TAIL), events)
+        rows.append({'rate_hz': rate, 'delay_s': delay, 'seed': seed,
+                     'overshoot_mm': 1e3 * stop.overshoot, 'gap_mm': 1e3 * DRAG_SPEED / rate,
+                     'speed_ratio': stop.speed_ratio})
     return rows
 
 
@@ -259,21 +316,28 @@ def floor_press(depth: float = 0.5, aside: float = 0.3, lift: float = 0.5, *,
     is the corner ``depth`` below the floor and ``aside`` along x, for ``press`` seconds; then
     ``lift`` above where the corner started (``back``) or above the pressed point, for 1.5 s.
     """
-    values = {**parameters(), 'marker_rate_hz': 0.0, 'diagnostics_rate_hz': 0.0}
+    values = {**parameters(), **QUIET}
     values['initial_position'] = [0.0, 0.0, 0.5 * values['box_size'][2]]
     peaks = [0.0, 0.0]
     with SimulatedBody(**values) as body:
-        body.step(500)
-        corner = np.array(body.node.simulation.anchor_position())
+        simulation, ticker = body.node.simulation, body.node.ticker
 
-        def peak(b) -> None:
-            peaks[0] = max(peaks[0], float(np.linalg.norm(b.twist.linear)))
-            peaks[1] = max(peaks[1], float(np.linalg.norm(b.twist.angular)))
-        body.add_tick_callback(peak)
+        def ticks(count: int, watched: bool = True) -> None:
+            # The node's ticks, undrained (the module docstring); the speeds the twist says.
+            for _ in range(count):
+                ticker.step()
+                if watched:
+                    state = simulation.state
+                    peaks[0] = max(peaks[0], float(np.linalg.norm(state.linear_velocity)))
+                    peaks[1] = max(peaks[1], float(np.linalg.norm(state.angular_velocity)))
+        ticks(500, watched=False)
+        corner = np.array(simulation.anchor_position())
         body.target(tuple(corner + (aside, 0.0, -depth)))
-        body.step(round(press * 1000))
+        body.drain()
+        ticks(round(press * 1000))
         body.target(tuple(corner + (0.0 if back else aside, 0.0, lift)))
-        body.step(1500)
+        body.drain()
+        ticks(1500)
     return Peaks(*peaks)
 
 

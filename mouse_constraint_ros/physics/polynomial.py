@@ -17,9 +17,10 @@ A polynomial of time about a point, in 3D: the target stream's fit, made and eva
 
 ``cross_validated`` fits a weighted least-squares polynomial of the degree the points bear.
 ``polynomial`` makes p(t) = p0 + c_1 tau + ... + c_d tau^d (tau = t - t0, d <= 4) and
-``evaluate`` returns its position and velocity at a time. A line or a parabola (the
-arrival-timed fit) is evaluated as written; a higher degree (the stamped fit) by Horner's
-scheme on coefficients laid out per axis, written out: it runs in every substep of a drag.
+``evaluate`` returns its position and velocity at a time, ``around`` before t0 too. A line or a
+parabola (the arrival-timed fit) is evaluated as written; a higher degree (the stamped fit) by
+Horner's scheme on coefficients laid out per axis, written out: it runs in every substep of a
+drag.
 """
 
 import math
@@ -72,6 +73,22 @@ def evaluate(curve: Curve, time: float) -> Tuple[Vector3, Vector3]:
             (ax + tau * (bx2 + tau * (cx3 + tau * dx4)),
              ay + tau * (by2 + tau * (cy3 + tau * dy4)),
              az + tau * (bz2 + tau * (cz3 + tau * dz4))))
+
+
+def around(curve: Curve, time: float) -> Tuple[Vector3, Vector3]:
+    """Return ``evaluate(curve, time)``, before t0 too: the polynomial there, not p0."""
+    t0, p, coefficients, _ = curve
+    tau = time - t0
+    if tau >= 0.0:
+        return evaluate(curve, time)
+    position, velocity, power = list(p), [0.0, 0.0, 0.0], 1.0
+    for k, c in enumerate(coefficients, start=1):
+        for i in range(3):
+            velocity[i] += k * c[i] * power
+        power *= tau
+        for i in range(3):
+            position[i] += c[i] * power
+    return (position[0], position[1], position[2]), (velocity[0], velocity[1], velocity[2])
 
 
 def cross_validated(times: np.ndarray, values: np.ndarray, weights: np.ndarray,

@@ -37,18 +37,16 @@ what the times are:
 network arrives 50-250 ms after its events; extrapolating the fit over all of that turns a stop
 into a fling and a still pointer's jitter into a wander (docs/dragging.md). So the stream is
 *presented at a delay*: at core time t the target is the fit at t - D, D the least latency of
-the stream's points, the part of the latency every point has (transport, a remote clock's
-offset). Beyond the latest stamp the fit is extrapolated only as far as a healthy stream needs
-before its next point arrives, the ``horizon``: the longest interval between the window's
-stamps plus the spread of their latencies above D (about one stream gap). A stream on time
-(D about 0) is thus followed without lag, its target running at most that horizon ahead of the
-latest point; a late one is followed at its delay, smoothly behind the received path, and
-never flung. Valve's Source engine renders remote entities in the past for the same reason
-(``cl_interp``) and extrapolates only a capped time when packets are missing.
-
-When no point comes within the horizon (the pointer stopped, or a point is late) the
-extrapolation stops: the target eases back to the latest point over another horizon (a
-smoothstep, at most 1.5 times the speed it had), where a stopped drag ends.
+the stream's points (transport, a remote clock's offset). Past the latest stamp the fit is
+extrapolated only as far as a healthy stream needs before its next point arrives, the
+``horizon``: the longest interval between the window's stamps plus the spread of their
+latencies above D. A stream on time (D about 0) is followed without lag, its target at most
+that horizon ahead of the latest point; a late one has time to spare and is presented later
+still, by its ``Lag`` (``stream_lag``), to be extrapolated about one mean interval. Valve's
+Source engine renders remote entities in the past for the same reason (``cl_interp``) and
+extrapolates a capped time only when packets are missing. When no point comes within the
+horizon (the pointer stopped, or a point is late) the target eases back to the latest point
+over another horizon (a smoothstep, at most 1.5 times its speed), where a stopped drag ends.
 
 A point is part of the stream only if it comes within ``STREAM_GAP`` of the previous one,
 after it, and implies a speed no greater than the guide may move (``TargetMotion.max_speed``);
@@ -70,7 +68,8 @@ from typing import Deque, Optional, Tuple
 import numpy as np
 
 from .algebra import Vector3
-from .polynomial import cross_validated, Curve, evaluate, polynomial
+from .polynomial import around, cross_validated, Curve, evaluate, polynomial
+from .stream_lag import jitter, Lag
 
 # Points further apart in time than this (s) are not one stream: a pause ends a drag.
 STREAM_GAP = 0.25
@@ -78,9 +77,8 @@ STREAM_GAP = 0.25
 # stream's last points.
 STREAM_SAMPLES = 8
 # From this many points on, the fit is a parabola: a curved drag is extrapolated along its curve
-# (bench/mouse_feel.py: a circle at 1 m/s, 50 Hz, soft 7.5 Hz joint: 5 mm RMS error, against
-# 19 mm with a line over as many points); eight points keep the parabola's slope as steady under
-# arrival jitter as a two-point difference is not (3 times less error, test_mouse_feel).
+# (bench/mouse_feel.py: a 1 m/s circle at 50 Hz, soft joint: 5 mm RMS error, against 19 mm with
+# a line); eight points keep its slope steady under arrival jitter (test_mouse_feel).
 QUADRATIC_SAMPLES = 4
 # Stamped streams: a polynomial of at most this degree over the points of the last
 # STAMPED_WINDOW seconds, at most STAMPED_SAMPLES of them (a browser's 20 Hz drag round a 1 m/s
@@ -99,8 +97,7 @@ BLEND_INTERVALS = 1.0
 # A stamped point whose latency lies farther than this (s) out of the range of the window's
 # latencies starts a new stream: a latency that jumps is another path or another clock.
 LATENCY_JUMP = 0.05
-# The weight, in the stamped fit, of an unstamped point put on the stamps' base by its arrival:
-# its time is off by as much as the latencies spread.
+# The stamped fit's weight of an unstamped point put on the stamps' base (its time is off).
 UNSTAMPED_WEIGHT = 0.25
 ZERO: Vector3 = (0.0, 0.0, 0.0)
 # Points closer in time than this (s) to the latest are at its time: they replace its point.
@@ -128,17 +125,17 @@ class TargetStream:
         # The fit about the anchoring point (``evaluate``); None for none (no point, or one).
         self._curve: Optional[Curve] = None
         # How far (s) past the latest stamp the fit is extrapolated, and the delay (s) the
-        # stream is presented at.
-        self._horizon = 0.0
-        self._delay = 0.0
+        # stream is presented at, both before a late stream's lag.
+        self._horizon = self._delay = 0.0
+        # A late stream's lag behind that delay; the mean interval of the stamps (s).
+        self._lag, self._interval = Lag(), 0.0
         # (time, point) of the latest point; its arrival time; whether times are stamps.
         self._latest: Optional[Tuple[float, Vector3]] = None
         self._arrival = 0.0
         self._stamped = False
         # A stamped stream's previous fit, blended into the new one from the new point's
-        # arrival over ``_blend_length`` (s); None when not blending.
+        # arrival over BLEND_INTERVALS mean intervals (``_interval``); None when not blending.
         self._previous: Optional[Curve] = None
-        self._blend_length = 0.0
 
     @property
     def velocity(self) -> Vector3:
@@ -147,13 +144,13 @@ class TargetStream:
 
     @property
     def delay(self) -> float:
-        """Return the stream's presentation delay in seconds: its least latency, 0 by arrival."""
-        return self._delay
+        """Return the stream's presentation delay in seconds, as of its latest point."""
+        return self._delay + self._lag.value
 
     @property
     def horizon(self) -> float:
         """Return how far (s) past its latest point's time the stream is extrapolated."""
-        return self._horizon
+        return self._horizon - self._lag.value
 
     def clear(self) -> None:
         """Forget every point."""
@@ -162,6 +159,7 @@ class TargetStream:
         self._floor = math.inf
         self._curve = self._previous = None
         self._horizon = self._delay = 0.0
+        self._lag.reset()
         self._latest = None
 
     def add(self, point: Vector3, time: Optional[float], max_speed: float,
@@ -221,27 +219,33 @@ class TargetStream:
             # The floor of the latencies since they started; one below zero is a node behind
             # its clock (dropped ticks), not a path faster than the stamps.
             self._delay = max(0.0, self._floor)
-            self._horizon = longest + max(self._latencies) - self._delay
+            spread = max(self._latencies) - self._delay
+            self._horizon = longest + spread
+            # What the horizon holds past one mean interval: the latencies' spread and the
+            # stream's jitter of intervals.
+            need = spread + jitter([t for t, _, exact in self._points if exact])
+            self._lag.aim(arrival, delay=self._delay, need=need, continues=continues)
         else:
             self._delay = 0.0
             self._horizon = EXTRAPOLATION_INTERVALS * interval
+            self._lag.reset()
         self._previous = previous if self._curve is not None and BLEND_INTERVALS else None
-        self._blend_length = BLEND_INTERVALS * interval
+        self._interval = interval
         return continues
 
     def shift(self, seconds: float) -> None:
         """
-        Move every time the stream holds by ``seconds``: its points, fits and latest arrival.
+        Move every time the stream holds by ``seconds`` (its latencies stay).
 
         The node's clock and the core's time moved apart (ticks were dropped, the node was
-        paused): a stamp mapped before now maps ``seconds`` later or earlier, and so do the
-        stream's times; its latencies stay.
+        paused): a stamp mapped before now maps ``seconds`` later or earlier.
         """
         self._points = deque(((t + seconds, p, exact) for t, p, exact in self._points),
                              maxlen=STAMPED_SAMPLES)
         if self._latest is not None:
             self._latest = (self._latest[0] + seconds, self._latest[1])
         self._arrival += seconds
+        self._lag.shift(seconds)
         if self._curve is not None:
             self._curve = (self._curve[0] + seconds, *self._curve[1:])
         if self._previous is not None:
@@ -291,30 +295,28 @@ class TargetStream:
             design = np.vander(times, degree + 1, increasing=True)
             solution = np.linalg.lstsq(design, values, rcond=None)[0]
         coefficients = tuple(tuple(float(c) for c in row) for row in solution[1:])
-        if not coefficients:
-            coefficients = (ZERO,)
-        intervals = np.diff(times)
-        return (polynomial(t_anchor, anchor, coefficients),
-                float((times[-1] - times[0]) / (count - 1)), float(intervals.max()))
+        return (polynomial(t_anchor, anchor, coefficients or (ZERO,)),
+                float((times[-1] - times[0]) / (count - 1)), float(np.diff(times).max()))
 
     def predict(self, time: float) -> Tuple[Vector3, Vector3]:
         """
         Return where the target is at core time ``time`` and its velocity.
 
-        The stream is presented at ``time - delay``: the fit there, extrapolated at most
-        ``horizon`` past the latest point, then eased back to it over as long. A stamped stream
-        goes over from its previous fit to the new one in the ``BLEND_INTERVALS`` after a point
-        arrived, with the smoothstep weight w = 3 s^2 - 2 s^3 of the fraction s of that time:
-        position and velocity stay continuous where switching fits would jump (projective
-        velocity blending, as in C. Murphy, "Believable Dead Reckoning for Networked Games",
-        Game Engine Gems 2).
+        The stream is presented at ``time - delay`` (a late stream's lag moving it): the fit
+        there, extrapolated at most ``horizon`` past the latest point, then eased back to it
+        over as long. A stamped stream goes over from its previous fit to the new one in the
+        ``BLEND_INTERVALS`` after a point arrived, with the smoothstep weight of the fraction of
+        that time (projective velocity blending, as in C. Murphy, "Believable Dead Reckoning
+        for Networked Games", Game Engine Gems 2).
         """
         curve, (t_latest, latest) = self._curve, self._latest
         if curve is None:
             return latest, ZERO
-        presented = time - self._delay
+        lag = self._lag.at(time)
+        presented, length = time - self._delay - lag, BLEND_INTERVALS * self._interval
         past = presented - t_latest
-        horizon = self._horizon
+        # At least half an interval: a lag aimed at a long interval held before the window.
+        horizon = max(self._horizon - lag, 0.5 * self._interval)
         if past > horizon:
             if past >= 2.0 * horizon or horizon <= 0.0:
                 # The stream stopped: the target is where it was last sent.
@@ -326,17 +328,17 @@ class TargetStream:
             keep, rate = 1.0 - weight, -rate / horizon
             return ((latest[0] + ox * keep, latest[1] + oy * keep, latest[2] + oz * keep),
                     (ox * rate, oy * rate, oz * rate))
-        position, velocity = evaluate(curve, presented)
+        position, velocity = around(curve, presented)
         previous = self._previous
         if previous is None:
             return position, velocity
-        fraction = (time - self._arrival) / self._blend_length
+        fraction = (time - self._arrival) / length
         if fraction >= 1.0:
             self._previous = None
             return position, velocity
         weight, rate = _smoothstep(max(fraction, 0.0))
-        rate /= self._blend_length
-        (ox, oy, oz), (ux, uy, uz) = evaluate(previous, presented)
+        rate /= length
+        (ox, oy, oz), (ux, uy, uz) = around(previous, presented)
         (nx, ny, nz), (vx, vy, vz) = position, velocity
         return ((ox + (nx - ox) * weight, oy + (ny - oy) * weight, oz + (nz - oz) * weight),
                 (ux + (vx - ux) * weight + (nx - ox) * rate,
