@@ -30,7 +30,7 @@ PARTS = [('mouse_constraint_ros',), ('test',),
          ('test_support', 'bench', 'demo', 'launch', 'setup.py')]
 
 
-@pytest.mark.parametrize('names', PARTS, ids=lambda names: names[0])
+@pytest.mark.parametrize('names', PARTS, ids='+'.join)
 def test_flake8(names, capsys, monkeypatch):
     """Flake8 with the repository's ament-mirroring configuration reports nothing."""
     paths = [str(ROOT / name) for name in names if (ROOT / name).exists()]
