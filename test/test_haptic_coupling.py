@@ -91,6 +91,7 @@ def test_nonsense_is_refused_with_the_reason(changes, reason):
         node_config(values(**changes))
 
 
+@pytest.mark.ros
 def test_through_ros_the_anchor_rings_with_the_modes_of_the_coupling():
     """
     Through ROS: after a target jump, e[n+1] = (z1 + z2) e[n] - z1 z2 e[n-1] at every tick.

@@ -75,6 +75,7 @@ def test_the_felt_force_is_minus_the_impulse_over_dt():
     assert (message.wrench.force.x, message.wrench.torque.x) == (-1.0, 0.0)
 
 
+@pytest.mark.ros
 def test_no_force_topic_unless_asked():
     """publish_force false (the default): no publisher, nothing costs the tick; true: one."""
     with SimulatedBody() as body:
@@ -85,6 +86,7 @@ def test_no_force_topic_unless_asked():
         assert body.node.count_publishers(FORCE_TOPIC) == 0
 
 
+@pytest.mark.ros
 @pytest.mark.parametrize('anchor', [(0.0, 0.0, 0.0), (0.2, 0.1, 0.05)])
 def test_held_at_rest_the_hand_feels_the_weight(anchor):
     """Held at the COM, or hung by a corner with the COM below it: (0, 0, -m |g|) within 0.5 %."""
@@ -100,6 +102,7 @@ def test_held_at_rest_the_hand_feels_the_weight(anchor):
         assert not np.any([torque for _, torque in listener.torques])
 
 
+@pytest.mark.ros
 def test_no_target_no_force():
     body, listener = listening_body(anchor=[0.0, 0.0, 0.0])
     with body:
@@ -111,6 +114,7 @@ def test_no_target_no_force():
         assert listener.force.tolist() == [0.0, 0.0, 0.0]
 
 
+@pytest.mark.ros
 def test_every_tick_of_a_swing_the_momentum_change_is_the_felt_force_s_reaction():
     """
     After a target jump, with a wrench pushing mid-swing: m (v[n] - v[n-1]) = (-F + m g + W) dt.
@@ -160,6 +164,7 @@ def test_the_markers_draw_the_felt_force_from_the_anchor():
     assert 'felt' not in {m.ns for m in marker_array(**common).markers}
 
 
+@pytest.mark.ros
 def test_with_publish_force_the_node_draws_the_felt_force():
     """Held at the COM at rest: the arrow points down from the anchor, one box edge long."""
     with SimulatedBody(publish_force=True, anchor=[0.0, 0.0, 0.0], marker_rate_hz=50.0) as body:

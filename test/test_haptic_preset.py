@@ -88,6 +88,7 @@ def listening(body: SimulatedBody) -> StateListener:
     return body.add_node(StateListener(context=body.context))
 
 
+@pytest.mark.ros
 def test_held_still_the_hand_feels_the_weight():
     with preset_body() as body:
         listener = listening(body)
@@ -116,6 +117,7 @@ class PushingHand(Node):
         self.publisher.publish(message)
 
 
+@pytest.mark.ros
 @pytest.mark.parametrize('acceleration', [(0.0, 0.0, 3.0), (0.0, 0.0, -4.0)])
 def test_pushed_at_a_constant_acceleration_the_hand_feels_m_g_minus_a(acceleration):
     """From 0.5 s on, once the coupling's start has died away: m (g - a) within 1 %."""
@@ -135,6 +137,7 @@ def test_pushed_at_a_constant_acceleration_the_hand_feels_m_g_minus_a(accelerati
         assert error <= 0.01 * WEIGHT, error
 
 
+@pytest.mark.ros
 def test_swinging_the_hand_feels_the_pendulum_s_reaction():
     """Released 10 deg from hanging, the hand still: m (g - a_com) of the exact pendulum, 1 %."""
     tilt = Rotation.from_rotvec((math.radians(10.0), 0.0, 0.0))

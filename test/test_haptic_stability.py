@@ -132,6 +132,7 @@ def test_what_the_device_renders_passively_the_loop_holds_stably(pair):
     assert passive <= largest_stable_stiffness(**loop(device, coupling_damping, delay))
 
 
+@pytest.mark.ros
 def test_a_constant_force_meets_the_static_stiffness():
     """Held at its COM under its weight, no feed-forward: the sag is m |g| / (m b / h)."""
     with SimulatedBody(**{**LOOP_BODY, 'gravity': [0.0, 0.0, -9.80665]},
@@ -145,6 +146,7 @@ def test_a_constant_force_meets_the_static_stiffness():
         assert stiffness == pytest.approx(300.0, rel=0.02)
 
 
+@pytest.mark.ros
 @pytest.mark.parametrize('pair, growths', CASES)
 def test_the_measured_largest_stable_stiffness_is_the_predicted_one(pair, growths):
     """Within 5 %: the bracket's middle, and each trial's growth is the largest root's."""

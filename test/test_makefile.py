@@ -42,12 +42,14 @@ def dry_run(*arguments: str) -> str:
     return result.stdout
 
 
+@pytest.mark.system
 def test_make_test_lists_every_skip_with_its_reason():
     """The pytest run lists each skip with its reason (-rs): what was not tested, and why."""
     commands = dry_run('test')
     assert 'pytest test/ -q -rs' in commands
 
 
+@pytest.mark.system
 def test_make_view_passes_its_options():
     """VIEW_ARGS reaches mouse_view: make view VIEW_ARGS='--port 8090'."""
     assert '.venv/bin/mouse_view --port 8090' in dry_run('view', 'VIEW_ARGS=--port 8090')
@@ -65,6 +67,7 @@ def recipe(target: str) -> str:
     return dry_run(target).rstrip().splitlines()[-1]
 
 
+@pytest.mark.system
 def test_run_and_view_run_their_command_in_the_foreground():
     """Both recipes give the terminal to their command alone (job control), and say it first."""
     for target, command in (('run', '.venv/bin/mouse_constraint_node --ros-args --params-file '

@@ -32,7 +32,9 @@ LOCAL = {'mouse_constraint_ros', 'test_support', 'bench', 'conftest'}
 PYTHON_KEYS = {'numpy': 'python3-numpy', 'yaml': 'python3-yaml', 'scipy': 'python3-scipy',
                'matplotlib': 'python3-matplotlib', 'hypothesis': 'python3-hypothesis',
                'pytest': 'python3-pytest', 'PIL': 'python3-pil',
-               'mcap': 'mcap-ros2-support', 'mcap_ros2': 'mcap-ros2-support'}
+               'mcap': 'mcap-ros2-support', 'mcap_ros2': 'mcap-ros2-support',
+               # test_lint.py runs flake8 in-process: ament_flake8 brings it with its plugins.
+               'flake8': 'ament_flake8'}
 # Imported by the package only for an option, and declared for the tests: mcap writes
 # ``mouse_record --mcap`` files (requirements/viz.txt), imported when that option is given;
 # pytest by the package's pytest plugin (``testing/pytest_plugin.py``), which only pytest loads.

@@ -172,6 +172,7 @@ def test_a_nearly_unit_orientation_is_normalized_exactly():
     assert sim.state.orientation == (0.0, 0.0, 0.0, 1.0)
 
 
+@pytest.mark.system
 def test_the_core_imports_without_rclpy():
     """The physics package imports numpy and the standard library only."""
     code = ('import sys, mouse_constraint_ros.physics; '

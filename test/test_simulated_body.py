@@ -65,6 +65,7 @@ exec(RUN, namespace)  # noqa: S102
 run_digest = namespace['run_digest']
 
 
+@pytest.mark.system
 def test_the_same_poses_bit_for_bit_in_this_process_and_another():
     """Two runs here and one in a fresh interpreter hash every pose and twist alike."""
     here = [run_digest(), run_digest()]
@@ -148,6 +149,7 @@ def test_its_traffic_stays_in_its_context(ros):
         other.wait(timeout=30)
 
 
+@pytest.mark.ros
 def test_it_takes_the_callers_context_and_executor():
     """Given a context and an executor, it uses them and leaves them running at close."""
     context = isolated_context()
@@ -206,6 +208,7 @@ def test_step_until_says_the_time_it_reached(simulated_body):
     assert simulated_body.step_until(lambda: True, max_ticks=0) == 0
 
 
+@pytest.mark.ros
 def test_an_endpoint_that_cannot_match_fails_add_node_naming_it():
     """A best-effort target publisher does not match the reliable subscription: said, and why."""
     with SimulatedBody(match_timeout=0.3) as body:
@@ -219,6 +222,7 @@ def test_an_endpoint_that_cannot_match_fails_add_node_naming_it():
             body.add_node(Node('elsewhere', context=isolated_context()))
 
 
+@pytest.mark.ros
 def test_a_drain_that_never_goes_idle_fails_loudly():
     """A node whose timer is always due: DrainTimeout, naming the timer, instead of a hang."""
     with SimulatedBody(drain_timeout=0.3) as body:
@@ -229,6 +233,7 @@ def test_a_drain_that_never_goes_idle_fails_loudly():
             body.step()
 
 
+@pytest.mark.system
 def test_the_plugin_costs_pytest_no_ros_import_and_is_registered():
     """Importing the plugin loads neither rclpy nor a message package; the entry point names it."""
     probe = subprocess.run([sys.executable, '-c', textwrap.dedent("""
@@ -243,6 +248,7 @@ def test_the_plugin_costs_pytest_no_ros_import_and_is_registered():
     assert plugins['mouse_constraint_ros'] == 'mouse_constraint_ros.testing.pytest_plugin'
 
 
+@pytest.mark.system
 def test_a_downstream_package_gets_the_fixture_by_installing_this_one(tmp_path):
     """A pytest run in a folder with no conftest: ``simulated_body`` comes from the plugin."""
     (tmp_path / 'test_downstream.py').write_text(textwrap.dedent("""

@@ -33,6 +33,7 @@ from mouse_constraint_ros.testing import HarnessClosed, SimulatedBody
 from mouse_constraint_ros.testing.lockstep import isolated_context
 
 
+@pytest.mark.ros
 def test_a_context_another_harness_uses_is_refused():
     """Two harnesses in one context would cross-talk: the second is refused, the first runs on."""
     with SimulatedBody() as first:
@@ -53,6 +54,7 @@ def test_a_context_another_harness_uses_is_refused():
         given.try_shutdown()
 
 
+@pytest.mark.ros
 def test_a_context_that_is_not_initialized_is_refused(capfd):
     """An uninitialized or shut down context: one ValueError, no noise of a half-made executor."""
     with pytest.raises(ValueError, match='not initialized'):
@@ -68,6 +70,7 @@ def test_a_context_that_is_not_initialized_is_refused(capfd):
     assert 'Exception ignored' not in capfd.readouterr().err
 
 
+@pytest.mark.ros
 def test_an_executor_it_cannot_drain_or_of_another_context_is_refused(capfd):
     """The events and the multi-threaded executors: TypeError; another context's: ValueError."""
     context = isolated_context()
@@ -135,6 +138,7 @@ def test_a_stamp_of_another_type_is_refused(simulated_body):
             simulated_body.target((0.5, 0.2, 1.0), stamp=stamp)
 
 
+@pytest.mark.ros
 def test_after_close_each_use_raises_one_closed_error():
     """step, drain, inputs, services, parameters, nodes: HarnessClosed; readings stay."""
     body = SimulatedBody()

@@ -47,6 +47,7 @@ def caught(pid: int) -> int:
     return int(re.search(r'^SigCgt:\s*([0-9a-f]+)$', status, re.M).group(1), 16)
 
 
+@pytest.mark.system
 @pytest.mark.parametrize('delay', [0.0, 0.1, 0.3])
 @pytest.mark.parametrize('signum', [signal.SIGINT, signal.SIGTERM, signal.SIGHUP])
 def test_a_signal_during_start_up_exits_0_without_a_traceback(signum, delay):

@@ -18,6 +18,7 @@ import math
 
 from geometry_msgs.msg import PointStamped, PoseStamped
 import numpy as np
+import pytest
 from rclpy.node import Node
 
 from mouse_constraint_ros.testing import SimulatedBody
@@ -63,6 +64,7 @@ def drag(as_pose: bool, frame_id: str = ''):
         return np.array(positions), body.node.refusals, body.node.simulation.target
 
 
+@pytest.mark.ros
 def test_a_pose_stream_drives_the_body_as_the_point_stream_does():
     """Same points, same stamps: the same motion to the bit, timed by the stamps both ways."""
     by_pose, refusals, _ = drag(True)
@@ -72,6 +74,7 @@ def test_a_pose_stream_drives_the_body_as_the_point_stream_does():
     assert np.ptp(by_pose[:, 1]) > 0.3
 
 
+@pytest.mark.ros
 def test_a_pose_in_another_frame_is_refused_as_a_point_is():
     _, (count, refusal), target = drag(True, frame_id='map')
     assert count == 150 and refusal.key == 'frame'
