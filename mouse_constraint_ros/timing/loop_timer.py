@@ -21,8 +21,7 @@ then posts the call to the executor's queue, which wakes the spinning thread. At
 thread alone takes some 15 % of a bare timer node's CPU (docs/benchmarks.md). ``LoopTimer``
 keeps the timer's schedule instead, and the spin loop that serves the node (``spin.spin_until``
 with a ``pace``) waits in ``spin_once`` only until the next call is due, then makes the call
-itself:
-one thread, one wake per call.
+itself: one thread, one wake per call.
 
 Its schedule is an rclpy timer's: calls at ``start + k * period``; a call that runs late is
 still made once, and the periods it overran are skipped, not caught up (the caller's grid
