@@ -54,6 +54,39 @@ def private_environment(domain_id: Optional[int] = None,
     return environment
 
 
+# A Fast DDS participant that announces itself every 0.5 s and is given up 3 s after its last
+# announcement (the default: every 3 s, given up after 20 s), so that its peers see a killed
+# process gone within seconds. Fast DDS reads it from FASTRTPS_DEFAULT_PROFILES_FILE.
+SHORT_LEASE_PROFILE = """<?xml version="1.0" encoding="UTF-8"?>
+<dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">
+  <profiles>
+    <participant profile_name="short_lease" is_default_profile="true">
+      <rtps>
+        <builtin>
+          <discovery_config>
+            <leaseDuration><sec>3</sec></leaseDuration>
+            <leaseAnnouncement><sec>0</sec><nanosec>500000000</nanosec></leaseAnnouncement>
+          </discovery_config>
+        </builtin>
+      </rtps>
+    </participant>
+  </profiles>
+</dds>
+"""
+
+
+def short_lease_environment(folder: Path, base: Mapping[str, str]) -> Dict[str, str]:
+    """
+    Return ``base`` with Fast DDS's participant profile SHORT_LEASE_PROFILE, written in ``folder``.
+
+    A process started with it that is killed (no goodbye to its peers) is seen gone by them
+    3 s later instead of 20 s.
+    """
+    profile = Path(folder) / 'short_lease.xml'
+    profile.write_text(SHORT_LEASE_PROFILE)
+    return dict(base, FASTRTPS_DEFAULT_PROFILES_FILE=str(profile))
+
+
 def yaml_float(value: float) -> str:
     """Return a float as YAML writes it: ``.inf``, ``-.inf`` and ``.nan`` for the non-finite."""
     if math.isnan(value):
