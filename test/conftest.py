@@ -24,6 +24,9 @@ so that they never share one.
 
 import hashlib
 import os
+from pathlib import Path
+import subprocess
+import sys
 
 
 def _domain_id() -> int:
@@ -68,6 +71,26 @@ def pytest_collection_modifyitems(items) -> None:
             item.add_marker(pytest.mark.ros)
         else:
             item.add_marker(pytest.mark.unit)
+
+
+@pytest.fixture(scope='session')
+def colcon_install(tmp_path_factory) -> Path:
+    """
+    Build the package with colcon into a temporary install, once a session; return its prefix.
+
+    The tests that take it read the install (and run what is in it); none changes it.
+    """
+    base = tmp_path_factory.mktemp('colcon')
+    bin_folder = Path(sys.executable).parent
+    environment = {'PATH': f'{bin_folder}:/usr/bin:/bin', 'HOME': str(base),
+                   'COLCON_HOME': str(base / 'colcon_home')}
+    build = subprocess.run(
+        [str(bin_folder / 'colcon'), '--log-base', str(base / 'log'), 'build', '--base-paths',
+         str(Path(__file__).resolve().parent.parent), '--build-base', str(base / 'build'),
+         '--install-base', str(base / 'install'), '--event-handlers', 'console_direct-'],
+        capture_output=True, text=True, cwd=base, env=environment, timeout=300)
+    assert build.returncode == 0, build.stdout + build.stderr
+    return base / 'install' / 'mouse_constraint_ros'
 
 
 @pytest.fixture
