@@ -50,27 +50,46 @@ SYSTEM_MODULES = {'test_cli_refusals', 'test_hardening', 'test_launch', 'test_pr
                   'test_demo', 'test_recorder', 'test_startup_refusals'}
 
 
+# Modules whose system tests hold the wall clock to account (a rate, a push's length, a flood, a
+# recording that must miss no message of a burst) or draw in software (the browser): they run
+# alone on the machine, after the others. The other system tests wait on their processes, not on
+# the clock, and run beside each other (make test: one worker per core).
+ALONE_MODULES = {'test_demo', 'test_hardening', 'test_recorder', 'test_recorder_memory',
+                 'test_sim_controls', 'test_wrench'}
+
+
 TIERS = ('unit', 'ros', 'system')
 # Fixtures that run nodes in-process: the ros tier.
 IN_PROCESS = {'ros', 'simulated_body', 'simulated_body_factory'}
 
 
+def pytest_configure(config) -> None:
+    """Register the ``alone`` marker (the tiers' markers are in setup.cfg)."""
+    config.addinivalue_line('markers', 'alone: a system or browser test that runs with nothing '
+                                       'beside it (the wall clock, a burst, a browser)')
+
+
 def pytest_collection_modifyitems(items) -> None:
     """
-    Mark each test with its tier.
+    Mark each test with its tier, and ``alone`` the system and browser tests that need the machine.
 
     system: its module starts processes; ros: it takes the ``ros`` fixture or a simulated body
-    (a node in-process); unit: everything else (pure code).
+    (a node in-process); unit: everything else (pure code). alone: a browser test, or a system
+    test of a module in ALONE_MODULES.
     """
     for item in items:
-        if any(item.get_closest_marker(tier) for tier in TIERS):
-            continue  # marked by the test itself (a process test in a mostly in-process module)
-        if item.module.__name__.rpartition('.')[2] in SYSTEM_MODULES:
-            item.add_marker(pytest.mark.system)
-        elif IN_PROCESS & set(getattr(item, 'fixturenames', ())):
-            item.add_marker(pytest.mark.ros)
-        else:
-            item.add_marker(pytest.mark.unit)
+        module = item.module.__name__.rpartition('.')[2]
+        if not any(item.get_closest_marker(tier) for tier in TIERS):
+            # Not marked by the test itself (a process test in a mostly in-process module).
+            if module in SYSTEM_MODULES:
+                item.add_marker(pytest.mark.system)
+            elif IN_PROCESS & set(getattr(item, 'fixturenames', ())):
+                item.add_marker(pytest.mark.ros)
+            else:
+                item.add_marker(pytest.mark.unit)
+        if item.get_closest_marker('browser') or (item.get_closest_marker('system')
+                                                  and module in ALONE_MODULES):
+            item.add_marker(pytest.mark.alone)
 
 
 @pytest.fixture(scope='session')
