@@ -54,8 +54,9 @@ SYSTEM_MODULES = {'test_cli_refusals', 'test_hardening', 'test_launch', 'test_pr
 # recording that must miss no message of a burst) or draw in software (the browser): they run
 # alone on the machine, after the others. The other system tests wait on their processes, not on
 # the clock, and run beside each other (make test: one worker per core).
+# A test of another module that needs it is marked alone itself.
 ALONE_MODULES = {'test_demo', 'test_hardening', 'test_recorder', 'test_recorder_memory',
-                 'test_sim_controls', 'test_wrench'}
+                 'test_sim_controls'}
 
 
 TIERS = ('unit', 'ros', 'system')
