@@ -21,7 +21,8 @@ SIGINT, then SIGKILL if it has not exited in time. ``finish`` is the clean-up of
 benchmark that ran a node with helpers beside it. ``cpu_seconds``, ``rss_bytes`` and
 ``run_delay_ns`` read /proc: utime + stime of all the process's threads (DDS ones included),
 its resident set, and how long its main thread waited for a CPU while runnable (a busy machine,
-not a slow process, shows there).
+not a slow process, shows there). ``short_lease_environment`` gives a child a DDS lease of 3 s, so
+that its peers see it gone soon after it is killed.
 """
 
 import math
