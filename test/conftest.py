@@ -13,7 +13,10 @@
 # limitations under the License.
 
 """
-Shared fixtures: DDS isolation and a fresh rclpy context per test.
+Shared fixtures: DDS isolation, a fresh rclpy context per test, one colcon build a session.
+
+Each test is marked with its tier here (unit, ros, system), and ``alone`` when it needs the
+machine to itself (``make test`` runs those last, in one process).
 
 Every test process uses its own ROS_DOMAIN_ID (derived from the pid, away from the default 0,
 or ``MOUSE_TEST_DOMAIN_ID`` when set, so that concurrent test runs can be kept apart for certain)
@@ -55,8 +58,7 @@ SYSTEM_MODULES = {'test_cli_refusals', 'test_hardening', 'test_launch', 'test_pr
 # alone on the machine, after the others. The other system tests wait on their processes, not on
 # the clock, and run beside each other (make test: one worker per core).
 # A test of another module that needs it is marked alone itself.
-ALONE_MODULES = {'test_demo', 'test_hardening', 'test_recorder', 'test_recorder_memory',
-                 'test_sim_controls'}
+ALONE_MODULES = {'test_demo', 'test_hardening', 'test_recorder', 'test_sim_controls'}
 
 
 TIERS = ('unit', 'ros', 'system')
