@@ -2,9 +2,9 @@
 #
 #   make venv   create/update .venv (only when requirements/setup files changed)
 #   make test   run the test suite with pytest (every tier: unit, ros, system, and browser
-#               when /usr/bin/chromium is there); 7 min 35 s on this 2-core machine (the unit
-#               and ros tiers 2 min 45 s on both cores, the system and browser tiers 4 min 50 s
-#               alone), 8 min 36 s on a fresh clone with the venv made
+#               when /usr/bin/chromium is there); 6 min 24 s on this 2-core machine, the venv
+#               made (the unit and ros tiers 2 min 52 s on both cores, the system tests that
+#               wait on their processes 1 min 10 s on both cores, those marked alone 2 min 22 s)
 #   make test-unit  only the unit tier (pure code, no rclpy context, no process): 2 min 30 s
 #   make test-browser  only the browser tier (headless chromium on mouse_view)
 #   make test-loaded   make test RUNS times (3) while a process keeps a core busy
@@ -63,20 +63,22 @@ $(STAMP): $(REQS) setup.py setup.cfg
 	@touch $@
 
 # The unit and ros tiers run one worker per core (pytest-xdist), each taking whole modules: a
-# module's tests share its fixtures and files. The system and browser tiers (processes, wall
-# clock, a browser rendering in software) run after them in one process, alone on the machine:
-# under the other tiers' load a process may miss the first messages of a burst. The unit tier's
-# pure tests go to whichever worker is free. PARALLEL= and UNIT_PARALLEL= run in one process.
+# module's tests share its fixtures and files. Then the system tests that wait on their processes
+# (not on the clock) run the same way. Last, alone in one process, the system and browser tests
+# marked alone (test/conftest.py: the wall clock, a recorded burst, a browser rendering in
+# software): under other tests' load a process may miss the first messages of a burst. The unit
+# tier's pure tests go to whichever worker is free. PARALLEL= and UNIT_PARALLEL= run in one
+# process.
 PARALLEL ?= -n auto --dist loadfile
 UNIT_PARALLEL ?= -n auto
 
 # -rs: every skipped test is listed with its reason, so a user sees what was not tested and why.
 test: venv
 	$(VPY) -m pytest test/ -q -rs -m 'not system and not browser' $(PARALLEL) $(PYTEST_ARGS)
-	@if [ -x $(CHROMIUM) ]; then $(VPY) -m pytest test/ -q -rs -m 'system or browser' \
-	  $(PYTEST_ARGS); else \
+	$(VPY) -m pytest test/ -q -rs -m 'system and not alone' $(PARALLEL) $(PYTEST_ARGS)
+	@if [ -x $(CHROMIUM) ]; then $(VPY) -m pytest test/ -q -rs -m alone $(PYTEST_ARGS); else \
 	  echo 'browser tier skipped: no $(CHROMIUM) (apt-get install chromium, then make test-browser)'; \
-	  $(VPY) -m pytest test/ -q -rs -m system $(PYTEST_ARGS); fi
+	  $(VPY) -m pytest test/ -q -rs -m 'alone and not browser' $(PYTEST_ARGS); fi
 
 test-browser: venv
 	$(VPY) -m pytest test/ -q -m browser $(PYTEST_ARGS)

@@ -13,7 +13,10 @@
 # limitations under the License.
 
 """
-Shared fixtures: DDS isolation and a fresh rclpy context per test.
+Shared fixtures: DDS isolation, a fresh rclpy context per test, one colcon build a session.
+
+Each test is marked with its tier here (unit, ros, system), and ``alone`` when it needs the
+machine to itself (``make test`` runs those last, in one process).
 
 Every test process uses its own ROS_DOMAIN_ID (derived from the pid, away from the default 0,
 or ``MOUSE_TEST_DOMAIN_ID`` when set, so that concurrent test runs can be kept apart for certain)
@@ -24,6 +27,9 @@ so that they never share one.
 
 import hashlib
 import os
+from pathlib import Path
+import subprocess
+import sys
 
 
 def _domain_id() -> int:
@@ -47,27 +53,66 @@ SYSTEM_MODULES = {'test_cli_refusals', 'test_hardening', 'test_launch', 'test_pr
                   'test_demo', 'test_recorder', 'test_startup_refusals'}
 
 
+# Modules whose system tests hold the wall clock to account (a rate, a push's length, a flood, a
+# recording that must miss no message of a burst) or draw in software (the browser): they run
+# alone on the machine, after the others. The other system tests wait on their processes, not on
+# the clock, and run beside each other (make test: one worker per core).
+# A test of another module that needs it is marked alone itself.
+ALONE_MODULES = {'test_demo', 'test_hardening', 'test_recorder', 'test_sim_controls'}
+
+
 TIERS = ('unit', 'ros', 'system')
 # Fixtures that run nodes in-process: the ros tier.
 IN_PROCESS = {'ros', 'simulated_body', 'simulated_body_factory'}
 
 
+def pytest_configure(config) -> None:
+    """Register the ``alone`` marker (the tiers' markers are in setup.cfg)."""
+    config.addinivalue_line('markers', 'alone: a system or browser test that runs with nothing '
+                                       'beside it (the wall clock, a burst, a browser)')
+
+
 def pytest_collection_modifyitems(items) -> None:
     """
-    Mark each test with its tier.
+    Mark each test with its tier, and ``alone`` the system and browser tests that need the machine.
 
     system: its module starts processes; ros: it takes the ``ros`` fixture or a simulated body
-    (a node in-process); unit: everything else (pure code).
+    (a node in-process); unit: everything else (pure code). alone: a browser test, or a system
+    test of a module in ALONE_MODULES.
     """
     for item in items:
-        if any(item.get_closest_marker(tier) for tier in TIERS):
-            continue  # marked by the test itself (a process test in a mostly in-process module)
-        if item.module.__name__.rpartition('.')[2] in SYSTEM_MODULES:
-            item.add_marker(pytest.mark.system)
-        elif IN_PROCESS & set(getattr(item, 'fixturenames', ())):
-            item.add_marker(pytest.mark.ros)
-        else:
-            item.add_marker(pytest.mark.unit)
+        module = item.module.__name__.rpartition('.')[2]
+        if not any(item.get_closest_marker(tier) for tier in TIERS):
+            # Not marked by the test itself (a process test in a mostly in-process module).
+            if module in SYSTEM_MODULES:
+                item.add_marker(pytest.mark.system)
+            elif IN_PROCESS & set(getattr(item, 'fixturenames', ())):
+                item.add_marker(pytest.mark.ros)
+            else:
+                item.add_marker(pytest.mark.unit)
+        if item.get_closest_marker('browser') or (item.get_closest_marker('system')
+                                                  and module in ALONE_MODULES):
+            item.add_marker(pytest.mark.alone)
+
+
+@pytest.fixture(scope='session')
+def colcon_install(tmp_path_factory) -> Path:
+    """
+    Build the package with colcon into a temporary install, once a session; return its prefix.
+
+    The tests that take it read the install (and run what is in it); none changes it.
+    """
+    base = tmp_path_factory.mktemp('colcon')
+    bin_folder = Path(sys.executable).parent
+    environment = {'PATH': f'{bin_folder}:/usr/bin:/bin', 'HOME': str(base),
+                   'COLCON_HOME': str(base / 'colcon_home')}
+    build = subprocess.run(
+        [str(bin_folder / 'colcon'), '--log-base', str(base / 'log'), 'build', '--base-paths',
+         str(Path(__file__).resolve().parent.parent), '--build-base', str(base / 'build'),
+         '--install-base', str(base / 'install'), '--event-handlers', 'console_direct-'],
+        capture_output=True, text=True, cwd=base, env=environment, timeout=300)
+    assert build.returncode == 0, build.stdout + build.stderr
+    return base / 'install' / 'mouse_constraint_ros'
 
 
 @pytest.fixture

@@ -15,9 +15,9 @@
 """
 Hardening through ROS: hostile targets, a flood, parameter churn, a dying publisher, two hosts.
 
-- Hostile targets (in-process, sim time): two nodes on the same /clock, one also fed every kind
-  of bad target between the valid ones, publish bit-for-bit the same pose and twist streams,
-  and both equal the pure core replaying the valid targets on the same ticks.
+- Hostile targets (in-process, sim time, the ros tier): two nodes on the same /clock, one also
+  fed every kind of bad target between the valid ones, publish bit-for-bit the same pose and
+  twist streams, and both equal the pure core replaying the valid targets on the same ticks.
 - Flood (processes): 20 000 targets/s for 3 s against the node at 1 kHz; ``bench/flood.py``
   runs it for 10 s, valid only, half hostile and all hostile.
 - Parameter churn (processes): 100 set-parameter calls per second while the node runs at 1 kHz
@@ -175,6 +175,7 @@ def replay_in_core(ticks: int) -> list:
     return states
 
 
+@pytest.mark.ros  # in-process, lockstep on /clock: beside other tests
 def test_bad_targets_change_nothing_bit_for_bit(ros):
     """
     Bad targets leave no trace: the next valid target is served exactly as if none had come.
@@ -259,6 +260,7 @@ SEED_JOINT = {'max_target_speed': math.inf, 'max_target_acceleration': math.inf,
               'max_force_per_weight': math.inf, 'angular_friction': 0.0}
 
 
+@pytest.mark.ros  # in-process, lockstep on /clock: beside other tests
 def test_a_1_km_jump_inside_the_workspace_is_served_and_stays_finite(ros):
     """
     A 1 km jump inside the default workspace_radius (10 km) is a valid target.

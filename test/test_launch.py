@@ -15,10 +15,10 @@
 """
 The bring-up files: the launch file and the RViz configuration, as colcon installs them.
 
-One colcon build per module (as in ``test_processes``) gives the install the tests read. What
-needs the ROS ``launch`` packages is skipped where they are not importable (the PyPI wheels do
-not ship them, and nothing stands in for them); the rest reads the installed launch file's
-source and checks what it names against the colcon install.
+One colcon build per session (``conftest.py``, shared with ``test_processes``) gives the install
+the tests read. What needs the ROS ``launch`` packages is skipped where they are not importable
+(the PyPI wheels do not ship them, and nothing stands in for them); the rest reads the installed
+launch file's source and checks what it names against the colcon install.
 """
 
 import ast
@@ -50,18 +50,9 @@ SKIP_REASON = ('the ROS launch and launch_ros packages are not importable here (
 
 
 @pytest.fixture(scope='module')
-def install(tmp_path_factory) -> Path:
-    """Build the package with colcon into a temporary install; return the package's prefix."""
-    base = tmp_path_factory.mktemp('colcon')
-    environment = {'PATH': f'{BIN}:/usr/bin:/bin', 'HOME': str(base),
-                   'COLCON_HOME': str(base / 'colcon_home')}
-    build = subprocess.run(
-        [str(BIN / 'colcon'), '--log-base', str(base / 'log'), 'build', '--base-paths',
-         str(ROOT), '--build-base', str(base / 'build'), '--install-base', str(base / 'install'),
-         '--event-handlers', 'console_direct-'],
-        capture_output=True, text=True, cwd=base, env=environment, timeout=300)
-    assert build.returncode == 0, build.stdout + build.stderr
-    return base / 'install' / PACKAGE
+def install(colcon_install) -> Path:
+    """Return the package's prefix in the session's colcon build (see ``conftest.py``)."""
+    return colcon_install
 
 
 def share(prefix: Path) -> Path:

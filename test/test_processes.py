@@ -172,24 +172,16 @@ def test_node_process_follows_sim_time(ros):
     assert np.all((stamps - stamps[0]) % 10_000_000 == 0)
 
 
-def test_colcon_build_gives_what_ros2_run_needs(ros, tmp_path):
+def test_colcon_build_gives_what_ros2_run_needs(ros, tmp_path, colcon_install):
     """
     Build with colcon, check the ament index and lib/<pkg>/ executables, run the built node.
 
     ``ros2 run`` finds a package by ``ament_index_python.get_package_prefix`` and runs
     ``<prefix>/lib/<package>/<executable>``; this checks exactly that, then starts the built
-    executable (not the editable one) and receives its pose over DDS.
+    executable (not the editable one) and receives its pose over DDS. The build is the
+    session's (``conftest.py``), which ``test_launch`` reads too.
     """
-    colcon = BIN / 'colcon'
-    environment = {'PATH': f'{BIN}:/usr/bin:/bin', 'HOME': str(tmp_path),
-                   'COLCON_HOME': str(tmp_path / 'colcon_home')}
-    build = subprocess.run(
-        [str(colcon), '--log-base', str(tmp_path / 'log'), 'build', '--base-paths', str(ROOT),
-         '--build-base', str(tmp_path / 'build'), '--install-base', str(tmp_path / 'install'),
-         '--event-handlers', 'console_direct-'],
-        capture_output=True, text=True, cwd=tmp_path, env=environment, timeout=300)
-    assert build.returncode == 0, build.stdout + build.stderr
-    prefix = tmp_path / 'install' / 'mouse_constraint_ros'
+    prefix = colcon_install
     marker = prefix / 'share' / 'ament_index' / 'resource_index' / 'packages'
     assert (marker / 'mouse_constraint_ros').is_file()
     assert (prefix / 'share' / 'mouse_constraint_ros' / 'config' / 'params.yaml').is_file()

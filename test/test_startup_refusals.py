@@ -52,17 +52,16 @@ def the_one_line(result: subprocess.CompletedProcess) -> str:
     return lines[0]
 
 
+# One file of each kind of refusal (a scalar, a bool and a list of the wrong type, a double and an
+# integer out of range, a value not finite): test_startup reads every text from the function.
 @pytest.mark.parametrize('line, expected', [
     ('mass: 2', 'mass: 2 is an integer, mass takes a double: write 2.0'),
-    ('substeps: 2.0', 'substeps: 2.0 is a double, substeps takes an integer: write 2'),
     ('hold_initial_anchor: 1',
      'hold_initial_anchor: 1 is an integer, hold_initial_anchor takes a bool: write true'),
     ('gravity: [0, 0, -10]', 'gravity: [0, 0, -10] is a list of integers, gravity takes a list '
      'of doubles: write [0.0, 0.0, -10.0]'),
-    ('rate_hz: 0.0', 'rate_hz must be >= 1.0, got 0.0'),
     ('rate_hz: 20000.0', 'rate_hz must be <= 10000.0, got 20000.0'),
     ('substeps: 0', 'substeps must be an integer >= 1, got 0'),
-    ('mass: -1.0', 'mass must be > 0.0, got -1.0'),
     ('mass: .nan', 'mass must be finite, got nan'),
 ])
 def test_a_wrong_type_or_range_is_one_line_naming_the_parameter(tmp_path, line, expected):

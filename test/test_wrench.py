@@ -358,6 +358,7 @@ def record_pushed_ticks(node) -> list:
 
 
 @pytest.mark.system
+@pytest.mark.alone
 @pytest.mark.parametrize('duration', [0.05, 0.3])
 def test_the_wrench_cli_pushes_for_its_duration_then_stops(ros, duration):
     """
@@ -394,6 +395,7 @@ def test_the_wrench_cli_pushes_for_its_duration_then_stops(ros, duration):
 
 
 @pytest.mark.system
+@pytest.mark.alone
 def test_an_endless_push_ends_with_the_zero_wrench_on_ctrl_c(ros):
     """--duration inf pushes until SIGINT; then the zero wrench ends it (no timeout here)."""
     node = start_node(ros, rate_hz=200.0, wrench_timeout=0.0, **FREE)
@@ -450,13 +452,14 @@ def test_the_wrench_cli_refuses_a_non_finite_wrench_at_once():
 
 
 @pytest.mark.system
-def test_the_wrench_cli_interrupted_before_a_subscriber_sends_nothing():
+def test_the_wrench_cli_interrupted_before_a_subscriber_sends_nothing(ros):
     """SIGINT while it waits for a subscriber: exit 130 at once, no traceback, nothing sent."""
     process = subprocess.Popen(
         [sys.executable, '-m', 'mouse_constraint_ros.cli.wrench', '--force', '1', '0', '0',
          '--duration', '5'], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
-        time.sleep(2.0)
+        # It waits for a subscriber once its publisher is there.
+        assert ros.spin_until(lambda: ros.probe.count_publishers('/wrench') > 0, timeout=20.0)
         process.send_signal(signal.SIGINT)
         stdout, stderr = process.communicate(timeout=10.0)
     finally:
