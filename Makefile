@@ -72,11 +72,17 @@ $(STAMP): $(REQS) setup.py setup.cfg
 PARALLEL ?= -n auto --dist loadfile
 UNIT_PARALLEL ?= -n auto
 
+# pytest keeps the test modules it rewrites, and Python the package's bytecode, in __pycache__
+# (git ignores it); an environment that forbids writing bytecode would have every pytest process
+# compile them again (some 4 s of CPU each).
+unexport PYTHONDONTWRITEBYTECODE
+
 # -rs: every skipped test is listed with its reason, so a user sees what was not tested and why.
 test: venv
 	$(VPY) -m pytest test/ -q -rs -m 'not system and not browser' $(PARALLEL) $(PYTEST_ARGS)
 	$(VPY) -m pytest test/ -q -rs -m 'system and not alone' $(PARALLEL) $(PYTEST_ARGS)
-	@if [ -x $(CHROMIUM) ]; then $(VPY) -m pytest test/ -q -rs -m alone $(PYTEST_ARGS); else \
+	@if [ -x $(CHROMIUM) ]; then $(VPY) -m pytest test/ -q -rs -m 'alone or browser' \
+	  $(PYTEST_ARGS); else \
 	  echo 'browser tier skipped: no $(CHROMIUM) (apt-get install chromium, then make test-browser)'; \
 	  $(VPY) -m pytest test/ -q -rs -m 'alone and not browser' $(PYTEST_ARGS); fi
 
