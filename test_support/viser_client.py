@@ -159,8 +159,13 @@ class RawClient:
 
 
 def spin_reading(ros, client: RawClient, condition: Callable[[], bool], *,
-                 timeout: float = 10.0) -> bool:
-    """Spin ``ros`` (a RosHarness) and read ``client`` in turns until ``condition()`` holds."""
+                 timeout: float = 30.0) -> bool:
+    """
+    Spin ``ros`` (a RosHarness) and read ``client`` in turns until ``condition()`` holds.
+
+    The timeout is generous: a wait that holds returns at once, and on a machine busy with a
+    parallel test run discovery and the first frames can take many seconds.
+    """
     deadline = time.monotonic() + timeout
     while not condition():
         if time.monotonic() > deadline:
