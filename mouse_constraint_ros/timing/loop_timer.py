@@ -18,7 +18,7 @@ A periodic call on the steady clock that the spin loop makes itself, not the exe
 
 An rclpy timer under the EventsExecutor costs a thread of its own: it waits for the timer,
 then posts the call to the executor's queue, which wakes the spinning thread. At 1 kHz that
-thread alone takes some 15 % of a bare timer node's CPU (docs/benchmarks.md). ``LoopTimer``
+thread alone takes about a sixth of a bare timer node's CPU (docs/benchmarks.md). ``LoopTimer``
 keeps the timer's schedule instead, and the spin loop that serves the node (``spin.spin_until``
 with a ``pace``) waits in ``spin_once`` only until the next call is due, then makes the call
 itself: one thread, one wake per call.
