@@ -51,13 +51,16 @@ venv: $(STAMP)
 
 # Reinstall only when a requirements file, setup.py or setup.cfg is newer than
 # the stamp. The stamp is touched last, so a failed install is retried next time.
+# --no-compile: pip would byte-compile every module of every wheel (the ROS wheels hold thousands
+# of message modules no test imports), half the time of the install; Python compiles what is
+# imported on first use and keeps it in __pycache__.
 # --use-pep517 makes `pip install -e .` a PEP 660 editable install, which puts
 # the console scripts in .venv/bin. Without it, pip falls back to legacy
 # `setup.py develop` whenever `wheel` is installed, and that honours setup.cfg's
 # [develop] script_dir (meant for colcon) and puts them in .venv/lib/mouse_constraint_ros.
 $(STAMP): $(REQS) setup.py setup.cfg
 	@test -x $(VPY) || $(PYTHON) -m venv $(VENV)
-	$(PIP) install $(addprefix -r ,$(REQS))
+	$(PIP) install --no-compile $(addprefix -r ,$(REQS))
 	$(PIP) install --use-pep517 -e .
 	@test -x $(VENV)/bin/mouse_constraint_node -a -x $(VENV)/bin/mouse_view || \
 	  { echo 'error: .venv/bin/mouse_constraint_node or mouse_view was not installed' >&2; exit 1; }
