@@ -104,8 +104,9 @@ class MouseConstraintNode(Node):
             the simulated clock, which the node publishes on /clock (``publish_clock`` must be
             true). ``mouse_constraint_ros.testing`` steps the node so.
         :param loop_ticks: on system time the ticks are the spin loop's to run, not a timer's:
-            whoever spins the node calls ``ticker.run_due`` between events (``main`` does, with
-            ``NodeRun.serve``); that saves the executor's timer thread its wake per tick.
+            whoever spins the node calls ``ticker.run_due`` between events (``NodeRun.serve``
+            with it as ``pace``); that saves the executor's timer thread its wake per tick, but
+            under a target flood the services starve, so ``main`` does not use it.
         :param kwargs: passed to ``rclpy.node.Node``.
         :raises StartupRefusal: (a ValueError) a parameter or the configuration is invalid; the
             node is destroyed then.
@@ -289,8 +290,10 @@ def main(args: Optional[List[str]] = None) -> int:
             rclpy.logging.set_logger_level('rcl', previous)
     with NodeRun() as run:
         try:
-            node = run.node = MouseConstraintNode(loop_ticks=True)
-            return run.serve(pace=node.ticker.run_due)
+            # The ticks stay on an rclpy timer: with loop_ticks a target flood (5000 a
+            # second) starves the node's services (docs/benchmarks.md).
+            run.node = MouseConstraintNode()
+            return run.serve()
         except StartupRefusal as error:
             rclpy.logging.get_logger(error.logger_name).fatal(f'invalid parameters: {error}')
             return 1
