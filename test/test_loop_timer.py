@@ -24,8 +24,10 @@ runs its ticks with no rclpy timer: a test of that wall-clock path, on system ti
 import time
 
 import pytest
+import rclpy
 from rclpy.experimental import EventsExecutor
 from rclpy.parameter import Parameter
+from std_msgs.msg import Int32
 
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.node.ticker import Driver
@@ -54,10 +56,16 @@ def test_calls_fall_on_the_grid_of_the_start_and_overrun_periods_are_skipped():
     assert not timer.take() and timer.time_until_next_call() == 1
     clock.now += 1
     assert timer.take() and not timer.take()
+    assert timer.late_ns == 0 and timer.on_time()
     assert timer.time_until_next_call() == 4 * MS
     clock.now += 4 * MS + 10 * MS  # the call at 1008 ms runs at 1018 ms
     assert timer.take() and not timer.take()
+    assert timer.late_ns == 10 * MS and not timer.on_time()
     assert timer.time_until_next_call() == 2 * MS  # next on the grid: 1020 ms
+    clock.now += 2 * MS + 2 * MS - 1  # within half a period of 1020 ms: on time
+    assert timer.take() and timer.on_time()
+    clock.now += 4 * MS + 1  # half a period late
+    assert timer.take() and timer.late_ns == 2 * MS and not timer.on_time()
 
 
 @pytest.mark.parametrize('period', [0, -1])
@@ -122,6 +130,48 @@ def test_a_node_served_by_its_loop_ticks_at_its_rate_with_no_rclpy_timer(ros):
         node.destroy_node()
 
 
+def test_a_late_tick_waits_behind_the_callbacks_queued_before_it(ros):
+    """
+    A tick the busy loop finds late takes its turn in the executor's queue, as a timer's would.
+
+    Messages queued before the tick came due are served before it: a flood delays the ticks
+    and does not starve the services (run at once, a late tick let one message through per
+    tick while the ticks overran).
+    """
+    node = MouseConstraintNode(context=ros.context, loop_ticks=True, parameter_overrides=[
+        Parameter('rate_hz', value=1000.0)])
+    probe = rclpy.create_node('queue_probe', context=ros.context)
+    ticks_seen = []
+    probe.create_subscription(Int32, 'queued', lambda _: ticks_seen.append(
+        node.ticker.record.ticks_run), 50)
+    publisher = probe.create_publisher(Int32, 'queued', 50)
+    executor = EventsExecutor(context=ros.context)
+    executor.add_node(node)
+    executor.add_node(probe)
+    try:
+        ticker = node.ticker
+        assert spin_until(executor, StopRequest(), deadline=time.monotonic() + 5.0,
+                          condition=lambda: publisher.get_subscription_count() == 1,
+                          pace=ticker.run_due) is SpinEnd.CONDITION
+        # Up to the end of a tick's call: none waits in the queue now.
+        ran = ticker.record.ticks_run
+        assert spin_until(executor, StopRequest(), deadline=time.monotonic() + 5.0,
+                          condition=lambda: ticker.record.ticks_run > ran,
+                          pace=ticker.run_due) is SpinEnd.CONDITION
+        for k in range(20):
+            publisher.publish(Int32(data=k))
+        time.sleep(0.05)  # the 20 messages wait in the queue; the next tick is due
+        before = ticker.record.ticks_run
+        assert spin_until(executor, StopRequest(), deadline=time.monotonic() + 5.0,
+                          condition=lambda: ticker.record.ticks_run > before,
+                          pace=ticker.run_due) is SpinEnd.CONDITION
+        assert ticks_seen == [before] * 20
+    finally:
+        executor.shutdown()
+        probe.destroy_node()
+        node.destroy_node()
+
+
 def test_a_new_publish_rate_keeps_the_loop_timer_on_its_batch(ros):
     """publish_rate_hz 100 at 1 kHz: one call per 10 ticks, still the loop's."""
     node = MouseConstraintNode(context=ros.context, loop_ticks=True, parameter_overrides=[
@@ -138,15 +188,18 @@ def test_use_sim_time_hands_the_ticks_to_an_rclpy_timer_that_clock_drives(ros):
     """The loop's call that finds simulated time switches to a timer on /clock."""
     node = MouseConstraintNode(context=ros.context, loop_ticks=True, parameter_overrides=[
         Parameter('rate_hz', value=200.0)])
+    executor = EventsExecutor(context=ros.context)
+    executor.add_node(node)
     try:
         ticker = node.ticker
         assert node.set_parameters([Parameter('use_sim_time', value=True)])[0].successful
-        deadline = time.monotonic() + 5.0
-        while ticker.run_due() is not None:
-            assert time.monotonic() < deadline
-            time.sleep(0.001)
-        assert type(ticker.timer) is not LoopTimer and ticker.timer in node.timers
+        handed_over = spin_until(executor, StopRequest(), deadline=time.monotonic() + 5.0,
+                                 condition=lambda: type(ticker.timer) is not LoopTimer,
+                                 pace=ticker.run_due)
+        assert handed_over is SpinEnd.CONDITION
+        assert ticker.timer in node.timers and ticker.run_due() is None
         assert ticker.timer.timer_period_ns == 5 * MS
         assert ticker.waiting_for_clock() is not None
     finally:
+        executor.shutdown()
         node.destroy_node()

@@ -103,10 +103,10 @@ class MouseConstraintNode(Node):
         :param stepped: no timer runs the ticks: each ``ticker.step()`` call runs one tick of
             the simulated clock, which the node publishes on /clock (``publish_clock`` must be
             true). ``mouse_constraint_ros.testing`` steps the node so.
-        :param loop_ticks: on system time the ticks are the spin loop's to run, not a timer's:
-            whoever spins the node calls ``ticker.run_due`` between events (``NodeRun.serve``
-            with it as ``pace``); that saves the executor's timer thread its wake per tick, but
-            under a target flood the services starve, so ``main`` does not use it.
+        :param loop_ticks: on system time the ticks are the spin loop's to post, not a
+            timer's: whoever spins the node calls ``ticker.run_due`` between events
+            (``NodeRun.serve`` with it as ``pace``, as ``main`` does); that saves the executor's
+            timer thread its wake per tick.
         :param kwargs: passed to ``rclpy.node.Node``.
         :raises StartupRefusal: (a ValueError) a parameter or the configuration is invalid; the
             node is destroyed then.
@@ -290,10 +290,8 @@ def main(args: Optional[List[str]] = None) -> int:
             rclpy.logging.set_logger_level('rcl', previous)
     with NodeRun() as run:
         try:
-            # The ticks stay on an rclpy timer: with loop_ticks a target flood (5000 a
-            # second) starves the node's services (docs/benchmarks.md).
-            run.node = MouseConstraintNode()
-            return run.serve()
+            run.node = MouseConstraintNode(loop_ticks=True)
+            return run.serve(pace=run.node.ticker.run_due)
         except StartupRefusal as error:
             rclpy.logging.get_logger(error.logger_name).fatal(f'invalid parameters: {error}')
             return 1

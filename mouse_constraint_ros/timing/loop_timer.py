@@ -20,8 +20,9 @@ An rclpy timer under the EventsExecutor costs a thread of its own: it waits for 
 then posts the call to the executor's queue, which wakes the spinning thread. At 1 kHz that
 thread alone takes about a sixth of a bare timer node's CPU (docs/benchmarks.md). ``LoopTimer``
 keeps the timer's schedule instead, and the spin loop that serves the node (``spin.spin_until``
-with a ``pace``) waits in ``spin_once`` only until the next call is due, then makes the call
-itself: one thread, one wake per call.
+with a ``pace``) waits in ``spin_once`` only until the next call is due, then posts the call to
+the back of the executor's queue (``create_task``), the place an rclpy timer's call takes: what
+came before it runs first, and the call runs in the same thread: one thread, one wake per call.
 
 Its schedule is an rclpy timer's: calls at ``start + k * period``; a call that runs late is
 still made once, and the periods it overran are skipped, not caught up (the caller's grid
@@ -49,6 +50,7 @@ class LoopTimer:
         self.timer_period_ns = period_ns
         self._now_ns = now_ns
         self._next = now_ns() + period_ns
+        self.late_ns = 0
 
     def time_until_next_call(self) -> Optional[int]:
         """Return the time (ns) until the next call is due; <= 0 when it is due."""
@@ -59,6 +61,7 @@ class LoopTimer:
         Return whether a call is due now; if so, schedule the next one.
 
         The next call is the first of the schedule after now: the periods overrun are skipped.
+        ``late_ns`` is then how long after its time (ns) the call was taken.
         """
         now = self._now_ns()
         late = now - self._next
@@ -66,4 +69,15 @@ class LoopTimer:
             return False
         period = self.timer_period_ns
         self._next += period * (late // period + 1)
+        self.late_ns = late
         return True
+
+    def on_time(self) -> bool:
+        """
+        Return whether the call taken last came within half a period of its time.
+
+        A spin loop that takes the call so was waiting for it, idle: a wake from a wait is late
+        by the timer slack and the scheduler's latency (some 0.1 ms), while a loop kept busy
+        past the call's time takes it anywhere in the period.
+        """
+        return 2 * self.late_ns < self.timer_period_ns
