@@ -103,7 +103,7 @@ class MouseConstraintNode(Node):
         :param stepped: no timer runs the ticks: each ``ticker.step()`` call runs one tick of
             the simulated clock, which the node publishes on /clock (``publish_clock`` must be
             true). ``mouse_constraint_ros.testing`` steps the node so.
-        :param loop_ticks: on system time the ticks are the spin loop's to post, not a
+        :param loop_ticks: on system time the ticks are the spin loop's to run, not a
             timer's: whoever spins the node calls ``ticker.run_due`` between events
             (``NodeRun.serve`` with it as ``pace``, as ``main`` does); that saves the executor's
             timer thread its wake per tick.

@@ -63,7 +63,7 @@ class Ticker:
     :param record: the ticks' record (late and dropped ticks, clock restarts, the tick length).
     :param stepped: a caller runs the ticks, one ``step`` each; no timer does.
     :param warn: ``warn(key, message())``, throttled per key.
-    :param loop: the node's spin loop posts the node clock's calls on system time
+    :param loop: the node's spin loop makes the node clock's calls on system time
         (``run_due``), not an rclpy timer: ``main`` serves the node so.
     """
 
@@ -135,7 +135,7 @@ class Ticker:
 
     def run_due(self) -> Optional[float]:
         """
-        Post the ticks due now when the spin loop drives them; return the time (s) to the next.
+        Run the ticks due now when the spin loop drives them; return the time (s) to the next.
 
         The ``pace`` of ``timing.spin.spin_until``: None when no tick is the loop's to run (an
         rclpy timer or a caller runs them, or the node clock runs on /clock).

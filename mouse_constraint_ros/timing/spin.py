@@ -121,9 +121,9 @@ def spin_until(executor: Executor, stop: StopRequest, *,
     :param condition: spin until it returns true; None to spin until another end.
     :param deadline: ``time.monotonic()`` after which to give up; None for none.
     :param period: the ``spin_once`` timeout (s), the longest a stop goes unseen.
-    :param pace: called before each ``spin_once``: it posts the calls the loop owes (a
-        ``LoopTimer``'s) to the executor and returns the time (s) until the next, or None for
-        none; the ``spin_once`` waits no longer than that.
+    :param pace: called before each ``spin_once``: it makes the calls the loop owes (a
+        ``LoopTimer``'s), or posts them to the executor, and returns the time (s) until the
+        next, or None for none; the ``spin_once`` waits no longer than that.
     """
     context = executor.context
     while True:
