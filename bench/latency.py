@@ -34,6 +34,9 @@ was published (a lower bound of the true latency: the tick ran at or after its s
 ``receive - publish``, when the reflecting pose reached the observer (an upper bound: it adds
 the pose's trip back over DDS).
 
+The shipped node runs first, then the node served by its own spin loop (``bench.loop_node``,
+no rclpy timer), which the executable does not use: the latency that choice would cost.
+
 Standalone: ``python -m bench.latency [--quick]`` prints the section as JSON.
 """
 
@@ -194,7 +197,10 @@ def run(quick: bool = False) -> dict:
     # guide and the target stream hold state no message carries). The target path, from the
     # subscription to the tick that uses a target, is the same whatever the joint.
     parameters = {'rate_hz': RATE_HZ, 'publish_rate_hz': 0.0, **seed_joint()}
-    runs = (('mouse_constraint_node', ros_process.node_command(parameters)),)
+    # Beside the shipped node, the node served by its own spin loop (bench.loop_node): the
+    # latency that choice costs.
+    runs = (('mouse_constraint_node', ros_process.node_command(parameters)),
+            ('the node, ticks from its spin loop', ros_process.loop_node_command(parameters)))
     rows, notes, raw = [], [], {}
     for name, command in runs:
         result = measure(command, parameters, trials)

@@ -27,7 +27,9 @@ utime + stime of all its threads over the window (``bench.node_rate.measure``):
 - the node at 1 kHz physics publishing at 100 Hz (``publish_rate_hz: 100.0``);
 - the floor of three messages: the same timer publishing a WrenchStamped on ``force`` too
   (``--wrench``), and the node with the felt force on (``publish_force: true``), pose, twist
-  and force read.
+  and force read;
+- beside them, the node at 1 kHz served by its own spin loop (``bench.loop_node``: no rclpy
+  timer), which the executable does not ship; its ratio to the floor is reported, no target.
 
 The cases run one after the other, round after round, so that a busy spell of the machine hits
 each. A ratio is the median CPU per tick of a case over the floor's: CPU per second over the
@@ -58,6 +60,8 @@ QUICK_SECONDS = 2.0
 FLOOR = 'floor'
 FLOOR_3 = 'floor, three messages'
 NODE_FORCE = 'node, every tick, force on'
+# The node served by its own spin loop (``bench.loop_node``), not shipped: its ratio beside.
+NODE_LOOP = 'node, every tick, ticks from its spin loop'
 # Each case's floor, and the most CPU per tick it may take of it.
 TARGETS = {'node, every tick': (FLOOR, 1.0),
            f'node, publishing at {PUBLISH_HZ:g} Hz': (FLOOR, 0.4),
@@ -79,6 +83,7 @@ def cases() -> List[Tuple[str, Sequence[str], float, Sequence[str]]]:
         (FLOOR_3, [*floor, '--wrench'], RATE, THREE),
         (NODE_FORCE, ros_process.node_command({'rate_hz': RATE, 'publish_force': True}), RATE,
          THREE),
+        (NODE_LOOP, ros_process.loop_node_command({'rate_hz': RATE}), RATE, TWO),
     ]
 
 
@@ -119,6 +124,7 @@ def run(quick: bool = False, rounds: int = 0, seconds: float = 0.0) -> dict:
     tick = {name: statistics.median(values) for name, values in per_tick.items()}
     second = {name: statistics.median(values) for name, values in per_second.items()}
     ratios = {name: tick[name] / tick[floor] for name, (floor, _) in TARGETS.items()}
+    ratios[NODE_LOOP] = tick[NODE_LOOP] / tick[FLOOR]
     notes = [f'{floor}: median {tick[floor]:.0f} us a tick, {second[floor]:.1f} % of a core, '
              f'over {rounds} windows.' for floor in (FLOOR, FLOOR_3)]
     for name, kinds in per_thread.items():
@@ -130,6 +136,8 @@ def run(quick: bool = False, rounds: int = 0, seconds: float = 0.0) -> dict:
                      f'(target <= {target:g}: ' + ('met' if ratio <= target else 'not met')
                      + f'); {second[name]:.1f} % of a core, {second[name] / second[floor]:.2f} '
                      'x per second.')
+    notes.append(f'{NODE_LOOP} (bench.loop_node, not shipped): median {tick[NODE_LOOP]:.0f} us a '
+                 f'tick, {ratios[NODE_LOOP]:.2f} x the {FLOOR}.')
     return {
         'title': 'The node against the rclpy floor, alternating windows',
         'text': (f'Command: `python -m bench.node_cost`. {rounds} rounds of {seconds:g} s '

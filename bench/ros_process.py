@@ -48,6 +48,12 @@ def node_command(parameters: Mapping[str, object]) -> List[str]:
     return processes.node_command(parameters=parameters)
 
 
+def loop_node_command(parameters: Mapping[str, object]) -> List[str]:
+    """Return the command of the node served by its own spin loop (``bench.loop_node``)."""
+    return [*bench_command('loop_node'), '--ros-args',
+            *processes.parameter_arguments(parameters)]
+
+
 def bench_command(module: str, *arguments: str) -> List[str]:
     """Return the command that runs ``python -m bench.<module> arguments``."""
     return processes.module_command(f'bench.{module}', *arguments)

@@ -17,8 +17,9 @@
 The tick a spin loop runs itself: ``LoopTimer``'s schedule, ``spin_until``'s pace, the node.
 
 The schedule is an rclpy timer's (calls at start + k period, overrun periods skipped), read on
-a clock the test sets. The node served by its own loop (``loop_ticks``, as ``main`` serves it)
-runs its ticks with no rclpy timer: a test of that wall-clock path, on system time.
+a clock the test sets. A node served by its own loop (``loop_ticks``: ``NodeRun.serve`` with a
+pace) runs its ticks with no rclpy timer: a test of that wall-clock path, on system time; a tick
+it takes late waits behind the callbacks queued before it.
 """
 
 import time

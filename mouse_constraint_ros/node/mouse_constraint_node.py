@@ -105,8 +105,8 @@ class MouseConstraintNode(Node):
             true). ``mouse_constraint_ros.testing`` steps the node so.
         :param loop_ticks: on system time the ticks are the spin loop's to run, not a
             timer's: whoever spins the node calls ``ticker.run_due`` between events
-            (``NodeRun.serve`` with it as ``pace``, as ``main`` does); that saves the executor's
-            timer thread its wake per tick.
+            (``NodeRun.serve`` with it as ``pace``); that saves the executor's timer thread its
+            wake per tick, but the targets wait longer at p99, so ``main`` does not use it.
         :param kwargs: passed to ``rclpy.node.Node``.
         :raises StartupRefusal: (a ValueError) a parameter or the configuration is invalid; the
             node is destroyed then.
@@ -290,8 +290,10 @@ def main(args: Optional[List[str]] = None) -> int:
             rclpy.logging.set_logger_level('rcl', previous)
     with NodeRun() as run:
         try:
-            run.node = MouseConstraintNode(loop_ticks=True)
-            return run.serve(pace=run.node.ticker.run_due)
+            # The ticks stay on an rclpy timer: served by its own loop (loop_ticks) the node
+            # uses a fifth less CPU, but its targets wait longer at p99 (docs/benchmarks.md).
+            run.node = MouseConstraintNode()
+            return run.serve()
         except StartupRefusal as error:
             rclpy.logging.get_logger(error.logger_name).fatal(f'invalid parameters: {error}')
             return 1

@@ -64,7 +64,7 @@ class Ticker:
     :param stepped: a caller runs the ticks, one ``step`` each; no timer does.
     :param warn: ``warn(key, message())``, throttled per key.
     :param loop: the node's spin loop makes the node clock's calls on system time
-        (``run_due``), not an rclpy timer: ``main`` serves the node so.
+        (``run_due``), not an rclpy timer (``MouseConstraintNode``'s ``loop_ticks``).
     """
 
     def __init__(self, node: Node, *, config: NodeConfig, record: TickRecord, stepped: bool,
