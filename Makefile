@@ -2,11 +2,14 @@
 #
 #   make venv   create/update .venv (only when requirements/setup files changed)
 #   make test   run the test suite with pytest (every tier: unit, ros, system, and browser
-#               when /usr/bin/chromium is there); on a fresh clone of this 2-core machine 4 min
-#               49 s and 5 min 6 s in two runs with the venv made (26 s of it), 4 min 32 s once
-#               it is (the unit and ros tiers 1 min 34 s on both cores, the system tests that
-#               wait on their processes 1 min 3 s on both cores, those marked alone 1 min 53 s)
-#   make test-unit  only the unit tier (pure code, no rclpy context, no process): 43 s
+#               when /usr/bin/chromium is there); on a fresh clone of this 2-core machine as a
+#               Xeon 4 min 49 s and 5 min 6 s in two runs with the venv made (26 s of it), 4 min
+#               32 s once it is (the unit and ros tiers 1 min 34 s on both cores, the system
+#               tests that wait on their processes 1 min 3 s on both cores, those marked alone
+#               1 min 53 s); as an AMD EPYC (half the Xeon's speed in pure Python) 6 min 51 s
+#               with the venv made, 6 min 1 s of tests (2 min 24 s, 1 min 24 s, 2 min 13 s)
+#   make test-unit  only the unit tier (pure code, no rclpy context, no process): 43 s on the
+#               Xeon, 59 s on the AMD EPYC
 #   make test-browser  only the browser tier (headless chromium on mouse_view)
 #   make test-loaded   make test RUNS times (3) while a process keeps a core busy
 #   make lint   flake8 (ament_flake8 settings, see .flake8)
