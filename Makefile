@@ -7,7 +7,8 @@
 #               32 s once it is (the unit and ros tiers 1 min 34 s on both cores, the system
 #               tests that wait on their processes 1 min 3 s on both cores, those marked alone
 #               1 min 53 s); as an AMD EPYC (half the Xeon's speed in pure Python) 6 min 51 s
-#               with the venv made, 6 min 1 s of tests (2 min 24 s, 1 min 24 s, 2 min 13 s)
+#               and 5 min 56 s in two runs with the venv made, 6 min 1 s and 5 min 11 s of tests
+#               (the three steps 2 min 24 s, 1 min 24 s, 2 min 13 s in the slower run)
 #   make test-unit  only the unit tier (pure code, no rclpy context, no process): 43 s on the
 #               Xeon, 59 s on the AMD EPYC
 #   make test-browser  only the browser tier (headless chromium on mouse_view)
