@@ -2,13 +2,12 @@
 #
 #   make venv   create/update .venv (only when requirements/setup files changed)
 #   make test   run the test suite with pytest (every tier: unit, ros, system, and browser
-#               when /usr/bin/chromium is there); on a fresh clone of this 2-core machine as a
-#               Xeon 4 min 49 s and 5 min 6 s in two runs with the venv made (26 s of it), 4 min
-#               32 s once it is (the unit and ros tiers 1 min 34 s on both cores, the system
-#               tests that wait on their processes 1 min 3 s on both cores, those marked alone
-#               1 min 53 s); as an AMD EPYC (half the Xeon's speed in pure Python) 6 min 51 s
-#               and 5 min 56 s in two runs with the venv made, 6 min 1 s and 5 min 11 s of tests
-#               (the three steps 2 min 24 s, 1 min 24 s, 2 min 13 s in the slower run)
+#               when /usr/bin/chromium is there). On a fresh clone of this 2-core machine, the
+#               tests take 4 min 32 s as a Xeon and 5 min 11 s to 6 min 1 s as an AMD EPYC (half
+#               the Xeon's speed in pure Python), and making the venv 26 s to 50 s more. In the
+#               slowest run the three steps took 2 min 24 s (unit and ros, both cores), 1 min
+#               24 s (system tests that wait on their processes, both cores) and 2 min 13 s
+#               (those marked alone).
 #   make test-unit  only the unit tier (pure code, no rclpy context, no process): 43 s on the
 #               Xeon, 59 s on the AMD EPYC
 #   make test-browser  only the browser tier (headless chromium on mouse_view)
