@@ -53,6 +53,7 @@ from rcl_interfaces.srv import GetParameters
 from rcl_interfaces.srv import SetParameters
 from rcl_interfaces.srv import SetParametersAtomically
 from rclpy.parameter import Parameter
+from rclpy.qos import qos_profile_parameters
 from rosgraph_msgs.msg import Clock
 
 from mouse_constraint_ros.inputs.target_stamps import TargetTiming
@@ -486,10 +487,16 @@ def test_parameter_churn_under_load_applies_whole_updates_only(ros):
     flooder = None
     try:
         poses = tools.PoseRecorder(ros.probe)
+        # The clients keep every response, as the node's parameter services keep every request
+        # (rclpy's parameters QoS): with the services' default depth of 10, a spell in which this
+        # process falls 10 responses behind the 100 calls a second drops responses for good.
         atomic = ros.probe.create_client(SetParametersAtomically,
-                                         '/mouse_constraint/set_parameters_atomically')
-        plain = ros.probe.create_client(SetParameters, '/mouse_constraint/set_parameters')
-        getter = ros.probe.create_client(GetParameters, '/mouse_constraint/get_parameters')
+                                         '/mouse_constraint/set_parameters_atomically',
+                                         qos_profile=qos_profile_parameters)
+        plain = ros.probe.create_client(SetParameters, '/mouse_constraint/set_parameters',
+                                        qos_profile=qos_profile_parameters)
+        getter = ros.probe.create_client(GetParameters, '/mouse_constraint/get_parameters',
+                                         qos_profile=qos_profile_parameters)
         assert ros.spin_until(lambda: len(poses) > 100 and atomic.service_is_ready()
                               and plain.service_is_ready() and getter.service_is_ready(),
                               timeout=20.0), node.log()
