@@ -105,8 +105,9 @@ class MouseConstraintNode(Node):
             true). ``mouse_constraint_ros.testing`` steps the node so.
         :param loop_ticks: on system time the ticks are the spin loop's to run, not a
             timer's: whoever spins the node calls ``ticker.run_due`` between events
-            (``NodeRun.serve`` with it as ``pace``); that saves the executor's timer thread its
-            wake per tick, but the targets wait longer at p99, so ``main`` does not use it.
+            (``NodeRun.serve`` with it as ``pace``, as ``main`` does); that saves the
+            executor's timer thread and its wake per tick. Off (an rclpy timer) for a node
+            added to an executor that its application spins.
         :param kwargs: passed to ``rclpy.node.Node``.
         :raises StartupRefusal: (a ValueError) a parameter or the configuration is invalid; the
             node is destroyed then.
@@ -290,10 +291,8 @@ def main(args: Optional[List[str]] = None) -> int:
             rclpy.logging.set_logger_level('rcl', previous)
     with NodeRun() as run:
         try:
-            # The ticks stay on an rclpy timer: served by its own loop (loop_ticks) the node
-            # uses a fifth less CPU, but its targets wait longer at p99 (docs/benchmarks.md).
-            run.node = MouseConstraintNode()
-            return run.serve()
+            run.node = MouseConstraintNode(loop_ticks=True)
+            return run.serve(pace=run.node.ticker.run_due)
         except StartupRefusal as error:
             rclpy.logging.get_logger(error.logger_name).fatal(f'invalid parameters: {error}')
             return 1

@@ -21,12 +21,13 @@ how many ticks one timer period holds at the publish rate; each runs ``Tick.run`
 ``ticker.Ticker`` owns this driver and says when it runs; with ``publish_clock`` the node is the
 clock and ``clock_ticks.ClockTicks`` drives instead.
 
-The timer is an rclpy timer, or, for a node served by its own spin loop (``loop_ticks``) on
-system time, a ``LoopTimer`` whose calls that loop makes (``run_due``): the same schedule
-without the executor's timer thread. A call the loop takes late goes to the back of the
-executor's queue, where an rclpy timer's would go, so what was queued before it runs first. On
-simulated time (use_sim_time) the timer is rclpy's, which /clock drives; a loop timer's call
-that finds the clock switched to simulated time hands over to one.
+The timer is an rclpy timer, or, for a node served by its own spin loop (``loop_ticks``, as the
+executable serves it) on system time, a ``LoopTimer`` whose calls that loop makes
+(``run_due``): the same schedule without the executor's timer thread. A call the loop takes
+late goes to the back of the executor's queue, where an rclpy timer's would go, so what was
+queued before it runs first. On simulated time (use_sim_time) the timer is rclpy's, which
+/clock drives; a loop timer's call that finds the clock switched to simulated time hands over
+to one.
 """
 
 from functools import partial
