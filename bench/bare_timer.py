@@ -30,11 +30,15 @@ publishes both, and with ``--wrench`` a WrenchStamped on ``force``, as the node 
   timeout_sec=0.1)`` in a loop: every event due within the 0.1 s in one call;
 - ``events-spin``: the same executor's ``spin()``, which (in the rclpy of the results' machine
   facts) busy-waits and does not return to Python between callbacks, so this variant ends by
-  the signals' default action.
+  the signals' default action;
+- ``events-loop``: the same executor, no rclpy timer: the ticks come from the spin loop as the
+  node's do (a ``LoopTimer`` as ``spin_until``'s pace, ``spin_once`` waiting until the next
+  tick is due).
 
-The node benchmarks use ``events --twist``: the executor and spin loop of ``node.main``, and
-the two state topics the node publishes, so that the node's figures divided by this one's
-leave what the node itself adds.
+The node benchmarks use ``events --twist`` as the floor: a bare rclpy node, the node's executor
+and spin loop and the two state topics the node publishes, so that the node's figures divided
+by this one's leave what the node itself adds; ``events-loop --twist`` beside it drives its ticks
+as the node does.
 """
 
 import argparse
@@ -50,6 +54,9 @@ from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.signals import SignalHandlerOptions
 from rclpy.task import Future
 
+from mouse_constraint_ros.timing.loop_timer import LoopTimer
+from mouse_constraint_ros.timing.spin import spin_until, StopRequest
+
 STATE_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
                        reliability=ReliabilityPolicy.RELIABLE)
 
@@ -57,7 +64,8 @@ STATE_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
     parser.add_argument('--rate', type=float, default=1000.0)
-    parser.add_argument('--executor', choices=('single', 'events', 'events-until', 'events-spin'),
+    parser.add_argument('--executor', choices=('single', 'events', 'events-until', 'events-spin',
+                                               'events-loop'),
                         default='events')
     parser.add_argument('--twist', action='store_true',
                         help='also publish a TwistStamped on twist each tick, as the node does')
@@ -88,12 +96,27 @@ def main(argv=None) -> int:
             wrench.header.stamp.sec, wrench.header.stamp.nanosec = sec, nanosec
             wrench_publisher.publish(wrench)
 
-    node.create_timer(1.0 / options.rate, tick)
+    loop_timer = None
+    if options.executor == 'events-loop':
+        loop_timer = LoopTimer(round(1e9 / options.rate))
+    else:
+        node.create_timer(1.0 / options.rate, tick)
     if options.executor == 'single':
         executor = SingleThreadedExecutor(context=node.context)
     else:
         executor = EventsExecutor(context=node.context)
     executor.add_node(node)
+    if loop_timer is not None:
+        def pace() -> float:
+            if loop_timer.take():
+                tick()
+            return loop_timer.time_until_next_call() * 1e-9
+
+        with StopRequest() as request:
+            spin_until(executor, request, pace=pace)
+        node.destroy_node()
+        rclpy.try_shutdown()
+        return 0
     stop = []
     if options.executor == 'events-spin':
         # spin() never returns to Python between callbacks here, so Python-level signal

@@ -29,6 +29,10 @@ equal the published one (to 1e-9 N), which checks both the match and the force.
 Latency per target, in ticks of 1 ms: ``stamp - publish`` (the tick's due time, a lower bound)
 and ``receive - publish``, when that force reached the observer (what a device driver sees).
 
+Beside the executable, whose ticks come from its own spin loop, runs the node with its ticks on
+an rclpy timer (``bench.timer_node``), the two alternating over ROUNDS rounds of TRIALS / ROUNDS
+targets (as ``bench.latency``); each one's percentiles are over all its targets.
+
 Standalone: ``python -m bench.force_latency [--quick]`` prints the section as JSON.
 """
 
@@ -36,8 +40,8 @@ from pathlib import Path
 import time
 
 from bench import ros_process
-from bench.latency import _decode, GAP_S, MIN_JUMP_M, QUICK_TRIALS, reflecting_ticks, resume
-from bench.latency import SPREAD_M, TRIALS
+from bench.latency import _decode, GAP_S, MIN_JUMP_M, QUICK_ROUNDS, QUICK_TRIALS
+from bench.latency import reflecting_ticks, resume, ROUNDS, SPREAD_M, TRIALS
 from geometry_msgs.msg import PoseStamped, TwistStamped, WrenchStamped
 import numpy as np
 import yaml
@@ -86,12 +90,10 @@ def force_ticks(data: dict, parameters: dict) -> dict:
             'forces': len(forces), 'poses': len(poses)}
 
 
-def run(quick: bool = False) -> dict:
-    start = time.perf_counter()
-    trials = QUICK_TRIALS if quick else TRIALS
-    parameters = preset()
+def measure(command, parameters: dict, trials: int) -> dict:
+    """Run the node by ``command`` against the observer; return the latencies and counts."""
     config = node_config(dict(DEFAULTS, **parameters))
-    with ros_process.start(ros_process.node_command(parameters)) as node:
+    with ros_process.start(command) as node:
         data, samples, _ = ros_process.observe(
             ['latency', '--force', '--trials', str(trials), '--gap-min', str(GAP_S[0]),
              '--gap-max', str(GAP_S[1]), '--center', *(repr(c) for c in config.initial_anchor()),
@@ -101,33 +103,60 @@ def run(quick: bool = False) -> dict:
     period = 1e9 / config.rate_hz
     published = data['target_pub_ns']
     found = sorted(result['found'])
-    stamp = np.array([(result['found'][k][0] - published[k]) / period for k in found])
-    receive = np.array([(result['found'][k][1] - published[k]) / period for k in found])
-    rows = [{'measure': name, 'trials': len(values),
-             'p50_ticks': float(np.percentile(values, 50)),
-             'p99_ticks': float(np.percentile(values, 99)),
-             'max_ticks': float(np.max(values))}
-            for name, values in (('stamp - publish', stamp), ('receive - publish', receive))
-            if len(values)]
-    notes = [f'{len(published)} targets published, {len(found)} found with their force '
-             f'(replayed force equal to the published one within {FORCE_TOLERANCE:g} N), '
-             f'{result["mismatched"]} whose force did not match, '
-             f'{len(result["replay"]["superseded"])} superseded before any tick used them; '
-             f'{result["forces"]} forces for {result["poses"]} poses; node CPU {cpu:.1f} %, '
-             f'load {samples["end"].load:.1f}.']
-    if len(receive):
-        upper = float(np.percentile(receive, 99))
-        verdict = 'met' if upper <= TARGET_P99_TICKS else 'missed'
-        notes.append(f'target p99 <= {TARGET_P99_TICKS:g} ticks (receive - publish): '
-                     f'{upper:.2f}, {verdict}.')
+    return {'stamp': [(result['found'][k][0] - published[k]) / period for k in found],
+            'receive': [(result['found'][k][1] - published[k]) / period for k in found],
+            'published': len(published), 'found': len(found),
+            'mismatched': result['mismatched'],
+            'superseded': len(result['replay']['superseded']), 'forces': result['forces'],
+            'poses': result['poses'], 'cpu': [cpu], 'load': [samples['end'].load]}
+
+
+def run(quick: bool = False) -> dict:
+    start = time.perf_counter()
+    trials = QUICK_TRIALS if quick else TRIALS
+    rounds = QUICK_ROUNDS if quick else ROUNDS
+    parameters = preset()
+    config = node_config(dict(DEFAULTS, **parameters))
+    runs = (('mouse_constraint_node', ros_process.node_command(parameters)),
+            ('the node, ticks on an rclpy timer', ros_process.timer_node_command(parameters)))
+    totals = {name: {} for name, _ in runs}
+    for round_ in range(rounds):
+        for name, command in runs[::1 if round_ % 2 == 0 else -1]:
+            # Per round: the lists of latencies, CPU and load join, the counts add up.
+            for key, value in measure(command, parameters, trials // rounds).items():
+                totals[name][key] = totals[name].get(key, 0 * value) + value
+    rows, notes = [], []
+    for name, _ in runs:
+        total = totals[name]
+        stamp, receive = np.array(total['stamp']), np.array(total['receive'])
+        rows += [{'node': name, 'measure': measure_name, 'trials': len(values),
+                  'p50_ticks': float(np.percentile(values, 50)),
+                  'p99_ticks': float(np.percentile(values, 99)),
+                  'max_ticks': float(np.max(values))}
+                 for measure_name, values in (('stamp - publish', stamp),
+                                              ('receive - publish', receive))
+                 if len(values)]
+        notes.append(
+            f'{name}: {total["published"]} targets published, {total["found"]} found with their '
+            f'force (replayed force equal to the published one within {FORCE_TOLERANCE:g} N), '
+            f'{total["mismatched"]} whose force did not match, {total["superseded"]} '
+            f'superseded before any tick used them; {total["forces"]} forces for '
+            f'{total["poses"]} poses; node CPU {np.median(total["cpu"]):.1f} % (median of the '
+            f'rounds), load {max(total["load"]):.1f} at most.')
+        if len(receive):
+            upper = float(np.percentile(receive, 99))
+            verdict = 'met' if upper <= TARGET_P99_TICKS else 'missed'
+            notes.append(f'{name}: target p99 <= {TARGET_P99_TICKS:g} ticks (receive - '
+                         f'publish): {upper:.2f}, {verdict}.')
     return {
         'title': 'Force latency: target pose published in another process -> first force '
                  'reflecting it',
         'text': (f'Command: `python -m bench.force_latency`. Node at {config.rate_hz:g} Hz with '
-                 f'config/haptic.yaml, {trials} target poses at random '
+                 f'config/haptic.yaml, {trials // rounds * rounds} target poses in {rounds} '
+                 'alternating rounds at random '
                  f'{GAP_S[0] * 1e3:g}-{GAP_S[1] * 1e3:g} ms intervals; 1 tick = '
                  f'{1e3 / config.rate_hz:g} ms.'),
-        'columns': [['measure', 'measure', ''], ['trials', 'trials', 'd'],
+        'columns': [['node', 'node', ''], ['measure', 'measure', ''], ['trials', 'trials', 'd'],
                     ['p50_ticks', 'p50 (ticks)', '.2f'], ['p99_ticks', 'p99 (ticks)', '.2f'],
                     ['max_ticks', 'max (ticks)', '.2f']],
         'rows': rows,

@@ -48,9 +48,9 @@ def node_command(parameters: Mapping[str, object]) -> List[str]:
     return processes.node_command(parameters=parameters)
 
 
-def loop_node_command(parameters: Mapping[str, object]) -> List[str]:
-    """Return the command of the node served by its own spin loop (``bench.loop_node``)."""
-    return [*bench_command('loop_node'), '--ros-args',
+def timer_node_command(parameters: Mapping[str, object]) -> List[str]:
+    """Return the command of the node with its ticks on an rclpy timer (``bench.timer_node``)."""
+    return [*bench_command('timer_node'), '--ros-args',
             *processes.parameter_arguments(parameters)]
 
 

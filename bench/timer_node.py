@@ -13,13 +13,15 @@
 # limitations under the License.
 
 """
-``mouse_constraint_node`` as the executable runs it, but served by its own spin loop.
+``mouse_constraint_node`` as the executable runs it, but with its ticks on an rclpy timer.
 
-``python -m bench.loop_node --ros-args ...`` makes ``MouseConstraintNode(loop_ticks=True)`` and
-serves it with ``NodeRun.serve(pace=ticker.run_due)``: on system time the ticks are the spin
-loop's, not an rclpy timer's (``timing/loop_timer.py``). The benchmarks run it beside the
-shipped node to weigh that choice: the CPU it saves (``bench.node_cost``) against the latency it
-costs (``bench.latency``). Parameters and remaps come after ``--ros-args`` as for the node.
+``python -m bench.timer_node --ros-args ...`` makes ``MouseConstraintNode()`` (no
+``loop_ticks``: the node as an application that adds it to its own executor gets it) and serves
+it with ``NodeRun.serve()``: each tick is an rclpy timer's call, which rclpy's timers thread
+hands to the spinning thread through the executor's queue. The benchmarks run it beside the
+executable, which runs its ticks from its own spin loop, to weigh that choice: the CPU
+(``bench.node_cost``) and the latency (``bench.latency``). Parameters and remaps come after
+``--ros-args`` as for the node.
 """
 
 import sys
@@ -32,11 +34,11 @@ from mouse_constraint_ros.timing.spin import NodeRun
 
 
 def main() -> int:
-    """Serve the node from its own loop until Ctrl-C or SIGTERM; exit 0 then."""
+    """Serve the node, its ticks on an rclpy timer, until Ctrl-C or SIGTERM; exit 0 then."""
     rclpy.init(args=sys.argv, signal_handler_options=SignalHandlerOptions.NO)
     with NodeRun() as run:
-        run.node = MouseConstraintNode(loop_ticks=True)
-        return run.serve(pace=run.node.ticker.run_due)
+        run.node = MouseConstraintNode()
+        return run.serve()
 
 
 if __name__ == '__main__':
