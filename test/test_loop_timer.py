@@ -104,31 +104,36 @@ def test_the_pace_bounds_each_wait_and_runs_before_it(ros):
     assert executor.timeouts == [0.002, 0.05, 0.0, 0.05, 0.0005, 0.05]
 
 
-def test_a_node_served_by_its_loop_ticks_at_its_rate_with_no_rclpy_timer(ros):
-    """loop_ticks: the ticks are run_due's; 0.5 s of wall time holds the rate's ticks."""
+@pytest.fixture
+def loop_node(ros):
+    """Yield a node with loop_ticks at 200 Hz and an EventsExecutor it is added to."""
     node = MouseConstraintNode(context=ros.context, loop_ticks=True, parameter_overrides=[
         Parameter('rate_hz', value=200.0)])
     executor = EventsExecutor(context=ros.context)
     executor.add_node(node)
-    try:
-        ticker = node.ticker
-        assert ticker.driver is Driver.NODE_CLOCK and type(ticker.timer) is LoopTimer
-        assert ticker.timer.timer_period_ns == 5 * MS
-        assert not node.timers or all(t.timer_period_ns != 5 * MS for t in node.timers)
-        # Unpaced, nobody runs the ticks.
-        spin_until(executor, StopRequest(), deadline=time.monotonic() + 0.1)
-        assert ticker.record.ticks_run == 0
-        start = time.monotonic()
-        ran_before = ticker.record.ticks_run
-        spin_until(executor, StopRequest(), deadline=start + 0.5, pace=ticker.run_due)
-        elapsed = time.monotonic() - start
-        ran = ticker.record.ticks_run - ran_before
-        # Every tick of the grid in the window, give or take the window's two ends.
-        assert abs(ran - 200.0 * elapsed) <= 2, (ran, elapsed)
-        assert ticker.record.dropped_ticks == 0
-    finally:
-        executor.shutdown()
-        node.destroy_node()
+    yield node, executor
+    executor.shutdown()
+    node.destroy_node()
+
+
+def test_a_node_served_by_its_loop_ticks_at_its_rate_with_no_rclpy_timer(loop_node):
+    """loop_ticks: the ticks are run_due's; 0.5 s of wall time holds the rate's ticks."""
+    node, executor = loop_node
+    ticker = node.ticker
+    assert ticker.driver is Driver.NODE_CLOCK and type(ticker.timer) is LoopTimer
+    assert ticker.timer.timer_period_ns == 5 * MS
+    assert not node.timers or all(t.timer_period_ns != 5 * MS for t in node.timers)
+    # Unpaced, nobody runs the ticks.
+    spin_until(executor, StopRequest(), deadline=time.monotonic() + 0.1)
+    assert ticker.record.ticks_run == 0
+    start = time.monotonic()
+    ran_before = ticker.record.ticks_run
+    spin_until(executor, StopRequest(), deadline=start + 0.5, pace=ticker.run_due)
+    elapsed = time.monotonic() - start
+    ran = ticker.record.ticks_run - ran_before
+    # Every tick of the grid in the window, give or take the window's two ends.
+    assert abs(ran - 200.0 * elapsed) <= 2, (ran, elapsed)
+    assert ticker.record.dropped_ticks == 0
 
 
 def test_a_late_tick_waits_behind_the_callbacks_queued_before_it(ros):
@@ -185,22 +190,15 @@ def test_a_new_publish_rate_keeps_the_loop_timer_on_its_batch(ros):
         node.destroy_node()
 
 
-def test_use_sim_time_hands_the_ticks_to_an_rclpy_timer_that_clock_drives(ros):
+def test_use_sim_time_hands_the_ticks_to_an_rclpy_timer_that_clock_drives(loop_node):
     """The loop's call that finds simulated time switches to a timer on /clock."""
-    node = MouseConstraintNode(context=ros.context, loop_ticks=True, parameter_overrides=[
-        Parameter('rate_hz', value=200.0)])
-    executor = EventsExecutor(context=ros.context)
-    executor.add_node(node)
-    try:
-        ticker = node.ticker
-        assert node.set_parameters([Parameter('use_sim_time', value=True)])[0].successful
-        handed_over = spin_until(executor, StopRequest(), deadline=time.monotonic() + 5.0,
-                                 condition=lambda: type(ticker.timer) is not LoopTimer,
-                                 pace=ticker.run_due)
-        assert handed_over is SpinEnd.CONDITION
-        assert ticker.timer in node.timers and ticker.run_due() is None
-        assert ticker.timer.timer_period_ns == 5 * MS
-        assert ticker.waiting_for_clock() is not None
-    finally:
-        executor.shutdown()
-        node.destroy_node()
+    node, executor = loop_node
+    ticker = node.ticker
+    assert node.set_parameters([Parameter('use_sim_time', value=True)])[0].successful
+    handed_over = spin_until(executor, StopRequest(), deadline=time.monotonic() + 5.0,
+                             condition=lambda: type(ticker.timer) is not LoopTimer,
+                             pace=ticker.run_due)
+    assert handed_over is SpinEnd.CONDITION
+    assert ticker.timer in node.timers and ticker.run_due() is None
+    assert ticker.timer.timer_period_ns == 5 * MS
+    assert ticker.waiting_for_clock() is not None
