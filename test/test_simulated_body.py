@@ -68,12 +68,19 @@ run_digest = namespace['run_digest']
 @pytest.mark.system
 def test_the_same_poses_bit_for_bit_in_this_process_and_another():
     """Two runs here and one in a fresh interpreter hash every pose and twist alike."""
-    here = [run_digest(), run_digest()]
-    child = subprocess.run(
-        [sys.executable, '-c', RUN + '\nprint(run_digest())'], capture_output=True, text=True,
-        cwd=str(Path(__file__).parent), timeout=120)
-    assert child.returncode == 0, child.stderr
-    assert here[0] == here[1] == child.stdout.split()[-1]
+    # The child runs while this process makes its two: each run keeps to its own context.
+    child = subprocess.Popen(
+        [sys.executable, '-c', RUN + '\nprint(run_digest())'], stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE, text=True, cwd=str(Path(__file__).parent))
+    try:
+        here = [run_digest(), run_digest()]
+        stdout, stderr = child.communicate(timeout=120)
+    finally:
+        if child.poll() is None:
+            child.kill()
+            child.wait()
+    assert child.returncode == 0, stderr
+    assert here[0] == here[1] == stdout.split()[-1]
 
 
 def test_a_ros_time_timer_fires_at_exact_simulated_times(simulated_body_factory):
