@@ -246,12 +246,23 @@ def _page(server):
 
 
 def _assert_framed(server, view) -> None:
-    """Check the loaded page looks at the body, which spans a quarter of its height or more."""
-    client = _page(server)
-    wait_for(lambda: view.scene.shown is not None and np.allclose(
-        client.camera.look_at, view.scene.shown.position, atol=0.05), 60.0,
-        'the page turned to the body')
-    camera, pose = PinholeCamera(client.camera), view.latest_pose()
+    """
+    Check the loaded page looks at the body, which spans a quarter of its height or more.
+
+    The page is the newest connection at each look: one that connects again meanwhile (a
+    handshake failed) is the one turned and drawn.
+    """
+    turned = []
+
+    def page_turned() -> bool:
+        client = _page(server)
+        turned[:] = [client] if (view.scene.shown is not None and _camera_known(client)
+                                 and np.allclose(client.camera.look_at,
+                                                 view.scene.shown.position, atol=0.05)) else []
+        return bool(turned)
+
+    wait_for(page_turned, 60.0, 'the page turned to the body')
+    camera, pose = PinholeCamera(turned[0].camera), view.latest_pose()
     corners = [camera.pixel(world_point(pose, np.multiply(signs, BOX) / 2))
                for signs in itertools.product((-1.0, 1.0), repeat=3)]
     width, height = np.ptp(corners, axis=0)
