@@ -5,9 +5,9 @@
 #               when /usr/bin/chromium is there). On a fresh clone of this 2-core machine, the
 #               tests take 4 min 32 s as a Xeon and 5 min 11 s to 6 min 1 s as an AMD EPYC (half
 #               the Xeon's speed in pure Python), and making the venv 26 s to 50 s more. In the
-#               slowest run the three steps took 2 min 24 s (unit and ros, both cores), 1 min
-#               24 s (system tests that wait on their processes, both cores) and 2 min 13 s
-#               (those marked alone).
+#               last AMD EPYC run (5 min 15 s) the three steps took 2 min 13 s (unit and ros, a
+#               worker per core), 1 min 2 s (system tests that wait on their processes, two
+#               workers per core) and 2 min 0 s (those marked alone).
 #   make test-unit  only the unit tier (pure code, no rclpy context, no process): 43 s on the
 #               Xeon, 59 s on the AMD EPYC
 #   make test-browser  only the browser tier (headless chromium on mouse_view)
