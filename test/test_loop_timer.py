@@ -18,8 +18,8 @@ The tick a spin loop runs itself: ``LoopTimer``'s schedule, ``spin_until``'s pac
 
 The schedule is an rclpy timer's (calls at start + k period, overrun periods skipped), read on
 a clock the test sets. A node served by its own loop (``loop_ticks``: ``NodeRun.serve`` with a
-pace) runs its ticks with no rclpy timer: a test of that wall-clock path, on system time; a tick
-it takes late waits behind the callbacks queued before it.
+pace, as the executable serves it) runs its ticks with no rclpy timer: a test of that wall-clock
+path, on system time; a tick it takes late waits behind the callbacks queued before it.
 """
 
 import time
@@ -30,10 +30,10 @@ from rclpy.experimental import EventsExecutor
 from rclpy.parameter import Parameter
 from std_msgs.msg import Int32
 
-from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
+from mouse_constraint_ros.node.mouse_constraint_node import main, MouseConstraintNode
 from mouse_constraint_ros.node.ticker import Driver
 from mouse_constraint_ros.timing.loop_timer import LoopTimer
-from mouse_constraint_ros.timing.spin import spin_until, SpinEnd, StopRequest
+from mouse_constraint_ros.timing.spin import NodeRun, spin_until, SpinEnd, StopRequest
 
 MS = 1_000_000
 
@@ -202,3 +202,17 @@ def test_use_sim_time_hands_the_ticks_to_an_rclpy_timer_that_clock_drives(loop_n
     assert ticker.timer in node.timers and ticker.run_due() is None
     assert ticker.timer.timer_period_ns == 5 * MS
     assert ticker.waiting_for_clock() is not None
+
+
+@pytest.mark.ros
+def test_the_executable_serves_its_node_from_its_loop(monkeypatch):
+    """``main`` makes the node with loop_ticks and serves it with ``run_due`` as the pace."""
+    served = []
+
+    def serve(run, pace=None):
+        served.append((type(run.node.ticker.timer), pace == run.node.ticker.run_due))
+        return 0
+
+    monkeypatch.setattr(NodeRun, 'serve', serve)
+    assert main(['mouse_constraint_node']) == 0
+    assert served == [(LoopTimer, True)]
