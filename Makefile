@@ -69,15 +69,17 @@ $(STAMP): $(REQS) setup.py setup.cfg
 	  { echo 'error: .venv/bin/mouse_constraint_node or mouse_view was not installed' >&2; exit 1; }
 	@touch $@
 
-# The unit and ros tiers run one worker per core (pytest-xdist), each taking whole modules: a
-# module's tests share its fixtures and files. Then the system tests that wait on their processes
-# (not on the clock) run the same way with two workers per core, whose waits (discovery, a
-# lease, a timeout a test asserts) overlap: 60 s against 70 s here, and they pass with a core
-# kept busy. Last, alone in one process, the system and browser tests marked alone
-# (test/conftest.py: the wall clock, a recorded burst, a browser rendering in software): under
-# other tests' load a process may miss the first messages of a burst. The unit tier's pure tests
-# go to whichever worker is free. PARALLEL=, SYSTEM_PARALLEL= and UNIT_PARALLEL= run in one
-# process.
+# make test runs the tiers in three steps. The ros tier (nodes in-process) runs one worker per
+# core (pytest-xdist), each taking whole modules: a module's tests share its fixtures and files.
+# Then the system tests that wait on their processes (not on the clock) run the same way with two
+# workers per core, whose waits (discovery, a lease, a timeout a test asserts) overlap: 60 s
+# against 70 s here, and they pass with a core kept busy. Last, in one process, the system and
+# browser tests marked alone (test/conftest.py: the wall clock, a recorded burst, a browser
+# rendering in software): under other tests' processes and traffic a process may miss the first
+# messages of a burst. Beside them runs the unit tier (pure code, nothing on the wall clock) at
+# the lowest priority (test_support/beside.py): it takes the CPU they leave idle, most of a core,
+# and hardly any they use; its output follows theirs. PARALLEL=, SYSTEM_PARALLEL= and
+# UNIT_PARALLEL= run in one process.
 PARALLEL ?= -n auto --dist loadfile
 SYSTEM_PARALLEL ?= -n $(shell echo $$(( 2 * $$(nproc) ))) --dist loadfile
 UNIT_PARALLEL ?= -n auto
@@ -89,12 +91,15 @@ unexport PYTHONDONTWRITEBYTECODE
 
 # -rs: every skipped test is listed with its reason, so a user sees what was not tested and why.
 test: venv
-	$(VPY) -m pytest test/ -q -rs -m 'not system and not browser' $(PARALLEL) $(PYTEST_ARGS)
+	$(VPY) -m pytest test/ -q -rs -m 'ros and not alone' $(PARALLEL) $(PYTEST_ARGS)
 	$(VPY) -m pytest test/ -q -rs -m 'system and not alone' $(SYSTEM_PARALLEL) $(PYTEST_ARGS)
-	@if [ -x $(CHROMIUM) ]; then $(VPY) -m pytest test/ -q -rs -m 'alone or browser' \
-	  $(PYTEST_ARGS); else \
+	@if [ -x $(CHROMIUM) ]; then alone=alone; else \
 	  echo 'browser tier skipped: no $(CHROMIUM) (apt-get install chromium, then make test-browser)'; \
-	  $(VPY) -m pytest test/ -q -rs -m 'alone and not browser' $(PYTEST_ARGS); fi
+	  alone='alone and not browser'; fi; \
+	echo "tests marked $$alone, the unit tier beside them at nice 19 (its output after theirs)"; \
+	$(VPY) -m test_support.beside \
+	  --beside "$(VPY) -m pytest test/ -q -rs -m 'unit and not alone' $(UNIT_PARALLEL) $(PYTEST_ARGS)" \
+	  -- $(VPY) -m pytest test/ -q -rs -m "$$alone" $(PYTEST_ARGS)
 
 test-browser: venv
 	$(VPY) -m pytest test/ -q -m browser $(PYTEST_ARGS)
