@@ -77,8 +77,8 @@ $(STAMP): $(REQS) setup.py setup.cfg
 # browser tests marked alone (test/conftest.py: the wall clock, a recorded burst, a browser
 # rendering in software): under other tests' processes and traffic a process may miss the first
 # messages of a burst. Beside them runs the unit tier (pure code, nothing on the wall clock) at
-# the lowest priority (test_support/beside.py): it takes the CPU they leave idle, most of a core,
-# and hardly any they use; its output follows theirs. PARALLEL=, SYSTEM_PARALLEL= and
+# idle priority (test_support/beside.py): it takes the CPU they leave unused, most of a core, and
+# none they want; its output follows theirs. PARALLEL=, SYSTEM_PARALLEL= and
 # UNIT_PARALLEL= run in one process.
 PARALLEL ?= -n auto --dist loadfile
 SYSTEM_PARALLEL ?= -n $(shell echo $$(( 2 * $$(nproc) ))) --dist loadfile
@@ -96,7 +96,7 @@ test: venv
 	@if [ -x $(CHROMIUM) ]; then alone=alone; else \
 	  echo 'browser tier skipped: no $(CHROMIUM) (apt-get install chromium, then make test-browser)'; \
 	  alone='alone and not browser'; fi; \
-	echo "tests marked $$alone, the unit tier beside them at nice 19 (its output after theirs)"; \
+	echo "tests marked $$alone, the unit tier beside them at idle priority (its output after theirs)"; \
 	$(VPY) -m test_support.beside \
 	  --beside "$(VPY) -m pytest test/ -q -rs -m 'unit and not alone' $(UNIT_PARALLEL) $(PYTEST_ARGS)" \
 	  -- $(VPY) -m pytest test/ -q -rs -m "$$alone" $(PYTEST_ARGS)
