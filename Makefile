@@ -76,9 +76,9 @@ $(STAMP): $(REQS) setup.py setup.cfg
 # against 70 s here, and they pass with a core kept busy. Last, in one process, the system and
 # browser tests marked alone (test/conftest.py: the wall clock, a recorded burst, a browser
 # rendering in software): under other tests' processes and traffic a process may miss the first
-# messages of a burst. Beside them runs the unit tier (pure code, nothing on the wall clock) at
-# idle priority (test_support/beside.py): it takes the CPU they leave unused, most of a core, and
-# none they want; its output follows theirs. PARALLEL=, SYSTEM_PARALLEL= and
+# messages of a burst. Beside them the unit tier (pure code, nothing on the wall clock) runs in
+# one process (test_support/beside.py): one core kept busy by computation, as make test-loaded
+# keeps one, in the time they leave a core unused; its output follows theirs. PARALLEL=, SYSTEM_PARALLEL= and
 # UNIT_PARALLEL= run in one process.
 PARALLEL ?= -n auto --dist loadfile
 SYSTEM_PARALLEL ?= -n $(shell echo $$(( 2 * $$(nproc) ))) --dist loadfile
@@ -96,9 +96,8 @@ test: venv
 	@if [ -x $(CHROMIUM) ]; then alone=alone; else \
 	  echo 'browser tier skipped: no $(CHROMIUM) (apt-get install chromium, then make test-browser)'; \
 	  alone='alone and not browser'; fi; \
-	echo "tests marked $$alone, the unit tier beside them at idle priority (its output after theirs)"; \
-	$(VPY) -m test_support.beside \
-	  --beside "$(VPY) -m pytest test/ -q -rs -m 'unit and not alone' $(UNIT_PARALLEL) $(PYTEST_ARGS)" \
+	echo "tests marked $$alone, the unit tier beside them (its output after theirs)"; \
+	$(VPY) -m test_support.beside --beside "$(VPY) -m pytest test/ -q -rs -m unit $(PYTEST_ARGS)" \
 	  -- $(VPY) -m pytest test/ -q -rs -m "$$alone" $(PYTEST_ARGS)
 
 test-browser: venv

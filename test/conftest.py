@@ -51,7 +51,8 @@ from hypothesis import settings  # noqa: E402
 import pytest  # noqa: E402 (after the environment is set, as rclpy reads it)
 
 # No deadline for an example: tests assert what holds, not how fast (make bench measures speed),
-# and make test runs the unit tier at the lowest priority, where an example may wait for a core.
+# and make test runs the unit tier beside the tests marked alone, where an example may wait for a
+# core.
 settings.register_profile('mouse_constraint_ros', deadline=None)
 settings.load_profile('mouse_constraint_ros')
 

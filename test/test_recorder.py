@@ -445,6 +445,31 @@ def test_tick_rows_take_a_grab_on_the_row_the_node_took_it():
     assert rows[2].fields()[-13:-6] == [*grabbed, *grabbed, 1]
 
 
+def test_tick_rows_take_a_grab_whose_anchor_change_arrived_first():
+    """
+    The node's anchor change received before the grab it took (two topics, a loaded machine).
+
+    The grab is taken from the change's row, as in the order the node acted; the configured
+    anchor, which a reset restores, stays the one before the grab.
+    """
+    grabbed = (0.1, 0.0, 0.05)
+    start = {'anchor': (1.0, 0.0, 0.0)}
+    received = [state('pose', 10), state('twist', 10), point_received('target', (1.0, 0.0, 0.0)),
+                anchor_event('/mouse_constraint', grabbed), point_received('grab', grabbed),
+                state('pose', 20), state('twist', 20), service_event('reset'),
+                anchor_event('/mouse_constraint', start['anchor']), state('pose', 30),
+                state('twist', 30)]
+    rows = tick_rows(received, start)
+    assert [(row.grab, row.grab_taken) for row in rows] == [
+        (None, None), (grabbed, True), (None, None)]
+    assert [row.body_anchor for row in rows] == [start['anchor'], grabbed, start['anchor']]
+    assert rows[1].target == grabbed
+    # Arriving a pose late, the grab is still the change's: taken on that row.
+    late = received[:4] + [state('pose', 20), state('twist', 20), received[4]] + received[7:]
+    assert [(row.grab, row.grab_taken) for row in tick_rows(late, start)] == [
+        (None, None), (grabbed, True), (None, None)]
+
+
 def test_tick_rows_mark_an_ignored_grab_and_keep_the_target():
     """A grab with no anchor change of the node is marked ignored; target and anchor stay."""
     received = [state('pose', 10), state('twist', 10),

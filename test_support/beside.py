@@ -13,21 +13,20 @@
 # limitations under the License.
 
 """
-Run a command with another beside it at idle priority: the CPU it leaves unused put to work.
+Run a command with another beside it: a core the first leaves unused put to work.
 
 ``python -m test_support.beside --beside 'COMMAND' -- MAIN ...`` starts ``--beside`` (split as a
-shell splits it) under the kernel's SCHED_IDLE policy, with its output in a temporary file, runs
-the main command in the foreground, waits for both and prints the other's output after the main
-one's. A SCHED_IDLE process runs only on a core no other process wants, and a process that wakes
-up (a node's tick, a message) takes the core from it at once; at nice 19 instead, a 1 kHz node
-beside it waits for a core 2.4 s of a 3 s flood. The policy passes to its children (pytest-xdist's
-workers). The exit status is the main command's, or if that is 0 the other's. Ctrl-C reaches both
-(they stay in the terminal's process group); each ends its own way, and this exits 130.
-``make test`` runs the unit tier beside the tests marked alone with it.
+shell splits it) with its output in a temporary file, runs the main command in the foreground,
+waits for both and prints the other's output after the main one's. Both run at the same
+priority: beside a process of lower priority (nice 5 to 19, or SCHED_IDLE) this machine's kernel
+let a waking 1 kHz loop wait about 100 ms for a core one to three times in 15 s, against at most
+6 ms beside busy processes of its own priority. The exit status is the main command's, or if that
+is 0 the other's. Ctrl-C reaches both (they stay in the terminal's process group); each ends its
+own way, and this exits 130. ``make test`` runs the unit tier beside the tests marked alone with
+it, in one process: one core kept busy, as ``make test-loaded`` keeps one.
 """
 
 import argparse
-import os
 import shlex
 import subprocess
 import sys
@@ -47,16 +46,11 @@ def finish(process: subprocess.Popen) -> int:
         return process.wait()
 
 
-def idle_priority() -> None:
-    """Put this process under SCHED_IDLE (run in the child before it executes the command)."""
-    os.sched_setscheduler(0, os.SCHED_IDLE, os.sched_param(0))
-
-
 def main(argv: List[str] = None) -> int:
     """Run the two commands; return the main command's status, or else the other's."""
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[1])
     parser.add_argument('--beside', required=True,
-                        help='the command run at idle priority, as one string (shell quoting)')
+                        help='the command run beside, as one string (shell quoting)')
     parser.add_argument('command', nargs=argparse.REMAINDER, help='the main command, after --')
     options = parser.parse_args(argv)
     command = options.command[1:] if options.command[:1] == ['--'] else options.command
@@ -65,7 +59,7 @@ def main(argv: List[str] = None) -> int:
         parser.error('both commands are needed: --beside COMMAND -- MAIN ...')
     with tempfile.TemporaryFile() as log:
         beside = subprocess.Popen(beside_command, stdin=subprocess.DEVNULL, stdout=log,
-                                  stderr=subprocess.STDOUT, preexec_fn=idle_priority)
+                                  stderr=subprocess.STDOUT)
         main_process = None
         try:
             main_process = subprocess.Popen(command)

@@ -20,7 +20,10 @@ the grab the node took (its ``anchor`` change on ``/parameter_events`` that puts
 at the grab point: the grab is then the target and the anchor), a ``~/reset`` (the configured
 anchor; the target the initial anchor's world position when ``hold_initial_anchor``, else none)
 and a ``~/release`` (no target). A grab the node took is marked on the row from which it holds;
-one it ignored on the row after it came.
+one it ignored on the row after it came. The grab and the anchor change come on two topics, and
+under load the change may arrive first: a change that no pending grab explains is kept until
+rows past it are handed out (``expire``), and a grab that arrives meanwhile and explains it is
+the grab the node took, from the change's row.
 """
 
 import math
@@ -59,6 +62,9 @@ class NodeView:
         self.pending: List[Tuple[Vector3, int]] = []
         # Grabs to mark: row -> (point, taken).
         self.marks: Dict[int, Tuple[Vector3, bool]] = {}
+        # The latest anchor change no grab explained yet: (the world point it put the anchor at,
+        # how far that may lie from the grab point, its row, the configured anchor before it).
+        self._unexplained: Optional[Tuple[Vector3, float, int, Vector3]] = None
 
     def take(self, topic: str, item, row: int) -> None:
         """
@@ -69,7 +75,7 @@ class NodeView:
         if topic == TARGET_TOPIC:
             self.target = tuple(item)
         elif topic == GRAB_TOPIC:
-            self.pending.append((tuple(item), row))
+            self._grab(tuple(item), row)
         elif topic == PARAMETER_EVENTS_TOPIC:
             self._parameters_changed(parameter_changes(item), row)
         elif topic in (RESET_EVENTS, RELEASE_EVENTS) and succeeded(item):
@@ -79,36 +85,47 @@ class NodeView:
                 self.anchor = self.configured
                 self.target = self._reset_target()
 
-    def _parameters_changed(self, changes: Mapping[str, object], row: int) -> None:
-        self.parameters.update(changes)
-        anchor = changes.get('anchor')
-        if anchor is None:
+    def _grab(self, point: Vector3, row: int) -> None:
+        unexplained = self._unexplained
+        if unexplained is not None and math.dist(unexplained[0], point) <= unexplained[1]:
+            # The node's anchor change for this grab came first: the grab was taken there.
+            _, _, taken_row, configured = unexplained
+            self._unexplained = None
+            self.configured = configured
+            self._taken(point, len(self.pending), taken_row)
             return
-        self.anchor = anchor
-        grabbed = self._grab_for(anchor)
-        if grabbed is None:
-            self.configured = anchor  # ros2 param set, or ~/reset restoring it
-            return
-        point, index = grabbed
+        self.pending.append((point, row))
+
+    def _taken(self, point: Vector3, index: int, row: int) -> None:
+        """Mark ``point`` taken on ``row``, the grabs pending before its ``index`` ignored."""
         for refused, after in self.pending[:index]:
             self.marks.setdefault(after, (refused, False))
         del self.pending[:index + 1]
         self.marks[row] = (point, True)
         self.target = point
 
-    def _grab_for(self, anchor: Vector3) -> Optional[Tuple[Vector3, int]]:
-        """Return the pending grab (point, its index) that puts ``anchor`` where it is."""
+    def _parameters_changed(self, changes: Mapping[str, object], row: int) -> None:
+        self.parameters.update(changes)
+        anchor = changes.get('anchor')
+        if anchor is None:
+            return
+        self.anchor = anchor
+        self._unexplained = None
         if self.pose is None:
-            return None
+            self.configured = anchor
+            return
         placed = self.pose.world_point(anchor)
-        reach = math.hypot(*anchor) * math.hypot(*self.pose.angular_velocity) + math.hypot(
-            *self.pose.linear_velocity)
+        # The node placed it with its state of the latest tick, at most a tick or two after the
+        # pose received (publish_rate_hz may skip some): allow 0.1 s of motion.
+        reach = GRAB_MATCH + 0.1 * (math.hypot(*anchor) * math.hypot(
+            *self.pose.angular_velocity) + math.hypot(*self.pose.linear_velocity))
         for index, (point, _) in enumerate(self.pending):
-            # The node placed it with its state of the latest tick, at most a tick or two after
-            # the pose received (publish_rate_hz may skip some): allow 0.1 s of motion.
-            if math.dist(placed, point) <= GRAB_MATCH + 0.1 * reach:
-                return point, index
-        return None
+            if math.dist(placed, point) <= reach:
+                self._taken(point, index, row)
+                return
+        # ros2 param set, ~/reset restoring it, or a grab still on its way.
+        self._unexplained = (placed, reach, row, self.configured)
+        self.configured = anchor
 
     def _reset_target(self) -> Optional[Vector3]:
         p = self.parameters
@@ -120,7 +137,13 @@ class NodeView:
         return start.world_point(self.configured)
 
     def expire(self, row: int) -> None:
-        """Mark the grabs still pending that came before row ``row`` as ignored."""
+        """
+        Mark the grabs still pending that came before row ``row`` as ignored.
+
+        An anchor change of a row up to ``row`` that no grab explained is a parameter change.
+        """
+        if self._unexplained is not None and self._unexplained[2] <= row:
+            self._unexplained = None
         while self.pending and self.pending[0][1] <= row:
             point, after = self.pending.pop(0)
             self.marks.setdefault(after, (point, False))
