@@ -24,6 +24,7 @@ import contextlib
 import os
 from pathlib import Path
 import pty
+import re
 import select
 import signal
 import subprocess
@@ -47,6 +48,38 @@ def test_make_test_lists_every_skip_with_its_reason():
     """The pytest run lists each skip with its reason (-rs): what was not tested, and why."""
     commands = dry_run('test')
     assert 'pytest test/ -q -rs' in commands
+
+
+# Collects the tests and prints each one's markers, one test a line: 'nodeid marker marker ...'.
+MARKERS_OF_EACH_TEST = (
+    'import sys, pytest\n'
+    'class Print:\n'
+    '    def pytest_collection_finish(self, session):\n'
+    '        for item in session.items:\n'
+    "            print('MARKS', item.nodeid, *sorted({m.name for m in item.iter_markers()}))\n"
+    "sys.exit(pytest.main(['test/', '-q', '--collect-only', '-p', 'no:cacheprovider'],\n"
+    '                     plugins=[Print()]))\n')
+
+
+@pytest.mark.system
+def test_make_test_runs_every_test_once():
+    """The marker expressions of make test's pytest runs share out every test, none twice."""
+    expressions = [''.join(match) for match in re.findall(
+        r"""pytest test/ -q -rs -m (?:'([^']*)'|"([^"]*)"|(\w+))""", dry_run('test'))]
+    # The shell sets $alone: 'alone' with chromium (without it the browser tests do not run).
+    with_browser = [e.replace('$alone', 'alone') for e in expressions]
+    assert len(with_browser) == 4 and '$alone' in ''.join(expressions)
+    listing = subprocess.run([sys.executable, '-c', MARKERS_OF_EACH_TEST], cwd=ROOT,
+                             capture_output=True, text=True, timeout=120)
+    assert listing.returncode == 0, listing.stdout + listing.stderr
+    tests = [line.split()[1:] for line in listing.stdout.splitlines()
+             if line.startswith('MARKS ')]
+    assert len(tests) > 1000
+    for nodeid, *markers in tests:
+        names = {name: name in markers for name in
+                 ('unit', 'ros', 'system', 'browser', 'alone')}
+        runs = [e for e in with_browser if eval(e, {}, names)]  # and, or, not of marker names
+        assert len(runs) == 1, (nodeid, markers, runs)
 
 
 @pytest.mark.system
