@@ -69,17 +69,15 @@ $(STAMP): $(REQS) setup.py setup.cfg
 	  { echo 'error: .venv/bin/mouse_constraint_node or mouse_view was not installed' >&2; exit 1; }
 	@touch $@
 
-# make test runs the tiers in three steps. The ros tier (nodes in-process) runs one worker per
-# core (pytest-xdist), each taking whole modules: a module's tests share its fixtures and files.
-# Then the system tests that wait on their processes (not on the clock) run the same way with two
-# workers per core, whose waits (discovery, a lease, a timeout a test asserts) overlap: 60 s
-# against 70 s here, and they pass with a core kept busy. Last, in one process, the system and
-# browser tests marked alone (test/conftest.py: the wall clock, a recorded burst, a browser
-# rendering in software): under other tests' processes and traffic a process may miss the first
-# messages of a burst. Beside them the unit tier (pure code, nothing on the wall clock) runs in
-# one process (test_support/beside.py): one core kept busy by computation, as make test-loaded
-# keeps one, in the time they leave a core unused; its output follows theirs. PARALLEL=, SYSTEM_PARALLEL= and
-# UNIT_PARALLEL= run in one process.
+# The unit and ros tiers run one worker per core (pytest-xdist), each taking whole modules: a
+# module's tests share its fixtures and files. Then the system tests that wait on their processes
+# (not on the clock) run the same way with two workers per core, whose waits (discovery, a
+# lease, a timeout a test asserts) overlap: 60 s against 70 s here, and they pass with a core
+# kept busy. Last, alone in one process, the system and browser tests marked alone
+# (test/conftest.py: the wall clock, a recorded burst, a browser rendering in software): under
+# other tests' load a process may miss the first messages of a burst. The unit tier's pure tests
+# go to whichever worker is free. PARALLEL=, SYSTEM_PARALLEL= and UNIT_PARALLEL= run in one
+# process.
 PARALLEL ?= -n auto --dist loadfile
 SYSTEM_PARALLEL ?= -n $(shell echo $$(( 2 * $$(nproc) ))) --dist loadfile
 UNIT_PARALLEL ?= -n auto
@@ -91,14 +89,12 @@ unexport PYTHONDONTWRITEBYTECODE
 
 # -rs: every skipped test is listed with its reason, so a user sees what was not tested and why.
 test: venv
-	$(VPY) -m pytest test/ -q -rs -m 'ros and not alone' $(PARALLEL) $(PYTEST_ARGS)
+	$(VPY) -m pytest test/ -q -rs -m 'not system and not browser' $(PARALLEL) $(PYTEST_ARGS)
 	$(VPY) -m pytest test/ -q -rs -m 'system and not alone' $(SYSTEM_PARALLEL) $(PYTEST_ARGS)
-	@if [ -x $(CHROMIUM) ]; then alone=alone; else \
+	@if [ -x $(CHROMIUM) ]; then alone='alone or browser'; else \
 	  echo 'browser tier skipped: no $(CHROMIUM) (apt-get install chromium, then make test-browser)'; \
 	  alone='alone and not browser'; fi; \
-	echo "tests marked $$alone, the unit tier beside them (its output after theirs)"; \
-	$(VPY) -m test_support.beside --beside "$(VPY) -m pytest test/ -q -rs -m unit $(PYTEST_ARGS)" \
-	  -- $(VPY) -m pytest test/ -q -rs -m "$$alone" $(PYTEST_ARGS)
+	$(VPY) -m pytest test/ -q -rs -m "$$alone" $(PYTEST_ARGS)
 
 test-browser: venv
 	$(VPY) -m pytest test/ -q -m browser $(PYTEST_ARGS)

@@ -47,14 +47,7 @@ def _domain_id() -> int:
 os.environ['ROS_DOMAIN_ID'] = os.environ.get('MOUSE_TEST_DOMAIN_ID', str(_domain_id()))
 os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
 
-from hypothesis import settings  # noqa: E402
 import pytest  # noqa: E402 (after the environment is set, as rclpy reads it)
-
-# No deadline for an example: tests assert what holds, not how fast (make bench measures speed),
-# and make test runs the unit tier beside the tests marked alone, where an example may wait for a
-# core.
-settings.register_profile('mouse_constraint_ros', deadline=None)
-settings.load_profile('mouse_constraint_ros')
 
 # Modules whose tests start executables as processes (or build with colcon): the system tier.
 SYSTEM_MODULES = {'test_cli_refusals', 'test_hardening', 'test_launch', 'test_processes',
