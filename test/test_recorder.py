@@ -450,10 +450,12 @@ def test_tick_rows_take_a_grab_whose_anchor_change_arrived_first():
     The node's anchor change received before the grab it took (two topics, a loaded machine).
 
     The grab is taken from the change's row, as in the order the node acted; the configured
-    anchor, which a reset restores, stays the one before the grab.
+    anchor, which a reset restores (its world position the target, held), stays the one before
+    the grab.
     """
     grabbed = (0.1, 0.0, 0.05)
-    start = {'anchor': (1.0, 0.0, 0.0)}
+    start = {'anchor': (1.0, 0.0, 0.0), 'hold_initial_anchor': True,
+             'initial_position': (0.0, 0.0, 1.0), 'initial_orientation': (0.0, 0.0, 0.0, 1.0)}
     received = [state('pose', 10), state('twist', 10), point_received('target', (1.0, 0.0, 0.0)),
                 anchor_event('/mouse_constraint', grabbed), point_received('grab', grabbed),
                 state('pose', 20), state('twist', 20), service_event('reset'),
@@ -463,7 +465,7 @@ def test_tick_rows_take_a_grab_whose_anchor_change_arrived_first():
     assert [(row.grab, row.grab_taken) for row in rows] == [
         (None, None), (grabbed, True), (None, None)]
     assert [row.body_anchor for row in rows] == [start['anchor'], grabbed, start['anchor']]
-    assert rows[1].target == grabbed
+    assert [row.target for row in rows[1:]] == [grabbed, (1.0, 0.0, 1.0)]
     # Arriving a pose late, the grab is still the change's: taken on that row.
     late = received[:4] + [state('pose', 20), state('twist', 20), received[4]] + received[7:]
     assert [(row.grab, row.grab_taken) for row in tick_rows(late, start)] == [
