@@ -40,8 +40,8 @@ from pathlib import Path
 import time
 
 from bench import ros_process
-from bench.latency import _decode, GAP_S, MIN_JUMP_M, QUICK_ROUNDS, QUICK_TRIALS
-from bench.latency import reflecting_ticks, resume, ROUNDS, SPREAD_M, TRIALS
+from bench.latency import _decode, alternating, GAP_S, MIN_JUMP_M, pooled, QUICK_ROUNDS
+from bench.latency import QUICK_TRIALS, reflecting_ticks, resume, ROUNDS, SPREAD_M, TRIALS
 from geometry_msgs.msg import PoseStamped, TwistStamped, WrenchStamped
 import numpy as np
 import yaml
@@ -108,7 +108,7 @@ def measure(command, parameters: dict, trials: int) -> dict:
             'published': len(published), 'found': len(found),
             'mismatched': result['mismatched'],
             'superseded': len(result['replay']['superseded']), 'forces': result['forces'],
-            'poses': result['poses'], 'cpu': [cpu], 'load': [samples['end'].load]}
+            'poses': result['poses'], 'cpu': cpu, 'load': samples['end'].load}
 
 
 def run(quick: bool = False) -> dict:
@@ -119,16 +119,12 @@ def run(quick: bool = False) -> dict:
     config = node_config(dict(DEFAULTS, **parameters))
     runs = (('mouse_constraint_node', ros_process.node_command(parameters)),
             ('the node, ticks on an rclpy timer', ros_process.timer_node_command(parameters)))
-    totals = {name: {} for name, _ in runs}
-    for round_ in range(rounds):
-        for name, command in runs[::1 if round_ % 2 == 0 else -1]:
-            # Per round: the lists of latencies, CPU and load join, the counts add up.
-            for key, value in measure(command, parameters, trials // rounds).items():
-                totals[name][key] = totals[name].get(key, 0 * value) + value
+    results = alternating(runs, rounds,
+                          lambda command: measure(command, parameters, trials // rounds))
     rows, notes = [], []
     for name, _ in runs:
-        total = totals[name]
-        stamp, receive = np.array(total['stamp']), np.array(total['receive'])
+        total = pooled(results[name])
+        stamp, receive = total['stamp'], total['receive']
         rows += [{'node': name, 'measure': measure_name, 'trials': len(values),
                   'p50_ticks': float(np.percentile(values, 50)),
                   'p99_ticks': float(np.percentile(values, 99)),
@@ -136,13 +132,15 @@ def run(quick: bool = False) -> dict:
                  for measure_name, values in (('stamp - publish', stamp),
                                               ('receive - publish', receive))
                  if len(values)]
+        counts = {key: sum(total[key]) for key in ('published', 'found', 'mismatched',
+                                                   'superseded', 'forces', 'poses')}
         notes.append(
-            f'{name}: {total["published"]} targets published, {total["found"]} found with their '
-            f'force (replayed force equal to the published one within {FORCE_TOLERANCE:g} N), '
-            f'{total["mismatched"]} whose force did not match, {total["superseded"]} '
-            f'superseded before any tick used them; {total["forces"]} forces for '
-            f'{total["poses"]} poses; node CPU {np.median(total["cpu"]):.1f} % (median of the '
-            f'rounds), load {max(total["load"]):.1f} at most.')
+            f'{name}: {counts["published"]} targets published, {counts["found"]} found with '
+            f'their force (replayed force equal to the published one within '
+            f'{FORCE_TOLERANCE:g} N), {counts["mismatched"]} whose force did not match, '
+            f'{counts["superseded"]} superseded before any tick used them; {counts["forces"]} '
+            f'forces for {counts["poses"]} poses; node CPU {np.median(total["cpu"]):.1f} % '
+            f'(median of the rounds), load {max(total["load"]):.1f} at most.')
         if len(receive):
             upper = float(np.percentile(receive, 99))
             verdict = 'met' if upper <= TARGET_P99_TICKS else 'missed'

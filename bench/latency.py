@@ -44,6 +44,7 @@ Standalone: ``python -m bench.latency [--quick]`` prints the section as JSON.
 
 import statistics
 import time
+from typing import Callable, Dict, List
 
 from bench import ros_process
 from geometry_msgs.msg import PoseStamped
@@ -195,6 +196,26 @@ def _rows(node: str, result: dict) -> list:
     return rows
 
 
+def alternating(runs, rounds: int, measure_round: Callable[[list], dict]) -> Dict[str, list]:
+    """
+    Return each run's results, one a round: ``measure_round(command)`` of each (name, command).
+
+    The runs' order turns round every other round, so that a busy spell of the machine meets
+    each of them.
+    """
+    results = {name: [] for name, _ in runs}
+    for round_ in range(rounds):
+        for name, command in runs[::1 if round_ % 2 == 0 else -1]:
+            results[name].append(measure_round(command))
+    return results
+
+
+def pooled(rounds: List[dict]) -> dict:
+    """Return the results of the rounds as one: the latencies joined, the rest listed."""
+    return {key: (np.concatenate([r[key] for r in rounds]) if key in ('stamp', 'receive')
+                  else [r[key] for r in rounds]) for key in rounds[0]}
+
+
 def run(quick: bool = False) -> dict:
     start = time.perf_counter()
     trials = QUICK_TRIALS if quick else TRIALS
@@ -206,15 +227,11 @@ def run(quick: bool = False) -> dict:
     runs = (('mouse_constraint_node', ros_process.node_command(parameters)),
             ('the node, ticks on an rclpy timer', ros_process.timer_node_command(parameters)))
     rounds = QUICK_ROUNDS if quick else ROUNDS
-    results = {name: [] for name, _ in runs}
-    for round_ in range(rounds):
-        for name, command in runs[::1 if round_ % 2 == 0 else -1]:
-            results[name].append(measure(command, parameters, trials // rounds))
+    results = alternating(runs, rounds,
+                          lambda command: measure(command, parameters, trials // rounds))
     rows, notes, raw = [], [], {}
     for name, _ in runs:
-        result = {key: (np.concatenate([r[key] for r in results[name]])
-                        if key in ('stamp', 'receive') else [r[key] for r in results[name]])
-                  for key in results[name][0]}
+        result = pooled(results[name])
         rows += _rows(name, result)
         raw[name] = {'stamp_minus_publish_ticks': result['stamp'].tolist(),
                      'receive_minus_publish_ticks': result['receive'].tolist()}
