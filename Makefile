@@ -2,12 +2,11 @@
 #
 #   make venv   create/update .venv (only when requirements/setup files changed)
 #   make test   run the test suite with pytest (every tier: unit, ros, system, and browser
-#               when /usr/bin/chromium is there). On a fresh clone of this 2-core machine, the
-#               tests take 4 min 32 s as a Xeon and 5 min 11 s to 6 min 1 s as an AMD EPYC (half
-#               the Xeon's speed in pure Python), and making the venv 26 s to 50 s more. In the
-#               last AMD EPYC run (5 min 15 s) the three steps took 2 min 13 s (unit and ros, a
-#               worker per core), 1 min 2 s (system tests that wait on their processes, two
-#               workers per core) and 2 min 0 s (those marked alone).
+#               when /usr/bin/chromium is there). On a fresh clone of this 2-core AMD EPYC,
+#               `.ci/run` (making the venv, about 15 s, included) took 4 min 52 s: 1 min 47 s
+#               for the unit and ros tiers (a worker per core), 57 s for the system tests that
+#               wait on their processes (two workers per core) and 1 min 46 s for those marked
+#               alone. The machine's speed varies by about a third from one session to another.
 #   make test-unit  only the unit tier (pure code, no rclpy context, no process): 43 s on the
 #               Xeon, 59 s on the AMD EPYC
 #   make test-browser  only the browser tier (headless chromium on mouse_view)
