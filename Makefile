@@ -3,10 +3,11 @@
 #   make venv   create/update .venv (only when requirements/setup files changed)
 #   make test   run the test suite with pytest (every tier: unit, ros, system, and browser
 #               when /usr/bin/chromium is there). On a fresh clone of this 2-core AMD EPYC,
-#               `.ci/run` (making the venv, about 15 s, included) took 4 min 52 s: 1 min 47 s
-#               for the unit and ros tiers (a worker per core), 57 s for the system tests that
-#               wait on their processes (two workers per core) and 1 min 46 s for those marked
-#               alone. The machine's speed varies by about a third from one session to another.
+#               `.ci/run` (making the venv, about 15 s, included) took 4 min 52 s and 5 min 8 s
+#               in two runs: 1 min 47 s and 2 min 0 s for the unit and ros tiers (a worker per
+#               core), 57 s twice for the system tests that wait on their processes (two workers
+#               per core) and 1 min 46 s and 1 min 51 s for those marked alone. The machine's
+#               speed varies by about a third from one session to another.
 #   make test-unit  only the unit tier (pure code, no rclpy context, no process): 43 s on the
 #               Xeon, 59 s on the AMD EPYC
 #   make test-browser  only the browser tier (headless chromium on mouse_view)
@@ -29,8 +30,10 @@ VPY := $(VENV)/bin/python
 STAMP := $(VENV)/.stamp
 REQS := $(wildcard requirements/*.txt)
 PIP := $(VPY) -m pip --disable-pip-version-check -q
-# uv installs into .venv (its own wheel cache, parallel downloads, no bytecode compiled): 8 s
-# for what pip took 37 s to install here, the pip install of uv itself included.
+# uv installs into .venv (parallel downloads, its own wheel cache, no bytecode compiled): the
+# requirements in 8 s here, the pip install of uv itself included, where pip took 37 s; make venv
+# takes about 16 s from an empty cache. It copies from its cache (--link-mode copy): no file of
+# .venv is a hard link that an edit there would change in the cache too.
 UV_REQ := requirements/installer/uv.txt
 UV := $(VENV)/bin/uv pip install -q --python $(VPY) --link-mode copy
 PYTEST_ARGS ?=

@@ -20,11 +20,10 @@ machine to itself (``make test`` runs those last, in one process).
 
 Every test process uses its own ROS_DOMAIN_ID (derived from the pid, away from the default 0,
 or ``MOUSE_TEST_DOMAIN_ID`` when set, so that concurrent test runs can be kept apart for certain)
-and localhost-only discovery, so tests never see a developer's nodes or each other's; and the
+and localhost-only discovery, so tests never see a developer's nodes or each other's, and the
 participant profile test_support/fast_discovery.xml, so that the processes a test starts find
-each other within 0.4 s. Under
-``pytest -n`` (pytest-xdist) the workers of one run take domains spread apart by their index,
-so that they never share one.
+each other within 0.4 s. Under ``pytest -n`` (pytest-xdist) the workers of one run take domains
+spread apart by their index, so that they never share one.
 """
 
 import gc
