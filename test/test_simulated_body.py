@@ -36,6 +36,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.testing import (DrainTimeout, InputRefused, MatchTimeout, NeverHeld,
                                           SimulatedBody)
 from mouse_constraint_ros.testing.lockstep import isolated_context
@@ -227,6 +228,25 @@ def test_an_endpoint_that_cannot_match_fails_add_node_naming_it():
             body.add_node(node)
         with pytest.raises(ValueError, match='another context'):
             body.add_node(Node('elsewhere', context=isolated_context()))
+
+
+@pytest.mark.ros
+def test_its_node_has_no_qos_event_handlers_and_the_node_alone_has_them():
+    """
+    The harness names an endpoint that cannot match itself (above): its node has no handlers.
+
+    The node built as an application builds it has rclpy's two per topic, which warn of a peer
+    of incompatible QoS or type.
+    """
+    with SimulatedBody() as body:
+        assert list(body.node.waitables) == []
+        alone = MouseConstraintNode(context=body.context, namespace='alone', stepped=True,
+                                    parameter_overrides=[Parameter('publish_clock', value=True)])
+        try:
+            topics = len(list(alone.publishers)) + len(list(alone.subscriptions))
+            assert len(list(alone.waitables)) == 2 * topics == 20
+        finally:
+            alone.destroy_node()
 
 
 @pytest.mark.ros

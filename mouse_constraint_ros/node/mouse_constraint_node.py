@@ -34,11 +34,14 @@ from typing import Any, List, NoReturn, Optional, Tuple
 from geometry_msgs.msg import PointStamped, PoseStamped, WrenchStamped
 from rcl_interfaces.msg import SetParametersResult
 import rclpy
+from rclpy.event_handler import PublisherEventCallbacks, SubscriptionEventCallbacks
 from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
 from rclpy.parameter import Parameter
+from rclpy.publisher import Publisher
 from rclpy.service_introspection import ServiceIntrospectionState
 from rclpy.signals import SignalHandlerOptions
+from rclpy.subscription import Subscription
 from std_srvs.srv import SetBool, Trigger
 
 from .anchor_parameter import AnchorParameter
@@ -92,7 +95,7 @@ class MouseConstraintNode(Node):
 
     def __init__(self, *, transform_broadcaster: Optional[BroadcasterFactory] = (
             _DEFAULT_BROADCASTER), stepped: bool = False, loop_ticks: bool = False,
-                 **kwargs: Any) -> None:
+                 qos_events: bool = True, **kwargs: Any) -> None:
         """
         Declare parameters, build the parts and start ticking.
 
@@ -108,10 +111,16 @@ class MouseConstraintNode(Node):
             (``NodeRun.serve`` with it as ``pace``, as ``main`` does); that saves the
             executor's timer thread and its wake per tick. Off (an rclpy timer) for a node
             added to an executor that its application spins.
+        :param qos_events: the publishers and subscriptions warn, as rclpy's do by default, of
+            a peer with incompatible QoS or type. Off, they have no event handlers: two entities
+            fewer per topic in each wait of an executor. ``mouse_constraint_ros.testing`` builds
+            its node so; it names the endpoints that do not match, and why, itself.
         :param kwargs: passed to ``rclpy.node.Node``.
         :raises StartupRefusal: (a ValueError) a parameter or the configuration is invalid; the
             node is destroyed then.
         """
+        # Before Node.__init__, which creates the parameter events' publisher.
+        self._qos_events = qos_events
         super().__init__(NODE_NAME, **kwargs)
         self._throttle = Throttle(self.get_logger().warning, period=WARN_PERIOD)
         # Through a function of its own: rclpy keys a log call's severity by its caller, and the
@@ -186,6 +195,20 @@ class MouseConstraintNode(Node):
                 self.get_clock(), SERVICE_EVENT_QOS, ServiceIntrospectionState.CONTENTS)
         self.create_service(SetBool, PAUSE_SERVICE, controls.on_pause)
         self.create_service(Trigger, STEP_SERVICE, controls.on_step)
+
+    def create_publisher(self, *args: Any, **kwargs: Any) -> Publisher:
+        """Create a publisher as ``Node`` does, without event handlers if ``qos_events`` is off."""
+        if not self._qos_events:
+            kwargs.setdefault('event_callbacks',
+                              PublisherEventCallbacks(use_default_callbacks=False))
+        return super().create_publisher(*args, **kwargs)
+
+    def create_subscription(self, *args: Any, **kwargs: Any) -> Subscription:
+        """Create a subscription as ``Node`` does, without event handlers if ``qos_events`` off."""
+        if not self._qos_events:
+            kwargs.setdefault('event_callbacks',
+                              SubscriptionEventCallbacks(use_default_callbacks=False))
+        return super().create_subscription(*args, **kwargs)
 
     def _clock_refusal(self, config: NodeConfig, use_sim_time: bool) -> Optional[str]:
         """Return why the node cannot keep time so, or None."""

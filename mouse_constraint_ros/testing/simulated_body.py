@@ -111,7 +111,7 @@ class SimulatedBody:
             broadcaster = ({} if transform_broadcaster is NODE_DEFAULT
                            else {'transform_broadcaster': transform_broadcaster})
             self.node = MouseConstraintNode(
-                context=self.context, namespace=namespace, stepped=True,
+                context=self.context, namespace=namespace, stepped=True, qos_events=False,
                 parameter_overrides=[Parameter(name, value=value)
                                      for name, value in values.items()], **broadcaster)
             self._probe = Probe(self.node, namespace=namespace, drain=self.drain)
