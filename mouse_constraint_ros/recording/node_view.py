@@ -27,7 +27,7 @@ the grab the node took, from the change's row.
 """
 
 import math
-from typing import Dict, List, Mapping, Optional, Tuple
+from typing import Dict, List, Mapping, NamedTuple, Optional, Tuple
 
 from service_msgs.msg import ServiceEventInfo
 
@@ -40,6 +40,15 @@ from ..wire.messages import stamp_nanoseconds
 # How far (m) a taken grab's new anchor may lie from the grab point, placed by the pose received
 # before the change, beyond the motion of the anchor since that pose's stamp.
 GRAB_MATCH = 1e-6
+
+
+class AnchorChange(NamedTuple):
+    """An anchor change no grab explained yet."""
+
+    placed: Vector3  # the world point it put the anchor at
+    reach: float  # how far that may lie from the grab point that explains it (m)
+    row: int
+    configured: Vector3  # the configured anchor before it
 
 
 class NodeView:
@@ -62,9 +71,8 @@ class NodeView:
         self.pending: List[Tuple[Vector3, int]] = []
         # Grabs to mark: row -> (point, taken).
         self.marks: Dict[int, Tuple[Vector3, bool]] = {}
-        # The latest anchor change no grab explained yet: (the world point it put the anchor at,
-        # how far that may lie from the grab point, its row, the configured anchor before it).
-        self._unexplained: Optional[Tuple[Vector3, float, int, Vector3]] = None
+        # The latest anchor change no grab explained yet.
+        self._unexplained: Optional[AnchorChange] = None
 
     def take(self, topic: str, item, row: int) -> None:
         """
@@ -87,12 +95,11 @@ class NodeView:
 
     def _grab(self, point: Vector3, row: int) -> None:
         unexplained = self._unexplained
-        if unexplained is not None and math.dist(unexplained[0], point) <= unexplained[1]:
+        if unexplained is not None and math.dist(unexplained.placed, point) <= unexplained.reach:
             # The node's anchor change for this grab came first: the grab was taken there.
-            _, _, taken_row, configured = unexplained
             self._unexplained = None
-            self.configured = configured
-            self._taken(point, len(self.pending), taken_row)
+            self.configured = unexplained.configured
+            self._taken(point, len(self.pending), unexplained.row)
             return
         self.pending.append((point, row))
 
@@ -124,7 +131,7 @@ class NodeView:
                 self._taken(point, index, row)
                 return
         # ros2 param set, ~/reset restoring it, or a grab still on its way.
-        self._unexplained = (placed, reach, row, self.configured)
+        self._unexplained = AnchorChange(placed, reach, row, self.configured)
         self.configured = anchor
 
     def _reset_target(self) -> Optional[Vector3]:
@@ -142,7 +149,7 @@ class NodeView:
 
         An anchor change of a row up to ``row`` that no grab explained is a parameter change.
         """
-        if self._unexplained is not None and self._unexplained[2] <= row:
+        if self._unexplained is not None and self._unexplained.row <= row:
             self._unexplained = None
         while self.pending and self.pending[0][1] <= row:
             point, after = self.pending.pop(0)
