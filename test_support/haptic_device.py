@@ -26,9 +26,8 @@ and bench/haptic_stability.py): a trial of 600 ticks is unstable when the peak o
 second difference over its last 250 ticks exceeds the peak over the 250 before. The second
 difference scales the slow modes (the hand's) down by (w T)^2 and keeps the fast one that goes
 unstable, so once the other fast modes have died (in the first 100 ticks) that growth is the
-largest root's modulus to the 250th power, measured: within 0.013 of it in each of the 15
-trials of test_haptic_stability, which is as close as 1000-tick trials came (0.011), with the
-same brackets.
+largest root's modulus to the 250th power, measured (test_haptic_stability holds each of its
+15 trials to it within 0.02).
 """
 
 from collections import deque
