@@ -210,3 +210,17 @@ def test_the_pacer_lets_one_input_go_per_slot_in_order_and_drops_what_is_moot():
         pacer.offer('push', 'x', 1.0)
     with pytest.raises(ValueError):
         InputPacer(0.0)
+
+
+def test_added_inputs_wait_for_a_flush_and_are_dropped_as_offered_ones():
+    """``add`` queues without letting anything go; what a later input makes moot is dropped."""
+    pacer = InputPacer(100.0)
+    pacer.add(RELEASE, 'release')
+    pacer.add(TARGET, 'target 1')
+    pacer.add(GRAB, 'grab')
+    pacer.add(TARGET, 'target 2')
+    assert pacer.waiting == [RELEASE, GRAB, TARGET]
+    assert [pacer.flush(t) for t in (0.0, 0.005, 0.01, 0.02, 0.03)] == [
+        (RELEASE, 'release'), None, (GRAB, 'grab'), (TARGET, 'target 2'), None]
+    with pytest.raises(ValueError):
+        pacer.add('push', 'x')

@@ -327,7 +327,8 @@ def test_press_move_release_cycles_send_at_most_max_input_rate_inputs_a_second(r
     The marker's clock is a fake one that moves 0.5 ms per cycle; the feedback is handed to the
     marker's callback in order and its work runs after each cycle, as its timer would. Grabs,
     targets and releases together go at least 1 / MAX_INPUT_RATE s apart, the last a release;
-    then a press and a drag 5 ms after it grab and drag the body, each in its slot.
+    then, once the node answered the last release, a press and a drag 5 ms after it grab and
+    drag the body, each in its slot.
     """
     clock = FakeClock()
     node, marker, rviz = _nodes(ros, marker_clock=clock)
@@ -350,6 +351,7 @@ def test_press_move_release_cycles_send_at_most_max_input_rate_inputs_a_second(r
     times = [t for t, _ in flood]
     assert np.all(np.diff(times) >= 1.0 / MAX_INPUT_RATE - 1e-9)
     assert len(flood) <= cycles * step * MAX_INPUT_RATE + 1 and flood[-1][1] == 'release'
+    assert ros.spin_until(lambda: marker.release_gate.is_open(clock.now))  # the node answered
     clock.now += 0.005
     marker._on_feedback(rviz.feedback_message(InteractiveMarkerFeedback.MOUSE_DOWN, shown, hit))
     marker._on_feedback(rviz.feedback_message(InteractiveMarkerFeedback.POSE_UPDATE, moved))
@@ -359,6 +361,39 @@ def test_press_move_release_cycles_send_at_most_max_input_rate_inputs_a_second(r
     assert [kind for _, kind in sent[len(flood):]] == ['grab', 'target']
     assert ros.spin_until(lambda: node.simulation.target == pytest.approx(
         world_point(moved, LOCAL), abs=1e-9))
+
+
+def test_a_press_right_after_a_release_grabs_once_the_node_answered_the_release(ros):
+    """
+    The release is a service call, the grab a message: the grab goes after the release's answer.
+
+    The node takes a request and a message that wait at once in no set order (rclpy takes
+    messages first), so a grab sent one slot after the release would be undone by it. Here
+    the release and the press come in consecutive slots while nothing spins; the node finds the
+    release waiting, answers it, and only then gets the grab.
+    """
+    clock = FakeClock()
+    node, marker, rviz = _nodes(ros, marker_clock=clock)
+    sent = _sends(marker, clock)
+    shown = rviz.marker_pose
+    clock.now = 10.0
+    marker._on_feedback(rviz.feedback_message(InteractiveMarkerFeedback.MOUSE_DOWN, shown,
+                                              world_point(shown, LOCAL)))
+    assert ros.spin_until(lambda: node.simulation.target is not None)
+    for event, local in ((InteractiveMarkerFeedback.MOUSE_UP, None),
+                         (InteractiveMarkerFeedback.MOUSE_DOWN, (-0.1, -0.1, 0.0))):
+        clock.now += 1.0 / MAX_INPUT_RATE
+        marker._on_feedback(rviz.feedback_message(
+            event, shown, None if local is None else world_point(shown, local)))
+        marker._work()
+    assert [kind for _, kind in sent] == ['grab', 'release']
+    time.sleep(0.1)  # the release delivered before the node's next wait
+    assert ros.spin_until(lambda: len(sent) == 3)
+    assert [kind for _, kind in sent] == ['grab', 'release', 'grab']
+    assert ros.spin_until(lambda: np.allclose(node.get_parameter('anchor').value,
+                                              (-0.1, -0.1, 0.0), atol=1e-6))
+    ros.spin_for(0.2)
+    assert node.simulation.target is not None
 
 
 def test_a_drag_ends_when_its_rviz_leaves(ros):

@@ -35,7 +35,7 @@ from rclpy.parameter import Parameter
 pytest.importorskip('viser', reason='mouse_view needs viser: pip install -r requirements/view.txt')
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.pointer.geometry import framing, world_point
-from mouse_constraint_ros.pointer.gestures import HOLD_MODIFIER
+from mouse_constraint_ros.pointer.gestures import Action, GRAB, HOLD_MODIFIER, RELEASE
 from mouse_constraint_ros.pointer.push_throttle import MAX_PUSH_RATE
 from mouse_constraint_ros.view.node import MouseViewNode
 from mouse_constraint_ros.view.scene import FLOOR_GAP, FLOOR_THICKNESS, ViewScene
@@ -121,6 +121,29 @@ def test_a_held_release_keeps_the_target(ros, server):
                           and abs(node.simulation.target[2] - 1.3) < 0.05)
     ros.spin_for(0.3)
     assert node.simulation.target is not None
+
+
+def test_a_grab_right_after_a_release_goes_once_the_node_answered_it(ros, server):
+    """
+    A release and a grab sent together reach the node in the order sent.
+
+    The release is a service call, the grab a message: the node takes the two in no set order
+    when both wait at once (rclpy takes messages first), so the grab waits for the release's
+    answer. Both are sent while nothing spins, and the node finds both waiting.
+    """
+    node = _node(ros)
+    view = _view(ros, server)
+    _ready(ros, view, node)
+    local = (0.1, -0.1, 0.02)
+    _drag(view, 'start', start=world_point(view.scene.shown, local))
+    assert ros.spin_until(lambda: node.simulation.target is not None)
+    grab = world_point(view.latest_pose(), (-0.1, -0.1, 0.0))
+    view.send([Action(RELEASE), Action(GRAB, grab)], view._now_ns())
+    time.sleep(0.1)  # both delivered before the node's next wait
+    assert ros.spin_until(
+        lambda: view.scene.reply.content == '/mouse_constraint/release: released')
+    assert ros.spin_until(lambda: node.simulation.target is not None)
+    assert np.allclose(node.get_parameter('anchor').value, (-0.1, -0.1, 0.0), atol=1e-6)
 
 
 def test_the_hint_says_how_to_drag_until_the_first_grab(ros, server):

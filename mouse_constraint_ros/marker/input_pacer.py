@@ -72,6 +72,16 @@ class InputPacer(Generic[Item]):
         :param item: what goes to the node for it.
         :param now: the time (s).
         """
+        self.add(kind, item)
+        return self.flush(now)
+
+    def add(self, kind: str, item: Item) -> None:
+        """
+        Queue an input, dropping what it makes moot (see the module); nothing goes.
+
+        :param kind: GRAB, TARGET or RELEASE.
+        :param item: what goes to the node for it.
+        """
         waiting = self._waiting
         if kind == TARGET:
             if waiting and waiting[-1][0] == TARGET:
@@ -84,7 +94,6 @@ class InputPacer(Generic[Item]):
                 waiting.append((kind, item))
         else:
             raise ValueError(f'no input of kind {kind!r}')
-        return self.flush(now)
 
     def flush(self, now: float) -> Optional[Tuple[str, Item]]:
         """Return the oldest input waiting, with its kind, when its slot came at ``now`` (s)."""

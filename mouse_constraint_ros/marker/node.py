@@ -30,7 +30,8 @@ and ``PushThrottle``:
   together over every client (``InputPacer``), each in its slot, in order, what a later one
   makes moot dropped (the newest target replaces the one held back): RViz sends one target per
   frame (30 a second), a client gone wrong as many targets, or press and release cycles, as it
-  likes;
+  likes; nothing goes after a ``~/release`` until the node answered it (``ReleaseGate``), so
+  that the node cannot take the next grab first;
 - ``hold_on_release`` (a parameter of this node, false by default) keeps the body held where
   the drag ends instead of calling ``~/release``;
 - a drag whose RViz closes or crashes ends as its release would, when a feedback publisher it
@@ -66,6 +67,7 @@ from ..pointer.gestures import Action, GRAB, RELEASE
 from ..pointer.newest_message import NewestMessage
 from ..pointer.node_follower import DISCOVERY_SECONDS, NodeFollower
 from ..pointer.node_readouts import ViewParameters
+from ..pointer.release_order import ReleaseGate
 from ..wire.interface import (GRAB_TOPIC, MARKER_FEEDBACK_TOPIC, MARKER_NODE_NAME, MARKER_QOS,
                               MARKER_SERVICE, MARKER_UPDATE_TOPIC, NODE_NAME, node_name,
                               POSE_TOPIC, RELEASE_SERVICE, TARGET_QOS, TARGET_TOPIC)
@@ -101,6 +103,8 @@ class MouseMarkerNode(Node):
         self.updates = MarkerUpdates(self.get_fully_qualified_name())
         # The grabs, targets and releases that go to the node (a release has no message).
         self._inputs: InputPacer[Optional[PointStamped]] = InputPacer(MAX_INPUT_RATE)
+        # Closed while a release is unanswered: a grab sent after it must not be taken first.
+        self.release_gate = ReleaseGate()
         self._latest: Optional[Pose] = None
         self.feedback_taken = 0
         self.grab_publisher = self.create_publisher(PointStamped, GRAB_TOPIC, TARGET_QOS)
@@ -165,7 +169,7 @@ class MouseMarkerNode(Node):
                 else:
                     self._publish(self.updates.pose(pose, now))
         self._publish(self.updates.flush(now))
-        self._out(self._inputs.flush(now))
+        self._send_ready(now)
 
     def _feedback_publishers(self) -> List[Endpoint]:
         return [(node_name(info.node_namespace, info.node_name), tuple(info.endpoint_gid))
@@ -230,24 +234,31 @@ class MouseMarkerNode(Node):
         for action in actions:
             message = (None if action.kind == RELEASE else
                        point_message(action.point, frame_id, stamp_ns))
-            self._out(self._inputs.offer(action.kind, message, now))
+            self._inputs.add(action.kind, message)
+            self._send_ready(now)
 
-    def _out(self, item: Optional[Tuple[str, Optional[PointStamped]]]) -> None:
-        """Send one input the pacer let go: publish a grab or a target, call ~/release."""
+    def _send_ready(self, now: float) -> None:
+        """Send the input the pacer lets go at ``now``, unless a release is unanswered."""
+        item = self._inputs.flush(now) if self.release_gate.is_open(now) else None
         if item is None:
             return
         kind, message = item
         if kind == RELEASE:
-            self._release()
+            self._release(now)
         else:
             (self.grab_publisher if kind == GRAB else self.target_publisher).publish(message)
 
-    def _release(self) -> None:
+    def _release(self, now: float) -> None:
         if not self.release_client.service_is_ready():
             self.get_logger().warning(f'{self.release_client.srv_name}: no such service (is '
                                       'the node running?): the body stays held')
             return
-        self.release_client.call_async(Trigger.Request())
+        release = self.release_gate.released(now)
+
+        def answered(_done) -> None:
+            self.release_gate.answered(release)
+            self._send_ready(self._monotonic())
+        self.release_client.call_async(Trigger.Request()).add_done_callback(answered)
 
     def destroy_node(self) -> None:
         """Stop the timers, then destroy the node."""

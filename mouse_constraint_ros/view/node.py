@@ -49,6 +49,7 @@ from ..pointer.newest_message import NewestMessage
 from ..pointer.node_follower import DISCOVERY_SECONDS, NodeFollower
 from ..pointer.node_readouts import force_text, number_text, Readouts, ViewParameters
 from ..pointer.push_throttle import PushThrottle
+from ..pointer.release_order import ReleaseOrder
 from ..wire.interface import (DIAGNOSTICS_TOPIC, FORCE_TOPIC, GRAB_TOPIC, MARKERS_TOPIC,
                               MONITOR_DEPTH, NODE_NAME, PAUSE_SERVICE, POSE_TOPIC, RELEASE_SERVICE,
                               RESET_SERVICE, STEP_SERVICE, TARGET_QOS, TARGET_TOPIC, TWIST_TOPIC,
@@ -116,6 +117,9 @@ class MouseViewNode(Node):
         super().__init__(VIEW_NODE_NAME, **kwargs)
         self.readouts = Readouts()
         self.gestures, self.throttle = Gestures(), PushThrottle()
+        # What the gestures send, stamped: nothing after a release goes before its answer.
+        self.outbox: ReleaseOrder[Tuple[Action, int]] = ReleaseOrder(
+            lambda item: item[0].kind == RELEASE)
         self._monotonic = clock
         self._work: 'queue.SimpleQueue[Callable[[], None]]' = queue.SimpleQueue()
         self._pose_raw: Optional[bytes] = None
@@ -177,6 +181,7 @@ class MouseViewNode(Node):
                 self.get_logger().error(f'{type(error).__name__}: {error}')
         # After the queue: an end's next segment queued meanwhile goes on with its drag.
         self.send(self.gestures.due(self._monotonic()), self._now_ns())
+        self._send_ready()  # what waited on a release the node did not answer in time
 
     def _bind_scene(self) -> None:
         scene = self.scene
@@ -232,10 +237,22 @@ class MouseViewNode(Node):
     # Inputs to the node.
 
     def send(self, actions: List[Action], stamp_ns: int) -> None:
-        """Publish grabs and targets stamped ``stamp_ns``, call ``~/release`` for a release."""
-        for action in actions:
+        """
+        Publish grabs and targets stamped ``stamp_ns``, call ``~/release`` for a release.
+
+        In the order given, after what waits already: what follows a release goes once the
+        node answered it (``ReleaseOrder``).
+        """
+        self.outbox.add((action, stamp_ns) for action in actions)
+        self._send_ready()
+
+    def _send_ready(self) -> None:
+        while (item := self.outbox.take(self._monotonic())) is not None:
+            action, stamp_ns = item
             if action.kind == RELEASE:
-                self.call(RELEASE_SERVICE)
+                release = self.outbox.gate.sent
+                if not self.call(RELEASE_SERVICE, on_answer=lambda: self._answered(release)):
+                    self.outbox.gate.answered(release)
                 continue
             message = point_message(action.point, self.parameters.frame_id, stamp_ns)
             (self.grab_publisher if action.kind == GRAB else self.target_publisher).publish(
@@ -243,13 +260,25 @@ class MouseViewNode(Node):
             if action.kind == GRAB:
                 self.scene.grabbed()
 
-    def call(self, service: str, data: Optional[bool] = None) -> None:
-        """Call one of the node's services; show its answer on the page."""
+    def _answered(self, release: int) -> None:
+        self.outbox.gate.answered(release)
+        self._send_ready()
+
+    def call(self, service: str, data: Optional[bool] = None, *,
+             on_answer: Optional[Callable[[], None]] = None) -> bool:
+        """
+        Call one of the node's services; show its answer on the page.
+
+        :param service: the service's name (private to the node).
+        :param data: the request's ``data`` (SetBool).
+        :param on_answer: called once the node answered, after the page shows it.
+        :returns: whether the call went out (False: no such service).
+        """
         client = self._node_services[service]
         name = self.target_node + service[1:]
         if not client.service_is_ready():
             self.scene.show_reply(f'{name}: no such service (is the node running?)')
-            return
+            return False
         request = client.srv_type.Request()
         if data is not None:
             request.data = data
@@ -259,7 +288,10 @@ class MouseViewNode(Node):
             response = done.result()
             if response is not None:
                 self.scene.show_reply(f'{name}: {response.message}')
+            if on_answer is not None:
+                on_answer()
         future.add_done_callback(answered)
+        return True
 
     def toggle_pause(self) -> None:
         """Pause the node, or resume it when its diagnostics say it is paused."""
