@@ -250,19 +250,26 @@ def _assert_framed(server, view) -> None:
     Check the loaded page looks at the body, which spans a quarter of its height or more.
 
     The page is the newest connection at each look: one that connects again meanwhile (a
-    handshake failed) is the one turned and drawn.
+    handshake failed) is the one turned and drawn. The camera is read while viser's threads
+    write it, one field at a time: a look counts only when its position, orientation and
+    look-at point agree.
     """
     turned = []
 
     def page_turned() -> bool:
         client = _page(server)
-        turned[:] = [client] if (view.scene.shown is not None and _camera_known(client)
-                                 and np.allclose(client.camera.look_at,
-                                                 view.scene.shown.position, atol=0.05)) else []
+        if view.scene.shown is None or not _camera_known(client):
+            return False
+        look_at = np.array(client.camera.look_at)
+        camera = PinholeCamera(client.camera)
+        sight = look_at - camera.position
+        turned[:] = [camera] if (
+            np.allclose(look_at, view.scene.shown.position, atol=0.05)
+            and np.dot(camera.forward, sight) > (1.0 - 1e-6) * np.linalg.norm(sight)) else []
         return bool(turned)
 
     wait_for(page_turned, 60.0, 'the page turned to the body')
-    camera, pose = PinholeCamera(turned[0].camera), view.latest_pose()
+    camera, pose = turned[0], view.latest_pose()
     corners = [camera.pixel(world_point(pose, np.multiply(signs, BOX) / 2))
                for signs in itertools.product((-1.0, 1.0), repeat=3)]
     width, height = np.ptp(corners, axis=0)
