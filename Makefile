@@ -3,11 +3,12 @@
 #   make venv   create/update .venv (only when requirements/setup files changed)
 #   make test   run the test suite with pytest (every tier: unit, ros, system, and browser
 #               when /usr/bin/chromium is there). On a fresh clone of this 2-core AMD EPYC,
-#               `.ci/run` (making the venv, about 15 s, included) took 4 min 28 s to 5 min 23 s
-#               in five runs of one day: 1 min 37 s to 2 min 10 s for the unit and ros tiers (a
-#               worker per core; pure CPU, it varies with the machine's speed), 52 s to 62 s for
-#               the system tests that wait on their processes (two workers per core) and 1 min
-#               43 s to 1 min 54 s for those marked alone.
+#               `.ci/run` (making the venv, about 15 s, included) took 3 min 42 s to 5 min 23 s
+#               in eight green runs of one day, the last four 3 min 42 s to 4 min 28 s: 1 min
+#               16 s to 2 min 10 s for the unit and ros tiers (a worker per core; pure CPU, it
+#               varies with the machine's speed), 40 s to 62 s for the system tests that wait on
+#               their processes (two workers per core) and 1 min 30 s to 1 min 54 s for those
+#               marked alone.
 #   make test-unit  only the unit tier (pure code, no rclpy context, no process): 43 s on the
 #               Xeon, 53 s to 59 s on the AMD EPYC
 #   make test-browser  only the browser tier (headless chromium on mouse_view)
