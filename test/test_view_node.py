@@ -144,6 +144,15 @@ def test_a_grab_right_after_a_release_goes_once_the_node_answered_it(ros, server
         lambda: view.scene.reply.content == '/mouse_constraint/release: released')
     assert ros.spin_until(lambda: node.simulation.target is not None)
     assert np.allclose(node.get_parameter('anchor').value, (-0.1, -0.1, 0.0), atol=1e-6)
+    # The panel's Release, then a press: the same order.
+    view.release()
+    _drag(view, 'start', start=world_point(view.latest_pose(), local))
+    view._run_work()  # the press, queued by viser's thread, handled at once
+    time.sleep(0.1)
+    assert ros.spin_until(lambda: np.allclose(node.get_parameter('anchor').value, local,
+                                              atol=1e-6))
+    ros.spin_for(0.2)
+    assert node.simulation.target is not None
 
 
 def test_the_hint_says_how_to_drag_until_the_first_grab(ros, server):

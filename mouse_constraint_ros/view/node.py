@@ -190,8 +190,8 @@ class MouseViewNode(Node):
         scene.body.on_click(self._on_click)
         scene.body.on_click(modifier='shift')(self._on_click)
         scene.on_button(scene.pause, lambda: self.queue(self.toggle_pause))
-        for button, service in ((scene.step, STEP_SERVICE), (scene.reset, RESET_SERVICE),
-                                (scene.release, RELEASE_SERVICE)):
+        scene.on_button(scene.release, lambda: self.queue(self.release))
+        for button, service in ((scene.step, STEP_SERVICE), (scene.reset, RESET_SERVICE)):
             scene.on_button(button, lambda service=service: self.queue(
                 lambda: self.call(service)))
 
@@ -292,6 +292,10 @@ class MouseViewNode(Node):
                 on_answer()
         future.add_done_callback(answered)
         return True
+
+    def release(self) -> None:
+        """Let the body go (the panel's Release): a release sent in order, as a gesture's."""
+        self.send([Action(RELEASE)], self._now_ns())
 
     def toggle_pause(self) -> None:
         """Pause the node, or resume it when its diagnostics say it is paused."""
