@@ -16,7 +16,8 @@
 The ``mouse_view`` node: serves the page (``scene``) and turns its gestures into the node's input.
 
 It wires ROS to pure parts and holds no geometry of its own: ``Gestures`` says what a pointer
-event sends, ``PushThrottle`` how often a pose goes to the browser, ``node_readouts`` what the
+event sends, ``ReleaseOrder`` when (nothing past a release the node has not answered),
+``PushThrottle`` how often a pose goes to the browser, ``node_readouts`` what the
 node's parameters and /diagnostics say, ``NodeFollower`` whether the node is there and its
 parameters. All names are the ``interface`` module's, relative to the view's namespace, so
 ``--ros-args -r __ns:=/robot`` views ``/robot/mouse_constraint``.
