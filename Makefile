@@ -4,7 +4,7 @@
 #   make test   run the test suite with pytest (every tier: unit, ros, system, and browser
 #               when /usr/bin/chromium is there). On a fresh clone of this 2-core AMD EPYC,
 #               `.ci/run` (making the venv, about 15 s, included) took 3 min 42 s to 5 min 23 s
-#               in eight green runs of one day, the last four 3 min 42 s to 4 min 28 s: 1 min
+#               in nine green runs of one day, the last five 3 min 42 s to 4 min 28 s: 1 min
 #               16 s to 2 min 10 s for the unit and ros tiers (a worker per core; pure CPU, it
 #               varies with the machine's speed), 40 s to 62 s for the system tests that wait on
 #               their processes (two workers per core) and 1 min 30 s to 1 min 54 s for those
