@@ -50,6 +50,7 @@ SUITE = [
     ('publish_rate', 'publishing at 100 Hz from 1 kHz physics, if the node offers it'),
     ('latency', 'target published -> first pose reflecting it, at 1 kHz'),
     ('force_latency', 'target pose published -> first force reflecting it, config/haptic.yaml'),
+    ('discovery', 'mouse_ctl release against the node, with and without its Fast DDS profile'),
     ('soak', '10 min simulated at 1 kHz, the core directly'),
     ('flood', 'target floods at the 1 kHz node: 5 000/s plain, unbounded, hostile'),
     ('view_cost', 'mouse_view with one headless browser; the node with and without it'),

@@ -21,8 +21,8 @@ machine to itself (``make test`` runs those last, in one process).
 Every test process uses its own ROS_DOMAIN_ID (derived from the pid, away from the default 0,
 or ``MOUSE_TEST_DOMAIN_ID`` when set, so that concurrent test runs can be kept apart for certain)
 and localhost-only discovery, so tests never see a developer's nodes or each other's, and the
-participant profile test_support/fast_discovery.xml, so that the processes a test starts find
-each other within 0.4 s. Under ``pytest -n`` (pytest-xdist) the workers of one run take domains
+participant profile config/fast_discovery.xml, so that the processes a test starts find each
+other within 0.4 s. Under ``pytest -n`` (pytest-xdist) the workers of one run take domains
 spread apart by their index, so that they never share one.
 """
 
@@ -50,7 +50,7 @@ os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
 # Participants announce themselves every 0.25 s, not every 3 s: a process matches the others
 # within 0.4 s where a lost first exchange made it wait up to 3 s (the profile says why).
 os.environ['FASTRTPS_DEFAULT_PROFILES_FILE'] = str(
-    Path(__file__).resolve().parent.parent / 'test_support' / 'fast_discovery.xml')
+    Path(__file__).resolve().parent.parent / 'config' / 'fast_discovery.xml')
 
 import pytest  # noqa: E402 (after the environment is set, as rclpy reads it)
 

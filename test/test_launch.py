@@ -85,9 +85,10 @@ def share_path(expression: ast.AST, share_directory: Path) -> Path:
     return share_directory.joinpath(*(ast.literal_eval(part) for part in parts))
 
 
-def test_colcon_installs_the_launch_and_the_rviz_files(install):
-    """share/<pkg>/launch/ and share/<pkg>/rviz/ hold copies of the source tree's files."""
-    for folder, name in (('launch', LAUNCH_FILE), ('rviz', RVIZ_FILE)):
+def test_colcon_installs_the_launch_rviz_and_config_files(install):
+    """share/<pkg>/ launch/, rviz/ and config/ hold copies of the source tree's files."""
+    for folder, name in (('launch', LAUNCH_FILE), ('rviz', RVIZ_FILE), ('config', 'params.yaml'),
+                         ('config', 'fast_discovery.xml')):
         installed = share(install) / folder / name
         assert installed.is_file(), installed
         assert installed.read_bytes() == (ROOT / folder / name).read_bytes()
