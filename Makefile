@@ -3,12 +3,11 @@
 #   make venv   create/update .venv (only when requirements/setup files changed)
 #   make test   run the test suite with pytest (every tier: unit, ros, system, and browser
 #               when /usr/bin/chromium is there). On a fresh clone of this 2-core AMD EPYC,
-#               `.ci/run` (making the venv, about 15 s, included) took 3 min 42 s to 5 min 23 s
-#               in nine green runs of one day, the last five 3 min 42 s to 4 min 28 s: 1 min
-#               16 s to 2 min 10 s for the unit and ros tiers (a worker per core; pure CPU, it
-#               varies with the machine's speed), 40 s to 62 s for the system tests that wait on
-#               their processes (two workers per core) and 1 min 30 s to 1 min 54 s for those
-#               marked alone.
+#               `.ci/run` (making the venv, about 15 s, included) takes 3 min 42 s to 5 min 23 s
+#               (ten runs of one day, the machine's speed varying): 1 min 16 s to 2 min 10 s for
+#               the unit and ros tiers (a worker per core; pure CPU, it varies most), 40 s to 62 s
+#               for the system tests that wait on their processes (two workers per core) and
+#               1 min 30 s to 1 min 54 s for those marked alone.
 #   make test-unit  only the unit tier (pure code, no rclpy context, no process): 43 s on the
 #               Xeon, 53 s to 59 s on the AMD EPYC
 #   make test-browser  only the browser tier (headless chromium on mouse_view)
@@ -47,11 +46,6 @@ LINT_PATHS := $(wildcard mouse_constraint_ros test test_support bench launch set
 ifneq ($(shell $(VPY) -c 'print(1)' 2>/dev/null),1)
 $(shell rm -f $(STAMP))
 endif
-
-# Fast DDS's participant profile for what make runs (config/fast_discovery.xml: participants
-# announce themselves every 0.25 s, so a command finds the node within 0.4 s, not up to 3 s),
-# unless the environment names one already.
-export FASTRTPS_DEFAULT_PROFILES_FILE ?= $(CURDIR)/config/fast_discovery.xml
 
 .PHONY: venv test test-unit test-browser test-loaded lint run view bench bench-venv demo \
 	demo-figure clean
@@ -129,6 +123,13 @@ define foreground
 if [ -t 0 ]; then set -m; $(1); s=$$?; while [ $$s = 148 ]; do kill -STOP 0; fg >/dev/null; \
   s=$$?; done; exit $$s; else $(1); fi
 endef
+
+# The node, the view and the demo's processes run with Fast DDS's participant profile
+# config/fast_discovery.xml (they announce themselves every 0.25 s, so a command started beside
+# them finds them within 0.4 s, not up to 3 s), unless the environment names one already. Not
+# the tests (test/conftest.py sets it) nor the benchmarks (bench.discovery measures it).
+DISCOVERY_PROFILE := $(CURDIR)/config/fast_discovery.xml
+run view demo demo-figure: export FASTRTPS_DEFAULT_PROFILES_FILE ?= $(DISCOVERY_PROFILE)
 
 run: venv
 	@echo '$(VENV)/bin/mouse_constraint_node --ros-args --params-file config/params.yaml'

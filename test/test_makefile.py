@@ -91,28 +91,49 @@ def test_make_view_passes_its_options():
     assert "echo '.venv/bin/mouse_view '" in dry_run('view')
 
 
-# A target added to the Makefile for one run (make -f Makefile -f -): prints the profile its
-# recipes get.
-PRINT_PROFILE = 'print-profile:\n\t@printenv FASTRTPS_DEFAULT_PROFILES_FILE\n'
+# What the stand-ins print (a shell's expansion; make's recipe doubles the $).
+PRINTED = 'profile [$FASTRTPS_DEFAULT_PROFILES_FILE]'
+
+
+def _stand_in_venv(folder: Path) -> Path:
+    """Return a venv whose node and view print the profile they were started with."""
+    bin_folder = folder / 'bin'
+    bin_folder.mkdir(parents=True)
+    (bin_folder / 'python').symlink_to(sys.executable)
+    for name in ('mouse_constraint_node', 'mouse_view'):
+        (bin_folder / name).write_text(f'#!/bin/sh\necho "{PRINTED}"\n')
+        (bin_folder / name).chmod(0o755)
+    (folder / '.stamp').touch()  # newer than the requirements: nothing to install
+    return folder
 
 
 @pytest.mark.system
-@pytest.mark.parametrize('own', [None, '/etc/my_profiles.xml'])
-def test_what_make_runs_gets_the_discovery_profile_unless_one_is_named(own):
+@pytest.mark.parametrize('target, own', [('run', None), ('view', None),
+                                         ('run', '/etc/my_profiles.xml')])
+def test_make_run_and_view_start_with_the_discovery_profile_unless_one_is_named(
+        target, own, tmp_path):
     """
-    What make runs (run, view, demo) has config/fast_discovery.xml, or the environment's own.
+    Their command gets config/fast_discovery.xml, or the environment's own; other targets none.
 
-    The profile is Fast DDS's: participants announce themselves every 0.25 s (0.04 s to 3 s
-    for a command to find the node without it, at most 0.4 s with it: the file says why).
+    The profile is Fast DDS's: participants announce themselves every 0.25 s, so a command
+    started beside the node finds it within 0.4 s, not up to 3 s (the file says why). The
+    recipes run for real, with a venv whose commands print the variable.
     """
     environment = {k: v for k, v in os.environ.items() if k != 'FASTRTPS_DEFAULT_PROFILES_FILE'}
     if own is not None:
         environment['FASTRTPS_DEFAULT_PROFILES_FILE'] = own
-    result = subprocess.run(['make', '--no-print-directory', '-f', 'Makefile', '-f', '-',
-                             'print-profile'], cwd=ROOT, input=PRINT_PROFILE, env=environment,
-                            capture_output=True, text=True, check=True)
+    venv = _stand_in_venv(tmp_path / 'venv')
+    result = subprocess.run(['make', '--no-print-directory', target, f'VENV={venv}'], cwd=ROOT,
+                            env=environment, stdin=subprocess.DEVNULL, capture_output=True,
+                            text=True, timeout=60)
+    assert result.returncode == 0, result.stderr
     profile = ROOT / 'config' / 'fast_discovery.xml'
-    assert result.stdout.strip() == (str(profile) if own is None else own)
+    assert f'profile [{profile if own is None else own}]' in result.stdout
+    other = subprocess.run(['make', '--no-print-directory', '-f', 'Makefile', '-f', '-', 'other'],
+                           cwd=ROOT, env=environment, capture_output=True, text=True,
+                           input=f'other:\n\t@echo "{PRINTED.replace("$", "$$")}"\n',
+                           timeout=60)
+    assert f'profile [{own or ""}]' in other.stdout, other.stderr
     period = ElementTree.parse(profile).find('.//{*}discovery_config/{*}leaseAnnouncement')
     assert (int(period.findtext('{*}sec')), int(period.findtext('{*}nanosec'))) == (0, 250000000)
 

@@ -191,28 +191,33 @@ def test_a_press_the_node_would_refuse_grabs_nothing_and_drags_the_anchor():
 def test_the_pacer_lets_one_input_go_per_slot_in_order_and_drops_what_is_moot():
     """100 a second, any kind; the newest target; a grab or a release drops what waits after."""
     pacer = InputPacer(100.0)
-    assert pacer.offer(GRAB, 'grab 1', 0.0) == (GRAB, 'grab 1')
-    assert pacer.offer(TARGET, 'target 1', 0.001) is None
-    assert pacer.offer(TARGET, 'target 2', 0.002) is None and pacer.waiting == [TARGET]
-    assert pacer.offer(RELEASE, 'release 1', 0.003) is None and pacer.waiting == [RELEASE]
-    assert pacer.offer(GRAB, 'grab 2', 0.004) is None
-    assert pacer.offer(TARGET, 'target 3', 0.005) is None
+
+    def offer(kind: str, item: str, now: float):
+        """Add an input and return what goes at ``now``, as the marker node does."""
+        pacer.add(kind, item)
+        return pacer.flush(now)
+    assert offer(GRAB, 'grab 1', 0.0) == (GRAB, 'grab 1')
+    assert offer(TARGET, 'target 1', 0.001) is None
+    assert offer(TARGET, 'target 2', 0.002) is None and pacer.waiting == [TARGET]
+    assert offer(RELEASE, 'release 1', 0.003) is None and pacer.waiting == [RELEASE]
+    assert offer(GRAB, 'grab 2', 0.004) is None
+    assert offer(TARGET, 'target 3', 0.005) is None
     assert pacer.waiting == [RELEASE, GRAB, TARGET]
-    assert pacer.offer(RELEASE, 'release 2', 0.006) is None and pacer.waiting == [RELEASE]
-    assert pacer.offer(GRAB, 'grab 3', 0.007) is None and pacer.waiting == [RELEASE, GRAB]
-    assert pacer.offer(GRAB, 'grab 4', 0.008) is None and pacer.waiting == [RELEASE, GRAB]
+    assert offer(RELEASE, 'release 2', 0.006) is None and pacer.waiting == [RELEASE]
+    assert offer(GRAB, 'grab 3', 0.007) is None and pacer.waiting == [RELEASE, GRAB]
+    assert offer(GRAB, 'grab 4', 0.008) is None and pacer.waiting == [RELEASE, GRAB]
     assert pacer.flush(0.0099) is None
     assert pacer.flush(0.01) == (RELEASE, 'release 1') and pacer.flush(0.015) is None
-    assert pacer.offer(TARGET, 'target 4', 0.02) == (GRAB, 'grab 4')
+    assert offer(TARGET, 'target 4', 0.02) == (GRAB, 'grab 4')
     assert pacer.flush(0.03) == (TARGET, 'target 4') and pacer.waiting == []
-    assert pacer.offer(TARGET, 'target 5', 0.04) == (TARGET, 'target 5')
+    assert offer(TARGET, 'target 5', 0.04) == (TARGET, 'target 5')
     with pytest.raises(ValueError):
-        pacer.offer('push', 'x', 1.0)
+        offer('push', 'x', 1.0)
     with pytest.raises(ValueError):
         InputPacer(0.0)
 
 
-def test_added_inputs_wait_for_a_flush_and_are_dropped_as_offered_ones():
+def test_added_inputs_wait_for_a_flush_and_what_they_make_moot_is_dropped():
     """``add`` queues without letting anything go; what a later input makes moot is dropped."""
     pacer = InputPacer(100.0)
     pacer.add(RELEASE, 'release')

@@ -39,7 +39,7 @@ def test_without_a_release_everything_goes_at_once_in_order():
     inputs = order()
     inputs.add(['grab', 'target 1', 'target 2'])
     assert taken(inputs, 0.0) == ['grab', 'target 1', 'target 2']
-    assert inputs.waiting == 0 and inputs.gate.sent == 0
+    assert inputs.waiting == 0 and inputs.sent == 0
 
 
 def test_what_follows_a_release_goes_once_it_is_answered():
@@ -47,10 +47,10 @@ def test_what_follows_a_release_goes_once_it_is_answered():
     inputs = order()
     inputs.add(['target', RELEASE, 'grab', 'target 2'])
     assert taken(inputs, 5.0) == ['target', RELEASE]
-    assert inputs.gate.sent == 1 and inputs.waiting == 2
+    assert inputs.sent == 1 and inputs.waiting == 2
     assert taken(inputs, 5.0 + 0.999 * ANSWER_WAIT) == []
     inputs.add(['target 3'])
-    inputs.gate.answered(1)
+    inputs.answered(1)
     assert taken(inputs, 5.1) == ['grab', 'target 2', 'target 3']
 
 
@@ -69,10 +69,10 @@ def test_the_answer_to_a_release_given_up_on_frees_nothing_after_a_later_one():
     inputs.add([RELEASE, 'grab', RELEASE, 'grab 2'])
     assert taken(inputs, 0.0) == [RELEASE]
     assert taken(inputs, 0.3) == ['grab', RELEASE]
-    assert inputs.gate.sent == 2
-    inputs.gate.answered(1)
+    assert inputs.sent == 2
+    inputs.answered(1)
     assert taken(inputs, 0.31) == []
-    inputs.gate.answered(2)
+    inputs.answered(2)
     assert taken(inputs, 0.31) == ['grab 2']
 
 
@@ -81,9 +81,9 @@ def test_each_release_waits_for_its_own_answer():
     inputs = order()
     inputs.add([RELEASE, RELEASE, 'grab'])
     assert taken(inputs, 0.0) == [RELEASE]
-    inputs.gate.answered(1)
+    inputs.answered(1)
     assert taken(inputs, 0.0) == [RELEASE]
-    inputs.gate.answered(2)
+    inputs.answered(2)
     assert taken(inputs, 0.0) == ['grab']
 
 

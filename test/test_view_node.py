@@ -128,8 +128,9 @@ def test_a_grab_right_after_a_release_goes_once_the_node_answered_it(ros, server
     A release and a grab sent together reach the node in the order sent.
 
     The release is a service call, the grab a message: the node takes the two in no set order
-    when both wait at once (rclpy takes messages first), so the grab waits for the release's
-    answer. Both are sent while nothing spins, and the node finds both waiting.
+    when both wait at once (rclpy's SingleThreadedExecutor, this test's, takes the message
+    first), so the grab waits for the release's answer. They are sent while nothing spins: the
+    grab, sent with the release, would be waiting beside it.
     """
     node = _node(ros)
     view = _view(ros, server)
@@ -139,7 +140,8 @@ def test_a_grab_right_after_a_release_goes_once_the_node_answered_it(ros, server
     assert ros.spin_until(lambda: node.simulation.target is not None)
     grab = world_point(view.latest_pose(), (-0.1, -0.1, 0.0))
     view.send([Action(RELEASE), Action(GRAB, grab)], view._now_ns())
-    time.sleep(0.1)  # both delivered before the node's next wait
+    assert view.outbox.waiting == 1  # the grab, behind the release
+    time.sleep(0.1)  # the release delivered before the node's next wait
     assert ros.spin_until(
         lambda: view.scene.reply.content == '/mouse_constraint/release: released')
     assert ros.spin_until(lambda: node.simulation.target is not None)
@@ -148,6 +150,7 @@ def test_a_grab_right_after_a_release_goes_once_the_node_answered_it(ros, server
     view.release()
     _drag(view, 'start', start=world_point(view.latest_pose(), local))
     view._run_work()  # the press, queued by viser's thread, handled at once
+    assert view.outbox.waiting == 1
     time.sleep(0.1)
     assert ros.spin_until(lambda: np.allclose(node.get_parameter('anchor').value, local,
                                               atol=1e-6))

@@ -64,17 +64,6 @@ class InputPacer(Generic[Item]):
         """Return the kinds of the inputs waiting for their slots, oldest first."""
         return [kind for kind, _ in self._waiting]
 
-    def offer(self, kind: str, item: Item, now: float) -> Optional[Tuple[str, Item]]:
-        """
-        Queue an input; return the one that goes at ``now`` (s), if any, with its kind.
-
-        :param kind: GRAB, TARGET or RELEASE.
-        :param item: what goes to the node for it.
-        :param now: the time (s).
-        """
-        self.add(kind, item)
-        return self.flush(now)
-
     def add(self, kind: str, item: Item) -> None:
         """
         Queue an input, dropping what it makes moot (see the module); nothing goes.

@@ -254,11 +254,9 @@ class MouseMarkerNode(Node):
                                       'the node running?): the body stays held')
             return
         release = self.release_gate.released(now)
-
-        def answered(_done) -> None:
-            self.release_gate.answered(release)
-            self._send_ready(self._monotonic())
-        self.release_client.call_async(Trigger.Request()).add_done_callback(answered)
+        # What waits goes at the next work (WORK_PERIOD), not from the future's callback.
+        self.release_client.call_async(Trigger.Request()).add_done_callback(
+            lambda _done: self.release_gate.answered(release))
 
     def destroy_node(self) -> None:
         """Stop the timers, then destroy the node."""

@@ -16,8 +16,9 @@
 Inputs sent after a release go once the node answered it (no ROS here).
 
 A release is a call to the node's ``~/release``, a grab or a target a message on a topic, and
-the node takes a request and a message that wait at once in no set order (rclpy's executor takes
-messages first). A grab sent right after a release, a press right after letting go, or the next
+the node takes a request and a message that wait at once in no set order: they come on two DDS
+readers, and rclpy's SingleThreadedExecutor takes a waiting message first. A grab sent right
+after a release, a press right after letting go, or the next
 segment of a drag that came late, could then be taken first and be undone by the release: the
 body would fly free in the hand that holds it. ``ReleaseOrder`` keeps what comes after a
 release until the node answered it, or ``wait`` seconds passed (a node that stopped answering),
@@ -100,8 +101,8 @@ class ReleaseOrder(Generic[Item]):
         """
         Return the oldest item if it may go at ``at`` (s), else None.
 
-        A release that goes closes the gate from ``at`` on; its number is ``gate.sent``, to
-        pass to ``gate.answered`` with the node's answer.
+        A release that goes closes the gate from ``at`` on; its number is ``sent``, to pass to
+        ``answered`` with the node's answer.
         """
         if not self._items or not self.gate.is_open(at):
             return None
@@ -109,3 +110,12 @@ class ReleaseOrder(Generic[Item]):
         if self._is_release(item):
             self.gate.released(at)
         return item
+
+    @property
+    def sent(self) -> int:
+        """Return the number of the last release taken (0: none)."""
+        return self.gate.sent
+
+    def answered(self, release: int) -> None:
+        """Take the node's answer to release number ``release`` (``ReleaseGate.answered``)."""
+        self.gate.answered(release)

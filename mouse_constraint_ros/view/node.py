@@ -180,9 +180,9 @@ class MouseViewNode(Node):
                 work()
             except Exception as error:  # A gesture or button must never end the view.
                 self.get_logger().error(f'{type(error).__name__}: {error}')
-        # After the queue: an end's next segment queued meanwhile goes on with its drag.
+        # After the queue: an end's next segment queued meanwhile goes on with its drag. What
+        # waited on a release goes too, once the node answered it or the wait ran out.
         self.send(self.gestures.due(self._monotonic()), self._now_ns())
-        self._send_ready()  # what waited on a release the node did not answer in time
 
     def _bind_scene(self) -> None:
         scene = self.scene
@@ -242,7 +242,7 @@ class MouseViewNode(Node):
         Publish grabs and targets stamped ``stamp_ns``, call ``~/release`` for a release.
 
         In the order given, after what waits already: what follows a release goes once the
-        node answered it (``ReleaseOrder``).
+        node answered it (``ReleaseOrder``), at the next work after the answer.
         """
         self.outbox.add((action, stamp_ns) for action in actions)
         self._send_ready()
@@ -251,19 +251,16 @@ class MouseViewNode(Node):
         while (item := self.outbox.take(self._monotonic())) is not None:
             action, stamp_ns = item
             if action.kind == RELEASE:
-                release = self.outbox.gate.sent
-                if not self.call(RELEASE_SERVICE, on_answer=lambda: self._answered(release)):
-                    self.outbox.gate.answered(release)
+                release = self.outbox.sent
+                if not self.call(RELEASE_SERVICE,
+                                 on_answer=lambda: self.outbox.answered(release)):
+                    self.outbox.answered(release)
                 continue
             message = point_message(action.point, self.parameters.frame_id, stamp_ns)
             (self.grab_publisher if action.kind == GRAB else self.target_publisher).publish(
                 message)
             if action.kind == GRAB:
                 self.scene.grabbed()
-
-    def _answered(self, release: int) -> None:
-        self.outbox.gate.answered(release)
-        self._send_ready()
 
     def call(self, service: str, data: Optional[bool] = None, *,
              on_answer: Optional[Callable[[], None]] = None) -> bool:
@@ -272,7 +269,8 @@ class MouseViewNode(Node):
 
         :param service: the service's name (private to the node).
         :param data: the request's ``data`` (SetBool).
-        :param on_answer: called once the node answered, after the page shows it.
+        :param on_answer: called once the node answered, after the page shows it (also when
+            that fails).
         :returns: whether the call went out (False: no such service).
         """
         client = self._node_services[service]
@@ -286,11 +284,13 @@ class MouseViewNode(Node):
         future = client.call_async(request)
 
         def answered(done) -> None:
-            response = done.result()
-            if response is not None:
-                self.scene.show_reply(f'{name}: {response.message}')
-            if on_answer is not None:
-                on_answer()
+            try:
+                response = done.result()
+                if response is not None:
+                    self.scene.show_reply(f'{name}: {response.message}')
+            finally:
+                if on_answer is not None:
+                    on_answer()
         future.add_done_callback(answered)
         return True
 
