@@ -3,13 +3,13 @@
 #   make venv   create/update .venv (only when requirements/setup files changed)
 #   make test   run the test suite with pytest (every tier: unit, ros, system, and browser
 #               when /usr/bin/chromium is there). On a fresh clone of this 2-core AMD EPYC,
-#               `.ci/run` (making the venv, about 15 s, included) takes 3 min 42 s to 5 min 23 s
-#               (ten runs of one day, the machine's speed varying): 1 min 16 s to 2 min 10 s for
-#               the unit and ros tiers (a worker per core; pure CPU, it varies most), 40 s to 62 s
-#               for the system tests that wait on their processes (two workers per core) and
-#               1 min 30 s to 1 min 54 s for those marked alone.
-#   make test-unit  only the unit tier (pure code, no rclpy context, no process): 43 s on the
-#               Xeon, 53 s to 59 s on the AMD EPYC
+#               `.ci/run` (making the venv, about 15 s, included) takes 3 min 39 s to 3 min 58 s
+#               (four runs on two days; the machine's speed varies from day to day): 1 min 16 s
+#               to 1 min 19 s for the unit and ros tiers (a worker per core; pure CPU, it varies
+#               most), 39 s to 44 s for the system tests that wait on their processes (two
+#               workers per core) and 1 min 30 s to 1 min 31 s for those marked alone.
+#   make test-unit  only the unit tier (pure code, no rclpy context, no process): 33 s on the
+#               AMD EPYC
 #   make test-browser  only the browser tier (headless chromium on mouse_view)
 #   make test-loaded   make test RUNS times (3) while a process keeps a core busy
 #   make lint   flake8 (ament_flake8 settings, see .flake8)
