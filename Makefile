@@ -2,14 +2,15 @@
 #
 #   make venv   create/update .venv (only when requirements/setup files changed)
 #   make test   run the test suite with pytest (every tier: unit, ros, system, and browser
-#               when /usr/bin/chromium is there). On a fresh clone of this 2-core AMD EPYC,
-#               `.ci/run` (making the venv, about 15 s, included) takes 3 min 39 s to 3 min 58 s
-#               (four runs on two days; the machine's speed varies from day to day): 1 min 16 s
-#               to 1 min 19 s for the unit and ros tiers (a worker per core; pure CPU, it varies
-#               most), 39 s to 44 s for the system tests that wait on their processes (two
-#               workers per core) and 1 min 30 s to 1 min 31 s for those marked alone.
+#               when /usr/bin/chromium is there). On a fresh clone, `.ci/run` (making the venv,
+#               about 15 s, included) takes 3 min 39 s to 3 min 58 s on a 2-core Intel Xeon
+#               (two runs; the machine here changes from day to day, its speed up to 3x):
+#               1 min 16 s for the unit and ros tiers (a worker per core; pure CPU, it varies
+#               most), 39 s to 40 s for the system tests that wait on their processes (two
+#               workers per core) and 1 min 30 s for those marked alone; 4 min 06 s to 4 min 13 s
+#               with one core kept busy (make test-loaded, three runs).
 #   make test-unit  only the unit tier (pure code, no rclpy context, no process): 33 s on the
-#               AMD EPYC
+#               Intel Xeon
 #   make test-browser  only the browser tier (headless chromium on mouse_view)
 #   make test-loaded   make test RUNS times (3) while a process keeps a core busy
 #   make lint   flake8 (ament_flake8 settings, see .flake8)
