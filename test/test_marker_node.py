@@ -380,9 +380,9 @@ def test_a_press_right_after_a_release_grabs_once_the_node_answered_the_release(
 
     The node takes a request and a message that wait at once in no set order (rclpy's
     SingleThreadedExecutor, this test's, takes the message first), so a grab sent one slot after
-    the release would be undone by it. Here
-    the release and the press come in consecutive slots while nothing spins; the node finds the
-    release waiting, answers it, and only then gets the grab.
+    the release would be undone by it. Here the release and the press come in consecutive slots
+    while nothing spins; the node finds the release waiting, answers it, and only then gets the
+    grab.
     """
     clock = FakeClock()
     node, marker, rviz = _nodes(ros, marker_clock=clock)

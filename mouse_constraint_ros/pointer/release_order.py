@@ -18,13 +18,12 @@ Inputs sent after a release go once the node answered it (no ROS here).
 A release is a call to the node's ``~/release``, a grab or a target a message on a topic, and
 the node takes a request and a message that wait at once in no set order: they come on two DDS
 readers, and rclpy's SingleThreadedExecutor takes a waiting message first. A grab sent right
-after a release, a press right after letting go, or the next
-segment of a drag that came late, could then be taken first and be undone by the release: the
-body would fly free in the hand that holds it. ``ReleaseOrder`` keeps what comes after a
-release until the node answered it, or ``wait`` seconds passed (a node that stopped answering),
-and then lets it go in the order it came. ``ReleaseGate`` is the wait alone, for inputs queued
-elsewhere (the marker's ``InputPacer``). Time comes from the caller, in seconds of a monotonic
-clock.
+after a release, a press right after letting go, or the next segment of a drag that came late,
+could then be taken first and be undone by the release: the body would fly free in the hand
+that holds it. ``ReleaseOrder`` keeps what comes after a release until the node answered it, or
+``wait`` seconds passed (a node that stopped answering), and then lets it go in the order it
+came. ``ReleaseGate`` is the wait alone, for inputs queued elsewhere (the marker's
+``InputPacer``). Time comes from the caller, in seconds of a monotonic clock.
 """
 
 from collections import deque
