@@ -7,8 +7,9 @@
 #               (four runs; the machine here changes from day to day, its speed up to 3x):
 #               1 min 15 s to 1 min 17 s for the unit and ros tiers (a worker per core; pure
 #               CPU, it varies most), 39 s to 40 s for the system tests that wait on their
-#               processes (two workers per core) and 1 min 30 s to 1 min 32 s for those marked alone;
-#               4 min 06 s to 4 min 13 s with one core kept busy (make test-loaded, three runs).
+#               processes (two workers per core) and 1 min 30 s to 1 min 32 s for those marked
+#               alone; 4 min 06 s to 4 min 13 s with one core kept busy (make test-loaded, three
+#               runs).
 #   make test-unit  only the unit tier (pure code, no rclpy context, no process): 33 s on the
 #               Intel Xeon
 #   make test-browser  only the browser tier (headless chromium on mouse_view)
