@@ -33,6 +33,7 @@ import pytest
 from rclpy.parameter import Parameter
 
 from mouse_constraint_ros.cli import record as recorder, target as target_cli
+from mouse_constraint_ros.description import BodyGeometry
 from mouse_constraint_ros.inputs.grab import grab
 from mouse_constraint_ros.inputs.target_gate import TargetGate
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
@@ -251,7 +252,7 @@ def test_grab_off_the_body_is_refused_with_its_distance(ros, resting_node, point
                                       *(repr(c) for c in point), '--timeout', str(LONG)])
     ros.spin_for(0.2)
     landed = grab(resting_node.simulation.state,
-                  resting_node.get_parameter('box_size').value, point)
+                  BodyGeometry.box(resting_node.get_parameter('box_size').value), point)
     margin = resting_node.get_parameter('grab_margin').value
     assert landed.distance > margin
     assert result.returncode == 1, result.stderr

@@ -32,6 +32,8 @@ def yaml_literal(value) -> str:
         return str(value).lower()
     if isinstance(value, float) and math.isinf(value):
         return '.inf'
+    if value == '':
+        return "''"
     return str(value)
 
 

@@ -30,6 +30,7 @@ from rclpy.node import Node
 from scipy.spatial.transform import Rotation
 from visualization_msgs.msg import MarkerArray
 
+from mouse_constraint_ros.description import BodyGeometry
 from mouse_constraint_ros.inputs.grab import box_distance, grab, to_body_frame
 from mouse_constraint_ros.inputs.target_gate import TargetGate
 from mouse_constraint_ros.node.parameters import DEFAULTS
@@ -37,6 +38,7 @@ from mouse_constraint_ros.physics import BodyState
 from mouse_constraint_ros.testing import InputRefused
 
 BOX = (0.4, 0.2, 0.1)
+BOX_SHAPE = BodyGeometry.box(BOX)
 HALF = np.array(BOX) / 2.0
 MARGIN = DEFAULTS['grab_margin']
 CONFIGURED = [0.2, 0.1, 0.05]
@@ -106,9 +108,9 @@ def test_body_frame_inverts_the_pose():
 def test_grab_is_taken_exactly_within_the_margin():
     """A point taken or not depending on whether its distance is at most the margin."""
     for local in ON_BODY:
-        assert grab(STATE, BOX, world(local)).taken(MARGIN), local
+        assert grab(STATE, BOX_SHAPE, world(local)).taken(MARGIN), local
     for local in OFF_BODY:
-        landed = grab(STATE, BOX, world(local))
+        landed = grab(STATE, BOX_SHAPE, world(local))
         assert not landed.taken(MARGIN), local
         assert landed.taken(landed.distance)
 
@@ -351,9 +353,9 @@ def test_a_corner_exactly_on_the_box_is_taken_at_margin_zero():
         state = BodyState(tuple(rng.uniform(-5.0, 5.0, 3)), orientation).validated()
         for signs in itertools.product((-1.0, 1.0), repeat=3):
             corner = tuple(float(s * h) for s, h in zip(signs, HALF))
-            assert grab(state, BOX, state.world_point(corner)).taken(0.0), (state, corner)
+            assert grab(state, BOX_SHAPE, state.world_point(corner)).taken(0.0), (state, corner)
             out = tuple(c + 1e-3 * s for c, s in zip(corner, signs))
-            assert not grab(state, BOX, state.world_point(out)).taken(0.0)
+            assert not grab(state, BOX_SHAPE, state.world_point(out)).taken(0.0)
 
 
 def test_a_refusal_shows_the_digits_that_tell_value_and_bound_apart(simulated_body_factory):

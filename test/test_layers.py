@@ -25,18 +25,24 @@ PACKAGE = Path(__file__).resolve().parent.parent / 'mouse_constraint_ros'
 ALLOWED = {
     'physics': {'physics'},
     'timing': {'timing'},
-    'inputs': {'inputs', 'physics'},
+    # The body's description: a URDF link to mass, inertia and shapes (yourdfpy, trimesh).
+    'description': {'description', 'physics'},
+    'inputs': {'inputs', 'physics', 'description'},
     'wire': {'wire', 'physics', 'timing'},
-    'monitoring': {'monitoring', 'physics', 'wire'},
-    'node': {'node', 'physics', 'timing', 'inputs', 'wire', 'monitoring'},
-    'recording': {'recording', 'physics', 'timing', 'inputs', 'wire'},
-    'cli': {'cli', 'physics', 'timing', 'inputs', 'wire', 'recording', 'node/parameters.py'},
+    'monitoring': {'monitoring', 'physics', 'description', 'wire'},
+    'node': {'node', 'physics', 'description', 'timing', 'inputs', 'wire', 'monitoring'},
+    'recording': {'recording', 'physics', 'description', 'timing', 'inputs', 'wire'},
+    'cli': {'cli', 'physics', 'description', 'timing', 'inputs', 'wire', 'recording',
+            'node/parameters.py', 'node/body_parameters.py'},
     # The pointer on the body and the node it drags, shared by the web view and the RViz marker.
-    'pointer': {'pointer', 'physics', 'wire'},
+    'pointer': {'pointer', 'physics', 'description', 'wire'},
     # The two tools import neither each other: what they share is pointer/.
-    'view': {'view', 'pointer', 'physics', 'timing', 'inputs', 'wire', 'monitoring'},
-    'marker': {'marker', 'pointer', 'physics', 'timing', 'inputs', 'wire', 'monitoring'},
-    'testing': {'testing', 'node', 'physics', 'timing', 'inputs', 'wire', 'monitoring'},
+    'view': {'view', 'pointer', 'physics', 'description', 'timing', 'inputs', 'wire',
+             'monitoring'},
+    'marker': {'marker', 'pointer', 'physics', 'description', 'timing', 'inputs', 'wire',
+               'monitoring'},
+    'testing': {'testing', 'node', 'physics', 'description', 'timing', 'inputs', 'wire',
+                'monitoring'},
 }
 
 

@@ -32,6 +32,7 @@ LOCAL = {'mouse_constraint_ros', 'test_support', 'bench', 'conftest'}
 PYTHON_KEYS = {'numpy': 'python3-numpy', 'yaml': 'python3-yaml', 'scipy': 'python3-scipy',
                'matplotlib': 'python3-matplotlib', 'hypothesis': 'python3-hypothesis',
                'pytest': 'python3-pytest', 'PIL': 'python3-pil',
+               'lxml': 'python3-lxml', 'trimesh': 'python3-trimesh', 'rtree': 'python3-rtree',
                'mcap': 'mcap-ros2-support', 'mcap_ros2': 'mcap-ros2-support',
                # test_lint.py runs flake8 in-process: ament_flake8 brings it with its plugins.
                'flake8': 'ament_flake8'}
@@ -43,7 +44,8 @@ OPTIONAL = {'mcap', 'pytest'}
 # package.xml names it in a comment and the ROS-native route installs it with pip
 # (requirements/view.txt). websockets and msgspec come with it: the view bounds viser's
 # websocket server, and the view's tests speak its protocol.
-UNKEYED = {'viser', 'websockets', 'msgspec'}
+# yourdfpy (the URDF parser) has no rosdep key either: package.xml says to pip-install it.
+UNKEYED = {'viser', 'websockets', 'msgspec', 'yourdfpy'}
 
 
 def imported(paths) -> set:

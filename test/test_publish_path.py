@@ -131,7 +131,7 @@ def test_publish_ticks_refuse_a_rate_outside_zero_or_the_tick_rate(publish_rate_
     ({'publish_rate_hz': math.nan}, 'publish_rate_hz must be finite'),
     ({'publish_tf': 1}, 'publish_tf must be true or false'),
     ({'publish_odometry': 'yes'}, 'publish_odometry must be true or false'),
-    ({'body_frame_id': ''}, 'body_frame_id must be a non-empty string'),
+    ({'body_frame_id': 7}, 'body_frame_id must be a string, got 7'),
     ({'body_frame_id': '/body'}, "body_frame_id must not start with a slash.*use 'body'"),
     ({'body_frame_id': 'world'}, 'body_frame_id must differ from frame_id'),
 ])

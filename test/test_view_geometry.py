@@ -21,6 +21,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from mouse_constraint_ros.description import BodyGeometry
 from mouse_constraint_ros.inputs.grab import grab
 from mouse_constraint_ros.physics import BodyState
 from mouse_constraint_ros.pointer.geometry import (camera_plane_point, FRAME_FRACTION, framing,
@@ -30,13 +31,14 @@ from mouse_constraint_ros.pointer.gestures import (Action, Camera, Gestures, GRA
                                                    RELEASE, SEGMENT_GAP, TARGET)
 
 BOX = (0.4, 0.2, 0.1)
+BOX_SHAPE = BodyGeometry.box(BOX)
 TURNED = Pose((0.3, -0.2, 1.0), tuple(Rotation.from_euler('zyx', [0.7, -0.3, 0.4]).as_quat()))
 finite = st.floats(-2.0, 2.0, allow_nan=False)
 
 
 def _box_distance(pose: Pose, point) -> float:
     state = BodyState(pose.position, pose.orientation, (0.0,) * 3, (0.0,) * 3)
-    return grab(state, BOX, point).distance
+    return grab(state, BOX_SHAPE, point).distance
 
 
 def test_a_ray_down_the_z_axis_meets_the_top_face():

@@ -29,6 +29,7 @@ from rclpy.node import Node
 
 from ..inputs.grab import grab
 from ..inputs.target_gate import TargetGate
+from ..node.body_parameters import geometry_from
 from ..physics import BodyState
 from ..timing.spin import call_until_answered, StopRequest, wait_until
 from ..wire.interface import POSE_TOPIC, STATE_QOS
@@ -37,7 +38,10 @@ from ..wire.interface import POSE_TOPIC, STATE_QOS
 GATE_PARAMETERS = {'frame_id': ParameterType.PARAMETER_STRING,
                    'workspace_radius': ParameterType.PARAMETER_DOUBLE}
 GRAB_PARAMETERS = {'box_size': ParameterType.PARAMETER_DOUBLE_ARRAY,
-                   'grab_margin': ParameterType.PARAMETER_DOUBLE}
+                   'grab_margin': ParameterType.PARAMETER_DOUBLE,
+                   'robot_description': ParameterType.PARAMETER_STRING,
+                   'body_link': ParameterType.PARAMETER_STRING,
+                   'density': ParameterType.PARAMETER_DOUBLE}
 
 
 def fetch_parameters(node: Node, executor, target_node: str, types: dict, deadline: float,
@@ -101,8 +105,8 @@ def grab_refusal(node: Node, executor, target_node: str, point: List[float], dea
     """
     Return why ``target_node`` would ignore a grab at ``point`` as off its body, or None.
 
-    The node's own test (``grab.grab``) on its latest pose, ``box_size`` and
-    ``grab_margin``.
+    The node's own test (``grab.grab``) on its latest pose, its shape (its URDF link's, or
+    ``box_size``) and ``grab_margin``.
 
     :raises RuntimeError: saying why the body could not be read by ``deadline``.
     :raises Interrupted: on Ctrl-C or SIGTERM.
@@ -110,12 +114,12 @@ def grab_refusal(node: Node, executor, target_node: str, point: List[float], dea
     values = fetch_parameters(node, executor, target_node, GRAB_PARAMETERS, deadline, stop)
     state = fetch_pose(node, executor, deadline, stop)
     margin = values['grab_margin']
-    landed = grab(state, values['box_size'], point)
+    landed = grab(state, geometry_from(values), point)
     if landed.taken(margin):
         return None
     at = ', '.join(f'{c:.3f}' for c in state.position)
     return (f'{tuple(point)}: {landed.distance:.6g} m off the body at ({at}), farther '
-            f'than grab_margin {margin:g} m from its box')
+            f'than grab_margin {margin:g} m from its shape')
 
 
 def parameter_value(value) -> object:

@@ -13,28 +13,31 @@
 # limitations under the License.
 
 """
-Where a grab lands on the body: the distance from a point to the body's box, and the anchor.
+Where a grab lands on the body: the distance from a point to the body's shape, and the anchor.
 
-A grab is a world point, such as one clicked on the body's box in RViz. It is taken when it lies
-on or inside the box of ``box_size`` centred at the COM and turned with the body, or at most
-``margin`` outside it: a click lands on the box as drawn, by markers that trail the latest tick
-and a depth buffer of limited precision. The point, expressed in the body frame, is then the new
-anchor, unchanged (not projected onto the box): its world position is the grabbed point, so the
+A grab is a world point, such as one clicked on the body in RViz or in the browser. It is taken
+when it lies on or inside one of the body's collision pieces (``BodyGeometry.distance``: a URDF
+link's boxes, spheres, cylinders and closed meshes, or the box of ``box_size`` centred at the
+COM) turned with the body, or at most ``margin`` outside: a click lands on the body as drawn,
+by markers that trail the latest tick and a depth buffer of limited precision. The point,
+expressed in the body (link) frame, is then the new anchor, unchanged (not projected onto the
+shape): its world position is the grabbed point, so the
 anchor error C = x + R r - x_mouse (seed eq. 1.1) is zero when the target is set there and
-nothing jumps. Plain floats; no ROS here.
+nothing jumps. No ROS here.
 """
 
 import math
 import sys
 from typing import NamedTuple, Sequence
 
+from ..description.body_geometry import BodyGeometry, box_distance
 from ..physics import BodyState
 from ..physics.algebra import multiply_transposed, rotation_matrix, Vector3
 
 
 def to_body_frame(state: BodyState, point: Sequence[float]) -> Vector3:
     """
-    Return the world ``point`` in the body frame of ``state``: R^T (point - x), from the COM.
+    Return the world ``point`` in the body frame of ``state``: R^T (point - x), from its origin.
 
     :param state: the body's pose (position and unit orientation x y z w).
     :param point: x, y, z in the world frame (m).
@@ -42,20 +45,6 @@ def to_body_frame(state: BodyState, point: Sequence[float]) -> Vector3:
     x, y, z = state.position
     offset = (float(point[0]) - x, float(point[1]) - y, float(point[2]) - z)
     return multiply_transposed(offset, rotation_matrix(state.orientation))
-
-
-def box_distance(local: Sequence[float], box_size: Sequence[float]) -> float:
-    """
-    Return the distance (m) from a body-frame point to the box, 0 on or inside it.
-
-    The box has edges ``box_size`` along the body axes and its centre at the COM: the distance
-    is the norm of the excess of |local_i| over the half edges, where there is one.
-
-    :param local: the point in the body frame, from the COM (m).
-    :param box_size: the box's full edge lengths (m).
-    """
-    excess = [max(0.0, abs(c) - 0.5 * size) for c, size in zip(local, box_size)]
-    return math.hypot(*excess)
 
 
 # The rounding of a world point into the body frame and onto the box, in units of the sizes
@@ -80,14 +69,17 @@ class Grab(NamedTuple):
         return self.distance <= margin + self.rounding
 
 
-def grab(state: BodyState, box_size: Sequence[float], point: Sequence[float]) -> Grab:
+def grab(state: BodyState, geometry: BodyGeometry, point: Sequence[float]) -> Grab:
     """
-    Return the body-frame anchor for the world ``point`` and how far off the box it is.
+    Return the body-frame anchor for the world ``point`` and how far off the body it is.
 
-    :param state: the body's pose when the grab arrives.
-    :param box_size: the box's full edge lengths (m).
+    :param state: the pose of the body's frame (the link's) when the grab arrives.
+    :param geometry: the body's shape in that frame.
     :param point: the grabbed point in the world frame (m), finite.
     """
     local = to_body_frame(state, point)
-    scale = math.hypot(*point) + math.hypot(*state.position) + math.hypot(*box_size)
-    return Grab(local, box_distance(local, box_size), ROUNDING * scale)
+    scale = math.hypot(*point) + math.hypot(*state.position) + math.hypot(*geometry.extents)
+    return Grab(local, geometry.distance(local), ROUNDING * scale)
+
+
+__all__ = ['box_distance', 'grab', 'Grab', 'to_body_frame']

@@ -46,6 +46,7 @@ that is not the anchor.
 import math
 from typing import List, Optional, Sequence
 
+from ..description import BodyGeometry
 from ..inputs.grab import grab
 from ..physics import BodyState
 from ..physics.algebra import Vector3
@@ -93,7 +94,8 @@ class MarkerDrag:
             return []
         local = local_point(hit, shown)
         point = material_point(hit, shown=shown, now=now)
-        if not grab(BodyState(now.position, now.orientation), box_size, point).taken(margin):
+        if not grab(BodyState(now.position, now.orientation), BodyGeometry.box(box_size),
+                    point).taken(margin):
             self._local = tuple(anchor)
             return []
         self._local = local

@@ -16,14 +16,16 @@
 The floor's parameters: their table rows and the core ``Floor`` they make (no ROS here).
 
 ``parameters.PARAMETERS`` takes ``FLOOR_PARAMETERS`` into the node's one table; ``floor_from``
-builds and validates the floor for ``parameters.node_config``, the collision box being the
-node's ``box_size``. The defaults are the core's (``physics.floor.Floor``): no floor.
+builds and validates the floor for ``parameters.node_config``, the collision geometry being
+the URDF link's pieces or else the node's ``box_size``. The defaults are the core's
+(``physics.floor.Floor``): no floor.
 """
 
-from typing import Any, Mapping, Tuple
+from typing import Any, Mapping, Optional, Tuple
 
 from .timer_limits import FINITE_MAX
 from ..physics.algebra import Vector3
+from ..physics.collision import CollisionShape
 from ..physics.floor import Floor
 from ..physics.limits import MAX_CONTACT_ITERATIONS, MAX_DISTANCE, MAX_FRICTION
 from ..physics.validation import shown
@@ -33,9 +35,9 @@ CORE = Floor()
 # (name, default, description, bounds), as ``parameters.ParameterSpec`` takes them.
 FLOOR_PARAMETERS: Tuple[tuple, ...] = (
     ('floor', False,
-     'A floor: the plane z = floor_height of frame_id, on which the body box (box_size) '
-     'rests, slides and bounces (config/params.yaml turns it on); false: none, the body falls '
-     'for ever.', None),
+     'A floor: the plane z = floor_height of frame_id, on which the body (its URDF collision '
+     'pieces, or the box_size box) rests, slides and bounces (config/params.yaml turns it on); '
+     'false: none, the body falls for ever.', None),
     ('floor_height', 0.0, f'Height of the floor in frame_id (m), within {MAX_DISTANCE:g}.',
      (-MAX_DISTANCE, MAX_DISTANCE)),
     ('friction', CORE.friction,
@@ -59,8 +61,14 @@ FLOOR_PARAMETERS: Tuple[tuple, ...] = (
 )
 
 
-def floor_from(values: Mapping[str, Any], box_size: Vector3) -> Floor:
-    """Return the floor of parameter ``values``; raise ValueError naming the parameter."""
+def floor_from(values: Mapping[str, Any], box_size: Vector3,
+               shape: Optional[CollisionShape] = None) -> Floor:
+    """
+    Return the floor of parameter ``values``; raise ValueError naming the parameter.
+
+    :param box_size: the box body's edges, its collision box where ``shape`` is None.
+    :param shape: a URDF link's collision pieces, from the COM.
+    """
     enabled = values['floor']
     if not isinstance(enabled, bool):
         raise ValueError(f'floor must be true or false, got {shown(enabled)}')
@@ -68,4 +76,4 @@ def floor_from(values: Mapping[str, Any], box_size: Vector3) -> Floor:
                  friction=values['friction'], restitution=values['restitution'],
                  iterations=values['contact_iterations'], margin=values['contact_margin'],
                  slop=values['contact_slop'],
-                 restitution_threshold=values['restitution_threshold'])
+                 restitution_threshold=values['restitution_threshold'], shape=shape)

@@ -139,7 +139,7 @@ class MouseConstraintNode(Node):
         if refusal is not None:
             self._refuse(refusal)
         self._config = config
-        self._anchor = AnchorParameter(self, config.settings.constraint.anchor)
+        self._anchor = AnchorParameter(self, config.anchor)
         self._build(config, transform_broadcaster)
         self._wire()
         self.add_on_set_parameters_callback(self._on_set_parameters)
@@ -171,8 +171,7 @@ class MouseConstraintNode(Node):
                           state_publishers=self._state_publishers, record=record))
         self._controls = SimulatorControls(
             ticker=ticker, simulation=simulation, target=self._target, wrench=self._wrench,
-            restore_anchor=lambda: self._anchor.restore(
-                self._config.settings.constraint.anchor),
+            restore_anchor=lambda: self._anchor.restore(self._config.anchor),
             hold_initial_anchor=lambda: self._config.hold_initial_anchor)
         self._monitors = Monitors(node=self, ticker=ticker, simulation=simulation,
                                   target=self._target, wrench=self._wrench,
@@ -256,7 +255,7 @@ class MouseConstraintNode(Node):
         if refusal is not None:
             return SetParametersResult(successful=False, reason=refusal)
         previous, self._config = self._config, config
-        anchor = config.settings.constraint.anchor
+        anchor = config.anchor
         self._anchor.changed(changes, anchor)
         self._simulation.configure(config.settings, config.initial_state)
         self._target.configure(config)

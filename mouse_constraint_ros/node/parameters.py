@@ -27,10 +27,13 @@ h = 1 / (rate_hz substeps) from 1e-7 s to 1 s (within the core's MIN_STEP..MAX_S
 import math
 from typing import Any, Mapping, NamedTuple, Optional, Tuple
 
+from .body_parameters import body_from, BODY_PARAMETERS, BodyFrame
 from .floor_parameters import floor_from, FLOOR_PARAMETERS
+from .frame_parameters import frames_from
 from .haptic_parameters import HAPTIC_PARAMETERS, soft_mode
 from .timer_limits import FINITE_MAX, MIN_REAL_TIME_FACTOR, MIN_TIMER_RATE, off_or_at_least
-from ..physics import BodyState, MouseConstraint, RigidBody, Settings
+from ..description import BodyGeometry
+from ..physics import BodyState, MouseConstraint, Settings
 from ..physics.algebra import Vector3
 from ..physics.limits import (MAX_ACCELERATION, MAX_CONDITION, MAX_DISTANCE, MAX_MASS, MAX_MOMENT,
                               MIN_MASS, MIN_MOMENT)
@@ -77,11 +80,13 @@ PARAMETERS = (
                   'gyroscopic step multiplies three of them), the largest at most '
                   f'{MAX_CONDITION:g} times the smallest.'),
     ParameterSpec('anchor', [0.2, 0.1, 0.05],
-                  f'Dragged point in the body frame, from the COM (m), at most {MAX_DISTANCE:g} m '
-                  f'and with 1 + mass |anchor|^2 / I_min <= {MAX_CONDITION:g}, the condition '
-                  'number of the effective mass the step solves.'),
+                  'Dragged point in the body frame (the link frame with robot_description, '
+                  f"else from the box's COM) (m), at most {MAX_DISTANCE:g} m from the COM and "
+                  f'with 1 + mass |r|^2 / I_min <= {MAX_CONDITION:g} for r from the COM, the '
+                  'condition number of the effective mass the step solves.'),
     ParameterSpec('initial_position', [0.0, 0.0, 1.0],
-                  'COM position at start and after ~/reset (m, frame_id), at most '
+                  "Body frame position (the box's COM, or the link frame) at start and after "
+                  '~/reset (m, frame_id), at most '
                   f'{MAX_DISTANCE:g} m from the origin.'),
     ParameterSpec('initial_orientation', [0.0, 0.0, 0.0, 1.0],
                   'Orientation at start and after ~/reset, unit quaternion x y z w.'),
@@ -122,8 +127,9 @@ PARAMETERS = (
                   'Anchor error (m) from which /diagnostics reports ERROR, >= '
                   'diagnostics_anchor_warn.', (0.0, FINITE_MAX)),
     ParameterSpec('grab_margin', 0.01,
-                  'A grab within this distance (m) of the body box (box_size at the pose) is '
-                  'taken, for clicks on markers that trail the body; farther ones are ignored.',
+                  'A grab within this distance (m) of the body (its collision pieces, or the '
+                  'box_size box, at the pose) is taken, for clicks on markers that trail the '
+                  'body; farther ones are ignored.',
                   (0.0, MAX_DISTANCE)),
     ParameterSpec('publish_rate_hz', 0.0,
                   'Rate of pose, twist, TF and odometry (Hz); 0 = every tick, else at most '
@@ -138,9 +144,10 @@ PARAMETERS = (
     ParameterSpec('publish_odometry', False,
                   'Publish nav_msgs/Odometry on odom at the publish rate: pose in frame_id, '
                   'twist in body_frame_id (the body frame), zero covariances.'),
-    ParameterSpec('body_frame_id', 'body',
-                  'Frame attached to the body at its COM: the child of TF and of odometry. Not '
-                  'empty, no leading slash, not frame_id.'),
+    ParameterSpec('body_frame_id', '',
+                  "Frame of the body, the child of TF and of odometry: empty = body_link's name "
+                  "with robot_description (RViz's RobotModel draws the link on it), else "
+                  '"body", at the box\'s COM. No leading slash, not frame_id.'),
     ParameterSpec('publish_clock', False,
                   'Be the time source: publish /clock at every tick and stamp everything with '
                   'the simulated time (from 0), paced by real_time_factor; refused with '
@@ -179,7 +186,8 @@ PARAMETERS = (
     ParameterSpec('target_feed_forward', True,
                   'Estimate the velocity of a stream of targets (a drag) from their stamps or '
                   'arrival times and let the joint follow it, so a drag does not lag.'),
-) + tuple(ParameterSpec(*spec) for spec in FLOOR_PARAMETERS + HAPTIC_PARAMETERS)
+) + tuple(ParameterSpec(*spec) for spec in
+          BODY_PARAMETERS + FLOOR_PARAMETERS + HAPTIC_PARAMETERS)
 
 DEFAULTS = {p.name: p.default for p in PARAMETERS}
 
@@ -210,6 +218,13 @@ class NodeConfig(NamedTuple):
     wrench_timeout: float = 0.5
     max_wrench_force: float = 1000.0
     max_wrench_torque: float = 100.0
+    geometry: BodyGeometry = BodyGeometry.box((0.4, 0.2, 0.1))
+    body_frame: BodyFrame = BodyFrame()
+
+    @property
+    def anchor(self) -> Vector3:
+        """Return the anchor as the ``anchor`` parameter gives it: in the body (link) frame."""
+        return self.body_frame.link_point(self.settings.constraint.anchor)
 
     def initial_anchor(self) -> Vector3:
         """Return the anchor's world position in the initial state."""
@@ -237,16 +252,11 @@ def _configuration_from(values: Mapping[str, Any]) -> NodeConfig:
     if isinstance(substeps, int) and substeps > most:
         raise ValueError(f'substeps must be <= {most}, got {substeps}')
     box_size = finite_vector('box_size', values['box_size'])
-    inertia = finite_vector('inertia', values['inertia'], 6)
-    if any(inertia):
-        body = RigidBody(values['mass'], inertia)
-        body_name = f'body of inertia {shown(inertia)} and mass'
-    else:
-        body = RigidBody.solid_box(values['mass'], box_size, name='box_size')
-        body_name = f'solid box of box_size {shown(box_size)} and mass'
+    body, geometry, frame, body_name = body_from(values)
     frequency_hz, damping_ratio = soft_mode(values)
+    anchor = finite_vector('anchor', values['anchor'])
     constraint = MouseConstraint(
-        anchor=values['anchor'], baumgarte=values['baumgarte'],
+        anchor=frame.physics_point(anchor), baumgarte=values['baumgarte'],
         frequency_hz=frequency_hz, damping_ratio=damping_ratio,
         max_force=values['max_force'], max_force_per_weight=values['max_force_per_weight'],
         angular_friction=values['angular_friction'],
@@ -258,16 +268,13 @@ def _configuration_from(values: Mapping[str, Any]) -> NodeConfig:
     settings = Settings(body, constraint, gravity=values['gravity'],
                         linear_damping=values['linear_damping'],
                         angular_damping=values['angular_damping'], substeps=substeps,
-                        target_motion=motion, floor=floor_from(values, box_size))
-    initial_state = BodyState(values['initial_position'],
-                              values['initial_orientation']).validated(prefix='initial_')
+                        target_motion=motion, floor=floor_from(
+                            values, box_size, geometry.collision_shape()
+                            if values['robot_description'] else None))
+    initial_state = frame.physics_state(BodyState(
+        values['initial_position'], values['initial_orientation']).validated(prefix='initial_'))
     settings.floor.check_state(initial_state.position, initial_state.orientation)
-    frame_id = values['frame_id']
-    if not isinstance(frame_id, str) or not frame_id:
-        raise ValueError(f'frame_id must be a non-empty string, got {shown(frame_id)}')
-    if frame_id.startswith('/'):
-        raise ValueError(f'frame_id must not start with a slash, got {shown(frame_id)}: tf2 '
-                         f'refuses such frame ids (use {shown(frame_id.lstrip("/"))})')
+    frame_id, body_frame_id = frames_from(values, geometry.link)
     hold = _flag(values, 'hold_initial_anchor')
     anchor_warn = scalar('diagnostics_anchor_warn', values['diagnostics_anchor_warn'], above=0.0)
     anchor_error = scalar('diagnostics_anchor_error', values['diagnostics_anchor_error'],
@@ -289,32 +296,23 @@ def _configuration_from(values: Mapping[str, Any]) -> NodeConfig:
         diagnostics_anchor_error=anchor_error,
         grab_margin=scalar('grab_margin', values['grab_margin'], at_least=0.0,
                            at_most=MAX_DISTANCE),
-        **_publishing(values, rate_hz, frame_id),
+        body_frame_id=body_frame_id,
+        **_publishing(values, rate_hz),
         **_simulator_controls(values),
+        geometry=geometry,
+        body_frame=frame,
     )
 
 
-def _publishing(values: Mapping[str, Any], rate_hz: float, frame_id: str) -> dict:
-    """Return the checked publish_rate_hz, body_frame_id and the publishing switches."""
+def _publishing(values: Mapping[str, Any], rate_hz: float) -> dict:
+    """Return the checked publish_rate_hz and the publishing switches."""
     publish_rate = scalar('publish_rate_hz', values['publish_rate_hz'], at_least=0.0)
     if publish_rate > rate_hz:
         raise ValueError(f'publish_rate_hz must be 0.0 (every tick) or within (0, rate_hz] = '
                          f'(0, {rate_hz!r}], got {publish_rate!r}')
-    switches = {}
-    for name in ('publish_tf', 'publish_odometry', 'publish_force'):
-        if not isinstance(values[name], bool):
-            raise ValueError(f'{name} must be true or false, got {shown(values[name])}')
-        switches[name] = values[name]
-    body = values['body_frame_id']
-    if not isinstance(body, str) or not body:
-        raise ValueError(f'body_frame_id must be a non-empty string, got {shown(body)}')
-    if body.startswith('/'):
-        raise ValueError(f'body_frame_id must not start with a slash, got {shown(body)}: tf2 '
-                         f'refuses such frame ids (use {shown(body.lstrip("/"))})')
-    if body == frame_id:
-        raise ValueError(f'body_frame_id must differ from frame_id, both are {shown(body)}: '
-                         'tf2 refuses a transform from a frame to itself')
-    return {'publish_rate_hz': publish_rate, 'body_frame_id': body, **switches}
+    switches = {name: _flag(values, name)
+                for name in ('publish_tf', 'publish_odometry', 'publish_force')}
+    return {'publish_rate_hz': publish_rate, **switches}
 
 
 def _simulator_controls(values: Mapping[str, Any]) -> dict:

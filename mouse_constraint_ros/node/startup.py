@@ -202,7 +202,7 @@ def describe(config: NodeConfig) -> str:
                 f'{2.0 * mass * constraint.damping_ratio * omega:g} N s/m)')
     motion = s.target_motion
     return (f'{c.rate_hz:g} Hz x {s.substeps} substeps in frame {c.frame_id!r}: '
-            f'mass {s.body.mass:g} kg, inertia {s.body.inertia}, anchor {s.constraint.anchor},'
+            f'{_body(c)}mass {s.body.mass:g} kg, inertia {s.body.inertia}, anchor {c.anchor},'
             f' {mode}, force bound {force_bound(s):g} N, angular friction '
             f'{constraint.angular_friction:g}, guide {motion.max_speed:g} m/s '
             f'{motion.max_acceleration:g} m/s^2, gravity {s.gravity}, damping '
@@ -211,6 +211,13 @@ def describe(config: NodeConfig) -> str:
                 f', publishing at {c.publish_rate_hz:g} Hz' if c.publish_rate_hz else '') + (
                 f', publishing /clock at real time factor {c.real_time_factor:g}'
                 if c.publish_clock else ''))
+
+
+def _body(config: NodeConfig) -> str:
+    """Return the URDF link's part of ``describe``: its name and COM, or nothing for the box."""
+    if config.body_frame.at_com:
+        return ''
+    return f'link {config.geometry.link!r} (COM {config.body_frame.com} m in it), '
 
 
 def _floor(floor) -> str:

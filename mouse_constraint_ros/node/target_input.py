@@ -149,12 +149,13 @@ class TargetInput:
                          f'ignoring grab {refusal.reason}')
             return
         config = self._config
-        landed = grab(self._simulation.state, config.box_size, point)
+        landed = grab(config.body_frame.link_state(self._simulation.state), config.geometry,
+                      point)
         margin = config.grab_margin
         if not landed.taken(margin):
             off, bound = apart(landed.distance, margin)
             reason = (f'{point}: {off} m off the body, farther than grab_margin {bound} m from '
-                      'its box')
+                      'its shape')
             self._refuse(Refusal('grab off body', reason), f'ignoring grab {reason}')
             return
         failure = self._set_anchor(landed.anchor)

@@ -13,26 +13,23 @@
 # limitations under the License.
 
 """
-The floor: the plane z = ``height`` of the world frame, its settings, and where the box meets it.
+The floor: the plane z = ``height`` of the world frame, its settings, and where the body meets it.
 
-The body is a box of ``box_size`` (m) centered on its COM, axes along the body frame. Its
-contact points are the corners within ``margin`` of the plane (at, below or speculatively
-above it); ``floor_contact.solve`` resolves them in the same substep as the mouse constraint.
-docs/contact.md gives the model and why each choice.
+The body's collision shape is ``shape`` (``collision.CollisionShape``: boxes, meshes' convex
+hulls, spheres, cylinders, in the body frame from the COM), or else a box of ``box_size`` (m)
+centered on its COM, axes along the body frame. Its contact points are those within ``margin``
+of the plane (at, below or speculatively above it); ``floor_contact.solve`` resolves them in the
+same substep as the mouse constraint. docs/contact.md gives the model and why each choice.
 """
 
 from dataclasses import dataclass
 import sys
 from typing import Optional, Tuple
 
-from .algebra import Quaternion, Vector3
+from .algebra import Quaternion, rotation_matrix, Vector3
+from .collision import CollisionShape
 from .limits import MAX_CONTACT_ITERATIONS, MAX_DISTANCE, MAX_FRICTION
 from .validation import finite_vector, scalar, shown
-
-# The corners' signs along the box's x, y and z axes, indexed 0..7 (bit 0: x, 1: y, 2: z);
-# warm starting matches the contacts of two substeps by this index.
-CORNER_SIGNS = tuple((-1.0 if i & 1 else 1.0, -1.0 if i & 2 else 1.0, -1.0 if i & 4 else 1.0)
-                     for i in range(8))
 
 
 @dataclass(frozen=True)
@@ -43,7 +40,8 @@ class Floor:
     :param enabled: whether there is a floor.
     :param height: its height z in the world frame (m).
     :param box_size: the body's collision box, full edge lengths along its axes (m), centered
-        on the COM (each > 0 when enabled).
+        on the COM (each > 0 when enabled), when ``shape`` is None.
+    :param shape: the body's collision shape, from the COM; None: the box of ``box_size``.
     :param friction: Coulomb coefficient mu >= 0: the tangential impulse stays within mu times
         the normal one (a cone).
     :param restitution: e in [0, 1]: a corner that hits faster than ``restitution_threshold``
@@ -68,6 +66,7 @@ class Floor:
     margin: float = 0.02
     slop: float = 0.0005
     restitution_threshold: float = 0.5
+    shape: Optional[CollisionShape] = None
 
     def __post_init__(self) -> None:
         """Validate every field; raise ValueError naming the first invalid one."""
@@ -83,6 +82,10 @@ class Floor:
             raise ValueError(f'box_size must be > 0 and at most {MAX_DISTANCE:g} m per edge, '
                              f'got {shown(self.box_size)}')
         object.__setattr__(self, 'box_size', size)
+        if self.shape is None:
+            object.__setattr__(self, 'shape', CollisionShape.box(size))
+        elif not isinstance(self.shape, CollisionShape):
+            raise ValueError(f'shape must be a CollisionShape, got {shown(self.shape)}')
         object.__setattr__(self, 'friction', scalar(
             'friction', self.friction, at_least=0.0, at_most=MAX_FRICTION))
         object.__setattr__(self, 'restitution', scalar(
@@ -102,17 +105,13 @@ class Floor:
             'restitution_threshold', self.restitution_threshold, at_least=0.0))
 
     def depth(self, position: Vector3, orientation: Quaternion) -> float:
-        """Return how far the box's lowest corner is below the plane (m; < 0: above it)."""
-        x, y, z, w = orientation
-        hx, hy, hz = (0.5 * e for e in self.box_size)
-        reach = (abs(2.0 * (x * z - w * y)) * hx + abs(2.0 * (y * z + w * x)) * hy
-                 + abs(1.0 - 2.0 * (x * x + y * y)) * hz)
-        return self.height - (position[2] - reach)
+        """Return how far the body's lowest point is below the plane (m; < 0: above it)."""
+        return self.height - (position[2] - self.shape.reach(rotation_matrix(orientation)))
 
     def check_state(self, position: Vector3, orientation: Quaternion, *,
                     prefix: str = 'initial_') -> None:
         """
-        Raise ValueError if the box at this pose starts below the floor by more than ``slop``.
+        Raise ValueError if the body at this pose starts below the floor by more than ``slop``.
 
         :param prefix: put before ``position`` in the message (the parameter's name).
         """
@@ -122,11 +121,11 @@ class Floor:
         # Up to the rounding of the subtraction: a corner placed exactly ``slop`` deep comes
         # out a few 1e-19 m deeper (0.0495 - 0.05 is not -0.0005 in binary).
         rounding = 8.0 * sys.float_info.epsilon * (
-            abs(self.height) + abs(position[2]) + 0.5 * sum(self.box_size))
+            abs(self.height) + abs(position[2]) + self.shape.bound)
         if depth > self.slop + rounding:
             raise ValueError(
-                f'{prefix}position {shown(tuple(position))} puts the box {depth:.6g} m below '
-                f'floor_height {self.height!r} m (its lowest corner): start it at or above '
+                f'{prefix}position {shown(tuple(position))} puts the body {depth:.6g} m below '
+                f'floor_height {self.height!r} m (its lowest point): start it at or above '
                 'the floor')
 
 
@@ -134,6 +133,5 @@ def coefficients(floor: Floor) -> Optional[Tuple]:
     """Return what the contact solve needs from ``floor`` per substep, or None without one."""
     if not floor.enabled:
         return None
-    hx, hy, hz = (0.5 * e for e in floor.box_size)
-    return (floor.height, hx, hy, hz, floor.friction, floor.restitution, floor.iterations,
+    return (floor.height, floor.shape, floor.friction, floor.restitution, floor.iterations,
             floor.margin, floor.slop, floor.restitution_threshold)

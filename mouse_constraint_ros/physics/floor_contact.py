@@ -13,23 +13,24 @@
 # limitations under the License.
 
 """
-Box-plane contact: sequential impulses with accumulated clamping, warm started, split impulses.
+Body-plane contact: sequential impulses with accumulated clamping, warm started, split impulses.
 
 ``solve`` runs after the velocity stage of a substep (gravity, wrench, the mouse constraint),
 so the floor has the last word on the velocity: a joint pulling the body into the floor is
-held by it. Per contact point r (from the COM, world frame), normal n = z and the tangents x and
-y of the world frame, the velocity of the point is u = v + w x r and an impulse P along a
+held by it. Per contact point r (from the COM, world frame;
+``collision.CollisionShape.contacts``), normal n = z and the tangents x and y of the world
+frame, the velocity of the point is u = v + w x r and an impulse P along a
 direction d changes it by K P, K = 1 / m + (r x d) . I_w^-1 (r x d).
 
-- Normal: the accumulated impulse stays >= 0. A speculative contact (the corner s > 0 above the
-  plane) asks only u_n >= -s / h, so the corner reaches the plane within the substep but does
+- Normal: the accumulated impulse stays >= 0. A speculative contact (the point s > 0 above the
+  plane) asks only u_n >= -s / h, so the point reaches the plane within the substep but does
   not pass it; a touching one (s <= 0) asks u_n >= 0; a contact approaching faster than the
   restitution threshold that reaches the plane in the substep asks u_n >= -e u_n0 (u_n0 its
   velocity before the solve), in a pass after the sweeps (``floor_energy.bounce``).
 - Friction: both tangential impulses together stay within the cone |P_t| <= mu P_n.
 - Sweeps: a contact's friction, then its normal row (``_sweeps``), so that each sweep ends
   with non-penetration met.
-- Warm start: each contact starts from the impulses its corner had in the previous substep;
+- Warm start: each contact starts from the impulses its point had in the previous substep;
   if the sweeps end unconverged with more energy than the substep started with
   (``floor_energy.twice_energy``), the contacts are solved again from zero impulses.
 - Position: penetration deeper than ``slop`` is removed by split impulses, pseudo-velocities
@@ -44,14 +45,13 @@ import math
 from typing import List, Tuple
 
 from . import floor_energy
-from .algebra import congruence, Vector3
-from .floor import CORNER_SIGNS
+from .algebra import congruence, rotation_matrix, Vector3
 from .floor_energy import CONVERGED_SPEED, twice_energy
 
 # Fraction of the penetration beyond the slop that the split impulses remove per substep.
 POSITION_RATE = 0.2
 
-# A contact, as ``solve`` keeps it: corner index, r (x, y, z), separation s, I_w^-1 (r x d) for
+# A contact, as ``solve`` keeps it: contact index, r (x, y, z), separation s, I_w^-1 (r x d) for
 # d = z, x, y (three each), K along z, 1 / K along z, x, y, the normal goal, the accumulated
 # impulses along z, x, y (index 19 to 21; the next substep warm starts from them) and the
 # velocity the contact bounces to (None: it does not bounce).
@@ -60,16 +60,21 @@ Rows = List[list]
 
 def touching(coefficients: Tuple, pz: float, q) -> bool:
     """
-    Return whether the box's lowest corner is within the margin of the plane.
+    Return whether the body's lowest point is within the margin of the plane.
 
-    The reach below the COM is ``Floor.depth``'s, written out on the coefficients: it runs every
-    substep (``test_resting_contacts_carry_the_weight`` and the rest tests see both agree).
+    A body whose bounding ball stays above the margin is not touching, without a look at its
+    pieces; otherwise the reach below the COM is ``Floor.depth``'s (``CollisionShape.reach``).
     """
-    height, hx, hy, hz, _, _, _, margin = coefficients[:8]
+    height, shape, margin = coefficients[0], coefficients[1], coefficients[5]
+    base = pz - height
+    if base - shape.bound > margin:
+        return False
     x, y, z, w = q
-    reach = (abs(2.0 * (x * z - w * y)) * hx + abs(2.0 * (y * z + w * x)) * hy
-             + abs(1.0 - 2.0 * (x * x + y * y)) * hz)
-    return pz - reach <= height + margin
+    rotation = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0 * (x * z - w * y), 2.0 * (y * z + w * x),
+                1.0 - 2.0 * (x * x + y * y))
+    if shape.cylinders:
+        rotation = rotation_matrix(q)
+    return base - shape.reach(rotation) <= margin
 
 
 def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: float, *,
@@ -89,11 +94,12 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
     :param gravity: the gravitational acceleration (m/s^2), for the energy the contacts may
         leave (a bounce's, a warm start's).
     :param warm: the previous substep's contacts (``Rows``), whose impulses the contacts of
-        the same corners start from.
+        the same points start from.
     :returns: (v, w) after the contacts; (v, w) plus the split impulses' pseudo-velocities,
-        for the position update; and the contacts (``Rows``, see ``contact_points``).
+        for the position update; and the contacts (``Rows``, see ``contact_points``), the
+        points of ``collision.CollisionShape.contacts``.
     """
-    (height, hx, hy, hz, friction, restitution, iterations, margin, slop,
+    (height, shape, friction, restitution, iterations, margin, slop,
      threshold) = coefficients
     pz = position[2]
     # R(q), as algebra.rotation_matrix and kernel.velocities write it out.
@@ -104,30 +110,16 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
     rotation = (1.0 - 2.0 * (yy + zz), 2.0 * (xy - wz_), 2.0 * (xz + wy_),
                 2.0 * (xy + wz_), 1.0 - 2.0 * (xx + zz), 2.0 * (yz - wx_),
                 2.0 * (xz - wy_), 2.0 * (yz + wx_), 1.0 - 2.0 * (xx + yy))
-    r00, r01, r02, r10, r11, r12, r20, r21, r22 = rotation
     i00, i01, i02, i11, i12, i22 = congruence(rotation, inverse_inertia)
     im = inverse_mass
     vx, vy, vz = v
     wx, wy, wz = w
     # The speeds of approach are taken before any warm start.
     vz0, wx0, wy0 = vz, wx, wy
-    previous = [None] * 8
-    for row in warm:
-        previous[row[0]] = row
+    previous = {row[0]: row for row in warm}
     rows = []
     bounces = warmed = False
-    # The corners' world offsets are sums of the box's half axes R (hx, 0, 0), ...
-    ux, uy, uz = r00 * hx, r10 * hx, r20 * hx
-    vx_, vy_, vz_ = r01 * hy, r11 * hy, r21 * hy
-    tx_, ty_, tz_ = r02 * hz, r12 * hz, r22 * hz
-    base = pz - height
-    for index, (sx, sy, sz) in enumerate(CORNER_SIGNS):
-        rz = sx * uz + sy * vz_ + sz * tz_
-        s = base + rz
-        if s > margin:
-            continue
-        rx = sx * ux + sy * vx_ + sz * tx_
-        ry = sx * uy + sy * vy_ + sz * ty_
+    for index, rx, ry, rz, s in shape.contacts(rotation, pz - height, margin):
         # I_w^-1 (r x d) and K for d = z, x, y.
         nx, ny, nz = i00 * ry - i01 * rx, i01 * ry - i11 * rx, i02 * ry - i12 * rx
         tx, ty, tz = i01 * rz - i02 * ry, i11 * rz - i12 * ry, i12 * rz - i22 * ry
@@ -142,7 +134,7 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
             bounce = -restitution * approach
         else:
             bounce = None
-        last = previous[index]
+        last = previous.get(index)
         if last is None:
             pn = pt = pb = 0.0
         else:
@@ -270,6 +262,6 @@ def _sweeps(rows: Rows, velocities: Tuple[float, ...], im: float, friction: floa
 
 
 def contact_points(position: Vector3, rows: Rows) -> Tuple[Tuple[int, Vector3, float], ...]:
-    """Return (corner index, world point (m), normal impulse (N s)) of ``solve``'s contacts."""
+    """Return (contact index, world point (m), normal impulse (N s)) of ``solve``'s contacts."""
     px, py, pz = position
     return tuple((row[0], (px + row[1], py + row[2], pz + row[3]), row[19]) for row in rows)

@@ -48,6 +48,22 @@ class BodyState(NamedTuple):
         r = multiply(local, rotation_matrix(self.orientation))
         return (x[0] + r[0], x[1] + r[1], x[2] + r[2])
 
+    def moved(self, offset: Vector3) -> 'BodyState':
+        """
+        Return the state of the frame at body-frame ``offset`` (m) from this one's origin.
+
+        The same orientation and angular velocity; the origin x + R r, and its velocity
+        v + w x R r (a point of the rigid body). The link frame of a URDF body and its COM are
+        two such frames.
+        """
+        r = multiply(offset, rotation_matrix(self.orientation))
+        x, y, z = self.position
+        vx, vy, vz = self.linear_velocity
+        wx, wy, wz = self.angular_velocity
+        return BodyState((x + r[0], y + r[1], z + r[2]), self.orientation,
+                         (vx + wy * r[2] - wz * r[1], vy + wz * r[0] - wx * r[2],
+                          vz + wx * r[1] - wy * r[0]), self.angular_velocity)
+
     def validated(self, *, prefix: str = '') -> 'BodyState':
         """
         Return this state with floats and an exactly unit quaternion, or raise ValueError.

@@ -51,6 +51,7 @@ from .interface import FORCE_QOS, FORCE_TOPIC, ODOM_TOPIC, POSE_TOPIC, STATE_QOS
 from .messages import (body_frame_twist, felt_force, fill_felt_wrench, fill_odometry, fill_pose,
                        fill_transform, fill_twist, set_stamp)
 from ..physics import BodyState, MouseSimulation
+from ..physics.body_frame import BodyFrame
 
 BroadcasterFactory = Callable[[Node], Any]
 
@@ -86,7 +87,7 @@ class StatePublishers:
                  unavailable: Optional[str], frame_id: str, body_frame_id: str,
                  publish_tf: bool, publish_odometry: bool,
                  simulation: Optional[MouseSimulation] = None,
-                 publish_force: bool = False) -> None:
+                 publish_force: bool = False, body_frame: BodyFrame = BodyFrame()) -> None:
         """Create the pose and twist publishers and apply the rest with ``configure``."""
         self._node = node
         self._factory = broadcaster_factory
@@ -108,11 +109,20 @@ class StatePublishers:
         self._send_transform = None
         self.tf_status = ''
         self.configure(frame_id=frame_id, body_frame_id=body_frame_id, publish_tf=publish_tf,
-                       publish_odometry=publish_odometry, publish_force=publish_force)
+                       publish_odometry=publish_odometry, publish_force=publish_force,
+                       body_frame=body_frame)
 
     def configure(self, *, frame_id: str, body_frame_id: str, publish_tf: bool,
-                  publish_odometry: bool, publish_force: bool = False) -> None:
-        """Apply new frames and switches; layouts compile again only if a frame changed."""
+                  publish_odometry: bool, publish_force: bool = False,
+                  body_frame: BodyFrame = BodyFrame()) -> None:
+        """
+        Apply new frames and switches; layouts compile again only if a frame changed.
+
+        :param body_frame: where the published frame (a URDF link's) has the COM: pose, twist,
+            TF and odometry are of that frame, the twist's linear part the velocity of its
+            origin.
+        """
+        self._to_link = None if body_frame.at_com else body_frame.link_state
         self._force_layout.frame_id = frame_id
         self._raw_force = self._force_layout.precompiled
         self._force.header.frame_id = frame_id
@@ -156,6 +166,8 @@ class StatePublishers:
 
     def publish(self, stamp_ns: int, state: BodyState) -> None:
         """Publish the pose, twist and, where on, the transform, odometry and force."""
+        if self._to_link is not None:
+            state = self._to_link(state)
         if self._raw_pose:
             self.pose_publisher.publish(
                 self._pose_layout.pack(stamp_ns, state.position, state.orientation))

@@ -1,0 +1,124 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Mesh files named by a URDF: where they are (``package://``, ``file://``, absolute) and their load.
+
+A ``package://name/path`` is looked up with ``ament_index_python`` (the share directory of
+``name`` on ``AMENT_PREFIX_PATH``), as robot_state_publisher's users expect. Relative paths have
+no base (``robot_description`` is text, not a file) and are refused with the two forms that
+work. trimesh reads the file, bounded: at most ``MAX_MESH_BYTES`` on disk and
+``MAX_MESH_FACES`` triangles, so a stray 100 MB scan cannot stall the node at start.
+"""
+
+import os
+from typing import Callable, Optional
+from urllib.parse import unquote, urlparse
+
+import numpy as np
+import trimesh
+
+# The largest mesh file read (bytes) and the most triangles kept: a collision mesh is a
+# simplified surface; a scan of millions of triangles is decimated first (e.g. in MeshLab).
+MAX_MESH_BYTES = 16 * 1024 * 1024
+MAX_MESH_FACES = 200000
+
+# Finds a ROS package's share directory by name, or raises LookupError.
+PackageFinder = Callable[[str], str]
+
+
+def ament_share(package: str) -> str:
+    """Return the share directory of ``package`` from the ament index, or raise LookupError."""
+    try:
+        from ament_index_python.packages import (get_package_share_directory,
+                                                 PackageNotFoundError)
+    except ImportError as error:  # pragma: no cover - ament_index_python is pinned
+        raise LookupError(f'ament_index_python is not importable ({error})') from None
+    try:
+        return get_package_share_directory(package)
+    except PackageNotFoundError:
+        raise LookupError(f'package {package!r} is not on AMENT_PREFIX_PATH') from None
+    except OSError:
+        raise LookupError('AMENT_PREFIX_PATH is not set (no ROS workspace is sourced)') from None
+
+
+def mesh_path(uri: str, *, find_package: PackageFinder = ament_share) -> str:
+    """
+    Return the file path of a URDF mesh ``filename``; raise ValueError saying how to fix it.
+
+    :param uri: ``package://name/path``, ``file:///abs/path`` or an absolute path.
+    :param find_package: the share directory of a package name (the ament index's).
+    """
+    parsed = urlparse(uri)
+    if parsed.scheme == 'package':
+        try:
+            share = find_package(parsed.netloc)
+        except LookupError as error:
+            raise ValueError(
+                f'mesh {uri!r} cannot be resolved: {error}; source the workspace that '
+                f'installs {parsed.netloc!r} (its share/ holds the mesh) or name the file as '
+                'file:///absolute/path') from None
+        path = os.path.join(share, unquote(parsed.path).lstrip('/'))
+    elif parsed.scheme == 'file':
+        path = unquote(parsed.path)
+    elif not parsed.scheme and os.path.isabs(uri):
+        path = uri
+    else:
+        raise ValueError(
+            f'mesh {uri!r} is neither package://, file:// nor an absolute path: '
+            'robot_description is text with no directory of its own to resolve it against')
+    if not os.path.isfile(path):
+        raise ValueError(f'mesh {uri!r}: no such file {path!r}')
+    return path
+
+
+def load_mesh(uri: str, *, scale=None, closed: bool = True,
+              find_package: PackageFinder = ament_share) -> trimesh.Trimesh:
+    """
+    Return the triangle mesh of a URDF mesh ``filename``, scaled; raise ValueError on a bad one.
+
+    :param uri: the URDF's ``filename``.
+    :param scale: the URDF's ``scale`` (x, y, z), or None.
+    :param closed: refuse a mesh that is not a closed surface (a collision mesh bounds a
+        volume: the grab asks what lies inside, the inertia integrates over it).
+    :param find_package: see ``mesh_path``.
+    """
+    path = mesh_path(uri, find_package=find_package)
+    size = os.path.getsize(path)
+    if size > MAX_MESH_BYTES:
+        raise ValueError(
+            f'mesh {uri!r} is {size / 1e6:.1f} MB, more than the {MAX_MESH_BYTES / 1e6:.1f} MB '
+            'read: simplify it (a collision mesh needs a few thousand triangles)')
+    try:
+        mesh = trimesh.load(path, force='mesh')
+    except Exception as error:  # trimesh raises many kinds on a file it cannot read
+        raise ValueError(f'mesh {uri!r} cannot be read: {_one_line(error)}') from None
+    if not isinstance(mesh, trimesh.Trimesh) or not len(mesh.faces):
+        raise ValueError(f'mesh {uri!r} holds no triangles')
+    if len(mesh.faces) > MAX_MESH_FACES:
+        raise ValueError(f'mesh {uri!r} has {len(mesh.faces)} triangles, more than '
+                         f'{MAX_MESH_FACES}: simplify it')
+    if not np.isfinite(mesh.vertices).all():
+        raise ValueError(f'mesh {uri!r} has non-finite vertices')
+    if scale is not None:
+        mesh.apply_scale(np.asarray(scale, dtype=float))
+    if closed and not mesh.is_watertight:
+        raise ValueError(
+            f'mesh {uri!r} is not a closed surface (it has boundary or non-manifold edges): a '
+            'collision mesh must bound a volume; close it or use its convex hull')
+    return mesh
+
+
+def _one_line(error: Optional[BaseException]) -> str:
+    return ' '.join(str(error).split()) or type(error).__name__

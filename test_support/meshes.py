@@ -1,0 +1,128 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Bodies to test and measure: URDF text for a link, and the meshes its pieces name.
+
+``urdf`` writes one link from its parts; the meshes are made here from closed forms (no file is
+written by hand): ``mug`` (a surface of revolution, closed, that ``config/mug.stl`` is made of:
+``python -m test_support.meshes config/mug.stl``), ``cube``, ``ellipsoid_hull`` (a convex mesh of
+exactly ``count`` hull vertices, the benchmark's) and ``open_box`` (a box with a face missing).
+"""
+
+import math
+from pathlib import Path
+import sys
+from typing import Iterable, Optional, Sequence
+
+import numpy as np
+import trimesh
+
+# The mug: outer radius, wall, height and bottom (m), and the sections of its revolution.
+MUG_RADIUS = 0.04
+MUG_WALL = 0.005
+MUG_HEIGHT = 0.1
+MUG_BOTTOM = 0.008
+MUG_SECTIONS = 48
+
+
+def mug() -> trimesh.Trimesh:
+    """Return a closed mug-like cup, its base on z = 0 and its axis along z."""
+    r, w, h, b = MUG_RADIUS, MUG_WALL, MUG_HEIGHT, MUG_BOTTOM
+    # The profile in (radius, z), closed: out along the base, up the outside, down the inside.
+    profile = np.array([(0.0, 0.0), (r, 0.0), (r, h), (r - w, h), (r - w, b), (0.0, b)])
+    mesh = trimesh.creation.revolve(profile, sections=MUG_SECTIONS)
+    mesh.merge_vertices()
+    return mesh
+
+
+def cube(edge: float) -> trimesh.Trimesh:
+    """Return a cube of ``edge`` (m) about the origin: eight vertices, twelve triangles."""
+    return trimesh.creation.box((edge, edge, edge))
+
+
+def box(size: Sequence[float]) -> trimesh.Trimesh:
+    """Return a box mesh of full edges ``size`` (m) about the origin."""
+    return trimesh.creation.box(tuple(size))
+
+
+def ellipsoid_hull(count: int, axes: Sequence[float]) -> trimesh.Trimesh:
+    """Return the convex hull of ``count`` Fibonacci points on an ellipsoid: all are vertices."""
+    k = np.arange(count) + 0.5
+    polar = np.arccos(1.0 - 2.0 * k / count)
+    azimuth = math.pi * (1.0 + math.sqrt(5.0)) * k
+    points = np.column_stack((np.cos(azimuth) * np.sin(polar),
+                              np.sin(azimuth) * np.sin(polar), np.cos(polar)))
+    return trimesh.convex.convex_hull(points * np.asarray(axes, dtype=float))
+
+
+def open_box(size: Sequence[float]) -> trimesh.Trimesh:
+    """Return a box mesh missing two triangles (a face): not a closed surface."""
+    mesh = box(size)
+    return trimesh.Trimesh(mesh.vertices, mesh.faces[2:], process=False)
+
+
+def write(mesh: trimesh.Trimesh, path: Path) -> Path:
+    """Write ``mesh`` as binary STL to ``path``; return the path."""
+    path = Path(path)
+    path.write_bytes(mesh.export(file_type='stl'))
+    return path
+
+
+def _origin(xyz: Sequence[float], rpy: Sequence[float]) -> str:
+    return (f'<origin xyz="{" ".join(repr(float(c)) for c in xyz)}" '
+            f'rpy="{" ".join(repr(float(c)) for c in rpy)}"/>')
+
+
+def inertial(mass: float, inertia: Sequence[float], *, xyz=(0.0, 0.0, 0.0),
+             rpy=(0.0, 0.0, 0.0)) -> str:
+    """Return an ``<inertial>`` element: mass (kg), inertia in URDF order, its origin."""
+    names = ('ixx', 'ixy', 'ixz', 'iyy', 'iyz', 'izz')
+    values = ' '.join(f'{n}="{float(v)!r}"' for n, v in zip(names, inertia))
+    return (f'<inertial>{_origin(xyz, rpy)}<mass value="{float(mass)!r}"/>'
+            f'<inertia {values}/></inertial>')
+
+
+def geometry(kind: str, *, size: Sequence[float] = (), radius: float = 0.0,
+             length: float = 0.0, filename: str = '', scale: Optional[Sequence[float]] = None,
+             xyz=(0.0, 0.0, 0.0), rpy=(0.0, 0.0, 0.0), element: str = 'collision') -> str:
+    """Return a ``<collision>`` (or ``<visual>``) element of one box, sphere, cylinder or mesh."""
+    if kind == 'box':
+        shape = f'<box size="{" ".join(repr(float(e)) for e in size)}"/>'
+    elif kind == 'sphere':
+        shape = f'<sphere radius="{float(radius)!r}"/>'
+    elif kind == 'cylinder':
+        shape = f'<cylinder radius="{float(radius)!r}" length="{float(length)!r}"/>'
+    else:
+        scaled = '' if scale is None else f' scale="{" ".join(repr(float(s)) for s in scale)}"'
+        shape = f'<mesh filename="{filename}"{scaled}/>'
+    return f'<{element}>{_origin(xyz, rpy)}<geometry>{shape}</geometry></{element}>'
+
+
+def urdf(parts: Iterable[str], *, link: str = 'body', extra_links: Sequence[str] = ()) -> str:
+    """Return a URDF of one link ``link`` made of ``parts`` (and empty ``extra_links``)."""
+    links = ''.join(f'<link name="{name}"/>' for name in extra_links)
+    return (f'<?xml version="1.0"?><robot name="test"><link name="{link}">{"".join(parts)}'
+            f'</link>{links}</robot>')
+
+
+def box_urdf(mass: float, size: Sequence[float], *, link: str = 'body') -> str:
+    """Return the URDF of a uniform solid box: the inertia as ``RigidBody.solid_box`` has it."""
+    from mouse_constraint_ros.physics import RigidBody
+    body = RigidBody.solid_box(mass, size)
+    return urdf([inertial(body.mass, body.inertia), geometry('box', size=size)], link=link)
+
+
+if __name__ == '__main__':
+    write(mug(), Path(sys.argv[1]))
