@@ -20,8 +20,6 @@ The broadcaster is a test double that records copies of what it is given, as
 is stepped in lockstep: every tick's pose, transform and odometry are there to compare.
 """
 
-import copy
-
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PoseStamped, TwistStamped
 from nav_msgs.msg import Odometry
@@ -33,25 +31,7 @@ from scipy.spatial.transform import Rotation
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.wire.messages import odometry_message, state_from_messages
 from mouse_constraint_ros.wire.state_publishers import TF_UNAVAILABLE
-from test_support.ros_harness import stamp_of
-
-
-class RecordingBroadcaster:
-    """A TransformBroadcaster double: keeps a copy of every transform it is sent."""
-
-    def __init__(self) -> None:
-        """Start with nothing sent and no node."""
-        self.sent = []
-        self.nodes = []
-
-    def factory(self, node):
-        """Play ``tf2_ros.TransformBroadcaster(node)``: remember the node, return self."""
-        self.nodes.append(node)
-        return self
-
-    def sendTransform(self, transform) -> None:  # noqa: N802 (tf2_ros's name)
-        """Record a copy (the node reuses its message)."""
-        self.sent.append(copy.deepcopy(transform))
+from test_support.ros_harness import RecordingBroadcaster, stamp_of
 
 
 def start(factory, broadcaster=None, **overrides):

@@ -14,6 +14,7 @@
 
 """Helpers for tests that run nodes in-process: contexts, spinning, and collecting messages."""
 
+import copy
 import time
 from typing import Callable, List, Sequence
 
@@ -183,3 +184,21 @@ def ran_for_now(node) -> bool:
     """Return whether the node's tick timer has run for its clock's reading (or is paused)."""
     timer = node.ticker.timer
     return timer is None or timer.is_canceled() or timer.time_until_next_call() > 0
+
+
+class RecordingBroadcaster:
+    """A TransformBroadcaster double: keeps a copy of every transform it is sent."""
+
+    def __init__(self) -> None:
+        """Start with nothing sent and no node."""
+        self.sent = []
+        self.nodes = []
+
+    def factory(self, node):
+        """Play ``tf2_ros.TransformBroadcaster(node)``: remember the node, return self."""
+        self.nodes.append(node)
+        return self
+
+    def sendTransform(self, transform) -> None:  # noqa: N802 (tf2_ros's name)
+        """Record a copy (the node reuses its message)."""
+        self.sent.append(copy.deepcopy(transform))
