@@ -13,9 +13,10 @@
 # limitations under the License.
 
 """
-URDF bodies on the floor against their closed forms: a sphere rests on one point at its radius,
-a sphere and a cylinder launched sliding end up rolling at 5/7 and 2/3 of the launch speed, and
-a mesh rests on its convex hull.
+URDF bodies on the floor against their closed forms.
+
+A sphere rests on one point at its radius, a sphere and a cylinder launched sliding end up
+rolling at 5/7 and 2/3 of the launch speed, and a mesh rests on its convex hull.
 
 A uniform body of radius r sliding at v0 without spin on a floor with friction loses speed and
 gains spin until it rolls (v = w r); the friction's angular impulse about the contact point is

@@ -19,6 +19,7 @@ Each case is a params file a user could write; the node is started as ``ros2 run
 (``mouse_constraint_node --ros-args --params-file F``) and its whole output is checked.
 """
 
+import json
 from pathlib import Path
 import subprocess
 import sys
@@ -26,6 +27,7 @@ import sys
 import pytest
 
 from mouse_constraint_ros.node.parameters import DEFAULTS
+from test_support.meshes import bad_bodies, BAD_BODY_NAMES
 
 BIN = Path(sys.executable).parent
 NODE = str(BIN / 'mouse_constraint_node')
@@ -171,3 +173,14 @@ def test_arguments_outside_ros_args_are_refused_with_the_ros_args_form(arguments
     result = subprocess.run([NODE, *arguments], capture_output=True, text=True, timeout=20.0)
     assert result.returncode == 2 and result.stdout == ''
     assert result.stderr.splitlines() == [line]
+
+
+@pytest.mark.parametrize('name', BAD_BODY_NAMES)
+def test_a_bad_urdf_body_is_one_line_and_exit_1(tmp_path, name):
+    """Each bad body of ``bad_bodies`` (XML, link, mesh, inertia, mass, package://): one line."""
+    text, link, words = bad_bodies(tmp_path)[name]
+    result = run_node('--params-file', str(params_file(
+        tmp_path, f'robot_description: {json.dumps(text)}', f'body_link: {json.dumps(link)}')))
+    assert result.returncode == 1
+    line = the_one_line(result)
+    assert '[mouse_constraint]: invalid parameters: ' in line and words in line, line

@@ -24,7 +24,7 @@ exactly ``count`` hull vertices, the benchmark's) and ``open_box`` (a box with a
 import math
 from pathlib import Path
 import sys
-from typing import Iterable, Optional, Sequence
+from typing import Dict, Iterable, Optional, Sequence, Tuple
 
 import numpy as np
 import trimesh
@@ -122,6 +122,52 @@ def box_urdf(mass: float, size: Sequence[float], *, link: str = 'body') -> str:
     from mouse_constraint_ros.physics import RigidBody
     body = RigidBody.solid_box(mass, size)
     return urdf([inertial(body.mass, body.inertia), geometry('box', size=size)], link=link)
+
+
+# The cases of ``bad_bodies``, for a test's parametrization.
+BAD_BODY_NAMES = ('malformed XML', 'missing link', 'several links, none named',
+                  'missing mesh file', 'mesh not closed', 'non-physical inertia', 'zero mass',
+                  'unresolvable package://', 'huge mesh', 'no inertial and no density')
+
+
+def bad_bodies(folder: Path) -> Dict[str, Tuple[str, str, str]]:
+    """
+    Return the bad inputs a URDF body is refused for, each as (URDF, body_link, words said).
+
+    The meshes they name are written into ``folder``: a cube with a face missing, and a 100 MB
+    file (sparse: it takes no room on the disk).
+    """
+    folder = Path(folder)
+    write(open_box((0.1, 0.1, 0.1)), folder / 'open.stl')
+    with open(folder / 'huge.stl', 'wb') as huge:
+        huge.truncate(100 * 10 ** 6)
+    weight = inertial(1.0, (0.01, 0.0, 0.0, 0.01, 0.0, 0.01))
+    cube_piece = geometry('box', size=(0.1, 0.1, 0.1))
+
+    def mesh(filename: str) -> str:
+        return urdf([weight, geometry('mesh', filename=filename)])
+    cases = {
+        'malformed XML': ('<robot name="r"><link name="a">', '',
+                          'robot_description is not well-formed XML'),
+        'missing link': (urdf([weight, cube_piece], extra_links=['base']), 'gripper',
+                         "body_link 'gripper' is not a link of robot_description; its links: "
+                         'body, base'),
+        'several links, none named': (urdf([weight, cube_piece], extra_links=['base']), '',
+                                      'has 2 links (body, base): set body_link to the one'),
+        'missing mesh file': (mesh(str(folder / 'absent.stl')), '', 'no such file'),
+        'mesh not closed': (mesh(str(folder / 'open.stl')), '', 'is not a closed surface'),
+        'non-physical inertia': (urdf([inertial(1.0, (1.0, 0.0, 0.0, 1.0, 0.0, 3.0)),
+                                       cube_piece]), '', 'inertia is not physically realizable'),
+        'zero mass': (urdf([inertial(0.0, (0.01, 0.0, 0.0, 0.01, 0.0, 0.01)), cube_piece]), '',
+                      'mass must be finite and > 0, got 0.0'),
+        'unresolvable package://': (mesh('package://no_such_package/meshes/a.stl'), '',
+                                    "source the workspace that installs 'no_such_package'"),
+        'huge mesh': (mesh(str(folder / 'huge.stl')), '',
+                      'is 95.4 MiB, over the limit of 16 MiB'),
+        'no inertial and no density': (urdf([cube_piece]), '', 'or set density (kg/m^3)'),
+    }
+    assert tuple(cases) == BAD_BODY_NAMES
+    return cases
 
 
 if __name__ == '__main__':

@@ -98,8 +98,9 @@ def load_mesh(uri: str, *, scale=None, closed: bool = True,
     size = os.path.getsize(path)
     if size > MAX_MESH_BYTES:
         raise ValueError(
-            f'mesh {uri!r} is {size / 1e6:.1f} MB, more than the {MAX_MESH_BYTES / 1e6:.1f} MB '
-            'read: simplify it (a collision mesh needs a few thousand triangles)')
+            f'mesh {uri!r} is {size / 2 ** 20:.1f} MiB, over the limit of '
+            f'{MAX_MESH_BYTES / 2 ** 20:g} MiB a mesh file may have: simplify it (a collision '
+            'mesh needs a few thousand triangles)')
     try:
         mesh = trimesh.load(path, force='mesh')
     except Exception as error:  # trimesh raises many kinds on a file it cannot read
