@@ -45,9 +45,10 @@ endif
 .PHONY: venv test test-unit test-browser test-loaded lint run view bench bench-venv demo \
 	demo-figure clean
 
-# Peer engines for the benchmarks only (PyBullet, MuJoCo): installed into .venv by `make bench`,
-# never by `make venv`, `make test` or CI (requirements/bench/ is outside the wildcard above).
-BENCH_REQS := requirements/bench/peers.txt
+# For the benchmarks only, the peer engines (PyBullet, MuJoCo) and py-spy: installed into .venv
+# by `make bench`, never by `make venv`, `make test` or CI (requirements/bench/ is outside the
+# wildcard above).
+BENCH_REQS := $(wildcard requirements/bench/*.txt)
 BENCH_STAMP := $(VENV)/.bench-stamp
 BENCH_ARGS ?=
 

@@ -141,8 +141,8 @@ def flood_main(argv: Sequence[str]) -> int:
             return 1
         executor.spin_once(timeout_sec=0.05)
     # Messages are serialized beforehand and published as bytes (unless --messages): rclpy's
-    # publish of a message object costs about twice as much, too much for 20 000/s on a shared
-    # 2-core machine. The circle is a table of CIRCLE_POINTS points, picked by the clock's
+    # publish of a message object costs about twice as much, too much for 20 000/s on a small
+    # shared machine. The circle is a table of CIRCLE_POINTS points, picked by the clock's
     # phase; a hostile message without a point of its own is the circle's current point in a
     # foreign frame or with an absurd stamp.
     now_stamp = divmod(time.time_ns(), NS)
