@@ -42,6 +42,7 @@ SUITE = [
     ('drag', 'dragging at 1 kHz, tracking error'),
     ('mouse_feel', 'a click and a streamed drag: the shipped joint and the anchors recipes'),
     ('stream_timing', 'a browser drag through ROS, timed by stamps and by arrival'),
+    ('stream_estimators', 'which fit of stamped points: the estimators on the core'),
     ('late_streams', 'late, mixed and jittering streams, the floor press: the node in lockstep'),
     ('haptic_stability', 'the haptic loop: largest stable stiffness, predicted and measured'),
     ('contact', 'the floor: rest, slide and drop, ours against PyBullet and MuJoCo'),
