@@ -1,17 +1,10 @@
 # Developer entry points for mouse_constraint_ros (plain venv route, no apt ROS needed).
 #
 #   make venv   create/update .venv (only when requirements/setup files changed)
-#   make test   run the test suite with pytest (every tier: unit, ros, system, and browser
-#               when /usr/bin/chromium is there). On a fresh clone, `.ci/run` (making the venv,
-#               about 15 s, included) takes 3 min 36 s to 3 min 58 s on a 2-core Intel Xeon
-#               (four runs; the machine here changes from day to day, its speed up to 3x):
-#               1 min 15 s to 1 min 17 s for the unit and ros tiers (a worker per core; pure
-#               CPU, it varies most), 39 s to 40 s for the system tests that wait on their
-#               processes (two workers per core) and 1 min 30 s to 1 min 32 s for those marked
-#               alone; 4 min 06 s to 4 min 13 s with one core kept busy (make test-loaded, three
-#               runs).
-#   make test-unit  only the unit tier (pure code, no rclpy context, no process): 33 s on the
-#               Intel Xeon
+#   make test   run the test suite with pytest, every tier in turn: unit and ros (a worker per
+#               core), the system tests that wait on their processes (two workers per core),
+#               then those marked alone, and browser when /usr/bin/chromium is there
+#   make test-unit  only the unit tier (pure code, no rclpy context, no process)
 #   make test-browser  only the browser tier (headless chromium on mouse_view)
 #   make test-loaded   make test RUNS times (3) while a process keeps a core busy
 #   make lint   flake8 (ament_flake8 settings, see .flake8)
@@ -31,13 +24,13 @@ VENV := .venv
 VPY := $(VENV)/bin/python
 STAMP := $(VENV)/.stamp
 REQS := $(wildcard requirements/*.txt)
-PIP := $(VPY) -m pip --disable-pip-version-check -q
-# uv installs into .venv (parallel downloads, its own wheel cache, no bytecode compiled): the
-# requirements in 8 s here, the pip install of uv itself included, where pip took 37 s; make venv
-# takes about 16 s from an empty cache. It copies from its cache (--link-mode copy): no file of
-# .venv is a hard link that an edit there would change in the cache too.
+# pip and uv show their progress: make waits on them.
+PIP := $(VPY) -m pip --disable-pip-version-check
+# uv installs into .venv (parallel downloads, its own wheel cache, no bytecode compiled). It
+# copies from its cache (--link-mode copy): no file of .venv is a hard link that an edit there
+# would change in the cache too.
 UV_REQ := requirements/installer/uv.txt
-UV := $(VENV)/bin/uv pip install -q --python $(VPY) --link-mode copy
+UV := $(VENV)/bin/uv pip install --python $(VPY) --link-mode copy
 PYTEST_ARGS ?=
 # The browser tier's browser: Debian's chromium (apt-get install chromium).
 CHROMIUM := /usr/bin/chromium
@@ -52,9 +45,10 @@ endif
 .PHONY: venv test test-unit test-browser test-loaded lint run view bench bench-venv demo \
 	demo-figure clean
 
-# Peer engines for the benchmarks only (PyBullet, MuJoCo): installed into .venv by `make bench`,
-# never by `make venv`, `make test` or CI (requirements/bench/ is outside the wildcard above).
-BENCH_REQS := requirements/bench/peers.txt
+# For the benchmarks only, the peer engines (PyBullet, MuJoCo) and py-spy: installed into .venv
+# by `make bench`, never by `make venv`, `make test` or CI (requirements/bench/ is outside the
+# wildcard above).
+BENCH_REQS := $(wildcard requirements/bench/*.txt)
 BENCH_STAMP := $(VENV)/.bench-stamp
 BENCH_ARGS ?=
 
@@ -67,40 +61,43 @@ venv: $(STAMP)
 # and keeps it in __pycache__), and its editable install is PEP 660's, which puts the console
 # scripts in .venv/bin (never setup.cfg's [develop] script_dir, meant for colcon).
 $(STAMP): $(REQS) $(UV_REQ) setup.py setup.cfg
-	@test -x $(VPY) || $(PYTHON) -m venv $(VENV)
+	test -x $(VPY) || $(PYTHON) -m venv $(VENV)
 	$(PIP) install -r $(UV_REQ)
 	$(UV) $(addprefix -r ,$(REQS))
 	$(UV) -e .
-	@test -x $(VENV)/bin/mouse_constraint_node -a -x $(VENV)/bin/mouse_view || \
+	test -x $(VENV)/bin/mouse_constraint_node -a -x $(VENV)/bin/mouse_view || \
 	  { echo 'error: .venv/bin/mouse_constraint_node or mouse_view was not installed' >&2; exit 1; }
-	@touch $@
+	touch $@
 
 # The unit and ros tiers run one worker per core (pytest-xdist), each taking whole modules: a
 # module's tests share its fixtures and files. Then the system tests that wait on their processes
 # (not on the clock) run the same way with two workers per core, whose waits (discovery, a
-# lease, a timeout a test asserts) overlap: 60 s against 70 s here, and they pass with a core
-# kept busy. Last, alone in one process, the system and browser tests marked alone
-# (test/conftest.py: the wall clock, a recorded burst, a browser rendering in software): under
-# other tests' load a process may miss the first messages of a burst. The unit tier's pure tests
-# go to whichever worker is free. PARALLEL=, SYSTEM_PARALLEL= and UNIT_PARALLEL= run in one
-# process.
+# lease, a timeout a test asserts) overlap, and they pass with a core kept busy. Last, alone in
+# one process, the system and browser tests marked alone (test/conftest.py: the wall clock, a
+# recorded burst, a browser rendering in software): under other tests' load a process may miss
+# the first messages of a burst. The unit tier's pure tests go to whichever worker is free.
+# PARALLEL=, SYSTEM_PARALLEL= and UNIT_PARALLEL= run in one process.
 PARALLEL ?= -n auto --dist loadfile
 SYSTEM_PARALLEL ?= -n $(shell echo $$(( 2 * $$(nproc) ))) --dist loadfile
 UNIT_PARALLEL ?= -n auto
 
 # pytest keeps the test modules it rewrites, and Python the package's bytecode, in __pycache__
 # (git ignores it); an environment that forbids writing bytecode would have every pytest process
-# compile them again (some 4 s of CPU each).
+# compile them again.
 unexport PYTHONDONTWRITEBYTECODE
+
+# The last run takes the browser tier too when chromium is there; without it, make says so.
+HAS_CHROMIUM := $(shell test -x $(CHROMIUM) && echo yes)
+ALONE := $(if $(HAS_CHROMIUM),alone or browser,alone and not browser)
+NO_BROWSER := browser tier skipped: no $(CHROMIUM)
+NO_BROWSER += (apt-get install chromium, then make test-browser)
 
 # -rs: every skipped test is listed with its reason, so a user sees what was not tested and why.
 test: venv
 	$(VPY) -m pytest test/ -q -rs -m 'not system and not browser' $(PARALLEL) $(PYTEST_ARGS)
 	$(VPY) -m pytest test/ -q -rs -m 'system and not alone' $(SYSTEM_PARALLEL) $(PYTEST_ARGS)
-	@if [ -x $(CHROMIUM) ]; then alone='alone or browser'; else \
-	  echo 'browser tier skipped: no $(CHROMIUM) (apt-get install chromium, then make test-browser)'; \
-	  alone='alone and not browser'; fi; \
-	$(VPY) -m pytest test/ -q -rs -m "$$alone" $(PYTEST_ARGS)
+	$(if $(HAS_CHROMIUM),,@echo '$(NO_BROWSER)')
+	$(VPY) -m pytest test/ -q -rs -m '$(ALONE)' $(PYTEST_ARGS)
 
 test-browser: venv
 	$(VPY) -m pytest test/ -q -m browser $(PYTEST_ARGS)
@@ -146,8 +143,8 @@ view: venv
 bench-venv: $(BENCH_STAMP)
 
 $(BENCH_STAMP): $(STAMP) $(BENCH_REQS)
-	$(UV) -r $(BENCH_REQS)
-	@touch $@
+	$(UV) $(addprefix -r ,$(BENCH_REQS))
+	touch $@
 
 # From the repository's root, so that bench/ and test_support/ import as packages.
 bench: bench-venv

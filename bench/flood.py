@@ -19,7 +19,7 @@ The node is the installed ``mouse_constraint_node`` at 1 kHz (its own process, n
 damping 2/s, workspace_radius 100 m); the flooder is another process
 (``test_support.hardening_tools flood``) publishing ``PointStamped`` targets that go round a
 circle of 0.3 m in 2 s, its phase the system clock's; this process observes, reading pose and
-twist. ``test_support.hardening_tools.run_flood`` makes the measurement; the hardening tests
+twist. ``test_support.flood_run.run_flood`` makes the measurement; the hardening tests
 assert on a shorter flood. Cases:
 
 - 5 000 targets/s from a plain rclpy publisher (message objects, ``publish(msg)``): the rate
@@ -70,7 +70,7 @@ def run(quick: bool, seconds: float = None) -> dict:
     start = time.perf_counter()
     _isolate()
     seconds = seconds or (QUICK_SECONDS if quick else SECONDS)
-    from test_support.hardening_tools import run_flood
+    from test_support.flood_run import run_flood
     rows = []
     for label, rate, hostile_every, messages in CASES:
         harness = RosHarness()

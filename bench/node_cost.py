@@ -37,11 +37,10 @@ The cases run one after the other, round after round, so that a busy spell of th
 each. A ratio is the median CPU per tick of a case over the floor's: CPU per second over the
 ticks the window held (poses received, times the ticks per pose of a node that publishes every
 tenth tick). Per tick, because on a loaded machine the floor's rclpy timer skips periods it
-was late for (960 of 1000 ticks a second, seen here), while the node runs every tick of its
-grid: per second of CPU the node would be charged for the ticks the floor left out. The ratio
-of CPU per second is reported beside it. Targets: the node at 1 kHz <= 1.0 x the floor;
-publishing at 100 Hz <= 0.4 x the 1 kHz floor; the node with the force <= 1.0 x the floor of
-three messages. Standalone:
+was late for, while the node runs every tick of its grid: per second of CPU the node would be
+charged for the ticks the floor left out. The ratio of CPU per second is reported beside it.
+Targets: the node at 1 kHz <= 1.0 x the floor; publishing at 100 Hz <= 0.4 x the 1 kHz floor;
+the node with the force <= 1.0 x the floor of three messages. Standalone:
 ``python -m bench.node_cost [--quick] [--rounds N] [--seconds S]`` prints the section as JSON.
 """
 

@@ -32,8 +32,7 @@ substeps, while a 60 Hz stream is extrapolated), stamped and arrival-timed, agai
 target (CPU time of this process: the machine's other load does not count, its caches do).
 
 Standalone: ``python -m bench.stream_timing [--quick]`` prints the section as JSON;
-``python -m bench.stream_timing --estimators`` prints the core replay of the stamped drags for
-the estimators docs/dragging.md compares (pure core, a minute).
+``bench.stream_estimators`` compares the estimators of stamped streams on the same drags.
 """
 
 import argparse
@@ -247,46 +246,9 @@ def run(quick: bool = False) -> dict:
     }
 
 
-# Estimators for stamped streams, as overrides of physics.target_stream's constants.
-ESTIMATORS = [
-    ('parabola over 0.4 s', {'STAMPED_DEGREE': 2, 'BLEND_INTERVALS': 0.0}),
-    ('cubic over 0.4 s', {'STAMPED_DEGREE': 3, 'BLEND_INTERVALS': 0.0}),
-    ('quartic over 0.4 s', {'BLEND_INTERVALS': 0.0}),
-    ('quartic over 0.3 s, blended over 1 interval', {'STAMPED_WINDOW': 0.3}),
-    ('shipped: quartic over 0.4 s, blended over 1 interval', {}),
-]
-# (label, replay keywords): exact stamps, stamps off by up to 0.5 ms, 1.5 mm pixels.
-CONDITIONS = [('exact', {}), ('stamps +-0.5 ms', {'stamp_noise': 0.0005}),
-              ('1.5 mm pixels', {'pixel': 0.0015})]
-
-
-def estimators(seconds: float = SECONDS) -> None:
-    """Print, as Markdown, the core replay of stamped drags for each estimator and condition."""
-    from mouse_constraint_ros.physics import target_stream
-    print('| stamped estimator | ' + ' | '.join(
-        f'{rate:g} Hz, {label}' for rate in RATES_HZ for label, _ in CONDITIONS) + ' |')
-    print('| --- ' * (1 + len(RATES_HZ) * len(CONDITIONS)) + '|')
-    for name, overrides in ESTIMATORS:
-        saved = {key: getattr(target_stream, key) for key in overrides}
-        try:
-            for key, value in overrides.items():
-                setattr(target_stream, key, value)
-            cells = []
-            for rate in RATES_HZ:
-                for _, keywords in CONDITIONS:
-                    r = replay(rate, True, seconds, **keywords)
-                    cells.append(f'{r.error * 1e3:.2g} mm, {r.speed_deviation * 100:.2g} %')
-        finally:
-            for key, value in saved.items():
-                setattr(target_stream, key, value)
-        print(f'| {name} | ' + ' | '.join(cells) + ' |', flush=True)
-
-
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
     parser.add_argument('--quick', action='store_true', help='shorter drags')
-    parser.add_argument('--estimators', action='store_true',
-                        help='print the core replay of each stamped estimator (Markdown)')
     parser.add_argument('--publish', action='store_true', help='be the publisher process')
     parser.add_argument('--arrival', action='store_true', help='publisher: zero stamps')
     parser.add_argument('--rate', type=float, default=20.0, help='publisher: events per s')
@@ -299,9 +261,6 @@ def main(argv=None) -> int:
     options = parser.parse_args(argv)
     if options.publish:
         return publish(options)
-    if options.estimators:
-        estimators()
-        return 0
     print(json.dumps(run(quick=options.quick), indent=1))
     return 0
 

@@ -16,12 +16,13 @@
 """
 Where a tick of the running node goes: py-spy samples of its main thread, sorted into parts.
 
-``python bench/tick_profile.py --py-spy /path/to/py-spy [--seconds 15] [--rate 250]
-[--domain N] [--raw FILE]`` starts ``mouse_constraint_node --ros-args --params-file
-config/params.yaml`` and, in another process, a reader of ``pose`` and ``twist`` (ordinary,
-deserializing subscriptions), then runs ``py-spy record --native -f raw`` on the node for the
-window. py-spy is not a dependency of the package: install it anywhere (a throwaway venv) and
-pass its path.
+``python -m bench.tick_profile [--py-spy PATH] [--seconds 15] [--rate 250] [--domain N]
+[--raw FILE]`` (from the repository's root; ``make bench`` runs it as a section) starts
+``mouse_constraint_node --ros-args --params-file config/params.yaml`` and, in another process, a
+reader of ``pose`` and ``twist`` (ordinary, deserializing subscriptions), then runs ``py-spy
+record --native -f raw`` on the node for the window. py-spy is not a dependency of the package:
+``make bench-venv`` installs it into ``.venv`` (``requirements/bench/``); without it the section
+says so.
 
 Each sample of the main thread is put in the first part whose frame it holds, looked for from
 the leaf up: the physics step, the grid and clock reads, the stamp and field filling, the
@@ -43,16 +44,19 @@ import collections
 import json
 import os
 from pathlib import Path
+import shutil
 import signal
 import subprocess
 import sys
 import tempfile
 import time
-from typing import Dict, List, Tuple
+from typing import Dict, List, Optional, Tuple
 
 BENCH = Path(__file__).resolve().parent
 ROOT = BENCH.parent
 CLOCK_TICKS = os.sysconf('SC_CLK_TCK')
+# The sampling window (s) and py-spy's samples per second.
+SECONDS, QUICK_SECONDS, RATE = 15.0, 5.0, 250
 
 # The executor waiting for its next event: py-spy samples the thread there although it is not
 # on a CPU; these samples are counted apart and left out of the CPU shares.
@@ -146,15 +150,19 @@ def reader_counts(reader: subprocess.Popen) -> Dict[str, int]:
     return json.loads(reader.stdout.readline())
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
-    parser.add_argument('--py-spy', required=True, help='path of the py-spy executable')
-    parser.add_argument('--seconds', type=float, default=15.0)
-    parser.add_argument('--rate', type=int, default=250, help='py-spy samples per second')
-    parser.add_argument('--domain', type=int, default=20 + os.getpid() % 10)
-    parser.add_argument('--raw', type=Path, help='keep py-spy raw output here')
-    options = parser.parse_args(argv)
-    env = dict(os.environ, ROS_DOMAIN_ID=str(options.domain),
+def profile(py_spy: str, seconds: float = SECONDS, rate: int = RATE,
+            domain: Optional[int] = None, raw: Optional[Path] = None) -> dict:
+    """
+    Profile the node for ``seconds``; return its ticks, CPU per tick and samples per part.
+
+    :param py_spy: the py-spy executable.
+    :param seconds: the sampling window.
+    :param rate: py-spy's samples per second.
+    :param domain: the ROS domain of the node and its reader (default: 20-29 from the pid).
+    :param raw: where to keep py-spy's raw output (default: nowhere).
+    """
+    domain = 20 + os.getpid() % 10 if domain is None else domain
+    env = dict(os.environ, ROS_DOMAIN_ID=str(domain),
                ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST', PYTHONUNBUFFERED='1')
     node_bin = Path(sys.executable).parent / 'mouse_constraint_node'
     reader = subprocess.Popen([sys.executable, '-c', READER], env=env, stdout=subprocess.PIPE,
@@ -165,11 +173,11 @@ def main(argv=None) -> int:
     try:
         time.sleep(5.0)  # Discovery and warm-up.
         with tempfile.TemporaryDirectory(prefix='tick_profile_') as directory:
-            out = options.raw or Path(directory) / 'profile.txt'
+            out = raw or Path(directory) / 'profile.txt'
             before, start = thread_cpu(node.pid), reader_counts(reader)
             wall = time.monotonic()
-            subprocess.run([options.py_spy, 'record', '--native', '-r', str(options.rate),
-                            '-d', str(int(options.seconds)), '-f', 'raw', '-o', str(out),
+            subprocess.run([py_spy, 'record', '--native', '-r', str(rate),
+                            '-d', str(int(seconds)), '-f', 'raw', '-o', str(out),
                             '--pid', str(node.pid)], check=True, capture_output=True)
             wall = time.monotonic() - wall
             after, end = thread_cpu(node.pid), reader_counts(reader)
@@ -189,15 +197,81 @@ def main(argv=None) -> int:
                     if tid != node.pid and tid in before)
     waiting = samples.pop(WAITING, 0)
     total = sum(samples.values())
-    per_tick = 1e6 * main_cpu / ticks
-    print(f'{ticks} ticks (poses received) in {wall:.1f} s; main thread {per_tick:.1f} us CPU '
-          f'per tick, other threads {1e6 * other_cpu / ticks:.1f} us; {total} samples on a '
-          f'CPU, {waiting} waiting; load {os.getloadavg()[0]:.2f}')
-    print('| part | samples % | us per tick |')
-    print('| --- | ---: | ---: |')
+    parts = []
     for name in [name for name, _ in PARTS if name != WAITING] + [UNSORTED]:
         share = samples.get(name, 0) / total if total else 0.0
-        print(f'| {name} | {100 * share:.1f} | {share * per_tick:.1f} |')
+        parts.append({'part': name, 'share_pct': 100.0 * share,
+                      'us_per_tick': share * 1e6 * main_cpu / ticks})
+    return {'ticks': ticks, 'wall_s': wall, 'main_us_per_tick': 1e6 * main_cpu / ticks,
+            'other_us_per_tick': 1e6 * other_cpu / ticks, 'samples': total,
+            'waiting': waiting, 'load': os.getloadavg()[0], 'parts': parts}
+
+
+def find_py_spy() -> Optional[str]:
+    """Return py-spy beside this interpreter (make bench-venv installs it), or on PATH."""
+    beside = Path(sys.executable).parent / 'py-spy'
+    return str(beside) if beside.is_file() else shutil.which('py-spy')
+
+
+def run(quick: bool = False) -> dict:
+    """Return the section: the parts of the main thread's samples, and the CPU per tick."""
+    began = time.perf_counter()
+    title = "Where a tick's time goes: py-spy samples of the node's main thread"
+    py_spy = find_py_spy()
+    if py_spy is None:
+        return {'title': title, 'rows': [], 'elapsed_s': time.perf_counter() - began,
+                'text': 'Not measured: no py-spy (requirements/bench/, make bench-venv).'}
+    try:
+        result = profile(py_spy, seconds=QUICK_SECONDS if quick else SECONDS)
+    except subprocess.CalledProcessError as error:  # No ptrace here, say.
+        return {'title': title, 'rows': [], 'elapsed_s': time.perf_counter() - began,
+                'text': f'Not measured: py-spy failed: {error.stderr.decode().strip()[-300:]}'}
+    return {
+        'title': title,
+        'text': ('Command: `python -m bench.tick_profile`. The node with config/params.yaml, '
+                 'pose and twist read by another process; `py-spy record --native` on the '
+                 'node, each sample of its main thread put in the first part whose frame it '
+                 'holds (leaf first); the samples of the executor waiting for its next event '
+                 'are not CPU and are left out. us per tick: the share times the main '
+                 "thread's CPU per tick."),
+        'columns': [['part', 'part', ''], ['share_pct', 'samples on a CPU (%)', '.1f'],
+                    ['us_per_tick', 'us per tick', '.1f']],
+        'rows': result['parts'],
+        'notes': [
+            f'{result["ticks"]} ticks in {result["wall_s"]:.1f} s; main thread '
+            f'{result["main_us_per_tick"]:.1f} us of CPU per tick, the other threads (DDS, '
+            f'rclpy) {result["other_us_per_tick"]:.1f} us; {result["samples"]} samples on a '
+            f'CPU, {result["waiting"]} waiting; load {result["load"]:.2f}.',
+            'py-spy also samples a thread that waits for a CPU: on a busy machine the parts '
+            'after a wake-up (the DDS write wakes the reader) weigh more.',
+        ],
+        'figures': {'main_us_per_tick': result['main_us_per_tick'],
+                    'other_us_per_tick': result['other_us_per_tick']},
+        'elapsed_s': time.perf_counter() - began,
+    }
+
+
+def main(argv=None) -> int:
+    """Print the profile as a table (see the module's docstring)."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
+    parser.add_argument('--py-spy', default=find_py_spy(),
+                        help='path of the py-spy executable (default: %(default)s)')
+    parser.add_argument('--seconds', type=float, default=SECONDS)
+    parser.add_argument('--rate', type=int, default=RATE, help='py-spy samples per second')
+    parser.add_argument('--domain', type=int, default=None)
+    parser.add_argument('--raw', type=Path, help='keep py-spy raw output here')
+    options = parser.parse_args(argv)
+    if options.py_spy is None:
+        parser.error('no py-spy: make bench-venv installs it, or pass --py-spy PATH')
+    result = profile(options.py_spy, options.seconds, options.rate, options.domain, options.raw)
+    print(f'{result["ticks"]} ticks (poses received) in {result["wall_s"]:.1f} s; main thread '
+          f'{result["main_us_per_tick"]:.1f} us CPU per tick, other threads '
+          f'{result["other_us_per_tick"]:.1f} us; {result["samples"]} samples on a CPU, '
+          f'{result["waiting"]} waiting; load {result["load"]:.2f}')
+    print('| part | samples % | us per tick |')
+    print('| --- | ---: | ---: |')
+    for part in result['parts']:
+        print(f'| {part["part"]} | {part["share_pct"]:.1f} | {part["us_per_tick"]:.1f} |')
     return 0
 
 

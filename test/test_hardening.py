@@ -66,6 +66,7 @@ from mouse_constraint_ros.physics.target_stream import STREAM_GAP
 from mouse_constraint_ros.wire.interface import node_name
 from mouse_constraint_ros.wire.messages import point_message
 from test_support import hardening_tools as tools
+from test_support.flood_run import run_flood
 from test_support.processes import ChildProcess
 from test_support.processes import finish
 from test_support.processes import run_delay_ns
@@ -334,7 +335,7 @@ def test_flood_keeps_the_rate_memory_and_the_latest_target(ros):
     node serving on.
     """
     for _ in range(2):
-        result = tools.run_flood(ros, FLOOD_SECONDS, FLOOD_RATE)
+        result = run_flood(ros, FLOOD_SECONDS, FLOOD_RATE)
         summary = {k: v for k, v in result.items() if k != 'node_log_tail'}
         if result['flood']['rate'] < 0.9 * FLOOD_RATE:
             pytest.skip(f'the flooder could not publish {FLOOD_RATE:g}/s here: {summary}')

@@ -64,13 +64,20 @@ MARKERS_OF_EACH_TEST = (
 
 @pytest.mark.system
 def test_make_test_runs_every_test_once():
-    """The marker expressions of make test's pytest runs share out every test, none twice."""
-    expressions = [''.join(match) for match in re.findall(
-        r"""pytest test/ -q -rs -m (?:'([^']*)'|"([^"]*)"|(\w+))""", dry_run('test'))]
-    # The shell sets $alone: 'alone or browser' with chromium (without it the browser tests do
-    # not run).
-    with_browser = [e.replace('$alone', '(alone or browser)') for e in expressions]
-    assert len(with_browser) == 3 and '$alone' in ''.join(expressions)
+    """
+    The marker expressions of make test's pytest runs share out every test, none twice.
+
+    With chromium there (any executable stands in for it); without it, the last run leaves the
+    browser tests out, and make says so.
+    """
+    def expressions(commands: str) -> list:
+        return [''.join(match) for match in re.findall(
+            r"""pytest test/ -q -rs -m (?:'([^']*)'|"([^"]*)"|(\w+))""", commands)]
+    without = dry_run('test', 'CHROMIUM=/nonexistent/chromium')
+    assert expressions(without)[-1] == 'alone and not browser'
+    assert "echo 'browser tier skipped: no /nonexistent/chromium" in without
+    with_browser = expressions(dry_run('test', f'CHROMIUM={sys.executable}'))
+    assert len(with_browser) == 3 and with_browser[-1] == 'alone or browser'
     listing = subprocess.run([sys.executable, '-c', MARKERS_OF_EACH_TEST], cwd=ROOT,
                              capture_output=True, text=True, timeout=120)
     assert listing.returncode == 0, listing.stdout + listing.stderr
@@ -233,3 +240,45 @@ def kill_session(session: int) -> None:
                 os.kill(int(stat.parent.name), signal.SIGKILL)
             except ProcessLookupError:
                 pass
+
+
+def recipe_lines() -> list:
+    """Return (target, line) for every recipe line of the Makefile, continuations joined."""
+    lines, target, pending = [], None, ''
+    for line in (ROOT / 'Makefile').read_text().splitlines():
+        if pending or line.startswith('\t'):
+            pending += line.strip().removesuffix('\\') + ' '
+            if not line.endswith('\\'):
+                lines.append((target, pending.strip()))
+                pending = ''
+        elif re.match(r'^[^#\s=]+(?:\s[^#=]*)?:(?!=)', line):
+            target = line.split(':', 1)[0]
+    return lines
+
+
+def test_make_echoes_every_command_it_runs():
+    """
+    A recipe line is echoed by make, or prints itself: nothing runs unseen.
+
+    A silent line (``@``) only prints a message, or runs the command the line before printed
+    (``make run`` and ``make view``: the command, then the same in its job-control wrapper).
+    """
+    lines = recipe_lines()
+    assert len(lines) > 15
+    unseen = []
+    for (target, line), (_, before) in zip(lines, [(None, '')] + lines):
+        if not line.startswith('@') or line.startswith('@echo '):
+            continue
+        printed = re.fullmatch(r"@echo '(.*)'", before)
+        if not (printed and line.startswith('@$(call foreground,' + printed.group(1).rstrip())):
+            unseen.append(f'{target}: {line}')
+    assert not unseen
+
+
+@pytest.mark.system
+def test_the_venv_install_shows_its_progress():
+    """The venv install shows pip's and uv's progress: make venv waits there."""
+    installs = [line for line in dry_run('-B', 'venv').splitlines() if ' install ' in line]
+    assert len(installs) >= 3
+    for line in installs:
+        assert not re.search(r'\s(?:-q+|--quiet)\b', line), line

@@ -206,7 +206,7 @@ def _nodes(ros, server):
 def _ready(view: MouseViewNode) -> bool:
     return (view.scene.shown is not None and view.follower.parameters_known
             and view.target_publisher.get_subscription_count() > 0
-            and all(c.service_is_ready() for c in view._node_services.values()))
+            and all(c.service_is_ready() for c in view.node_services.clients.values()))
 
 
 def test_a_frozen_browser_is_dropped_and_its_drag_released(ros, server):

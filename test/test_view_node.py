@@ -73,9 +73,10 @@ def _drag(view: MouseViewNode, phase: str, *, start=(0.0, 0.0, 0.0), end=(0.0, 0
 
 
 def _ready(ros, view: MouseViewNode, node: MouseConstraintNode) -> None:
+    clients = view.node_services.clients.values()
     assert ros.spin_until(lambda: view.scene.shown is not None and view.follower.parameters_known
                           and view.grab_publisher.get_subscription_count() > 0
-                          and all(c.service_is_ready() for c in view._node_services.values()))
+                          and all(c.service_is_ready() for c in clients))
     ros.spin_for(0.2)
 
 

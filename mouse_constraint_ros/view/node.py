@@ -19,8 +19,9 @@ It wires ROS to pure parts and holds no geometry of its own: ``Gestures`` says w
 event sends, ``ReleaseOrder`` when (nothing past a release the node has not answered),
 ``PushThrottle`` how often a pose goes to the browser, ``node_readouts`` what the
 node's parameters and /diagnostics say, ``NodeFollower`` whether the node is there and its
-parameters. All names are the ``interface`` module's, relative to the view's namespace, so
-``--ros-args -r __ns:=/robot`` views ``/robot/mouse_constraint``.
+parameters, ``panel`` what the panel's buttons call and what its numbers say. All names are
+the ``interface`` module's, relative to the view's namespace, so ``--ros-args -r __ns:=/robot``
+views ``/robot/mouse_constraint``.
 
 viser calls the pointer and button callbacks on its own threads; they only queue work with the
 time of the event, which a timer runs every ``WORK_PERIOD`` on the executor's thread, so every
@@ -29,32 +30,29 @@ sooner). The same timer takes the newest pose (``NewestMessage``: no callback pe
 offers it to the throttle; poses and twists are decoded only when used.
 """
 
-import math
 import queue
 import time
 from typing import Callable, List, Optional, Tuple
 
 from diagnostic_msgs.msg import DiagnosticArray
-from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped, WrenchStamped
+from geometry_msgs.msg import PointStamped, PoseStamped
 from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
-from std_srvs.srv import SetBool, Trigger
 from visualization_msgs.msg import Marker, MarkerArray
 
-from ..physics.algebra import Vector3
+from .panel import node_name, NodeServices, numbers_text, PanelReadings, status_text
 from ..pointer.geometry import Pose, world_point
 from ..pointer.gestures import Action, Camera, Gestures, GRAB, RELEASE
 from ..pointer.newest_message import NewestMessage
 from ..pointer.node_follower import DISCOVERY_SECONDS, NodeFollower
-from ..pointer.node_readouts import force_text, number_text, Readouts, ViewParameters
+from ..pointer.node_readouts import Readouts, ViewParameters
 from ..pointer.push_throttle import PushThrottle
 from ..pointer.release_order import ReleaseOrder
-from ..wire.interface import (DIAGNOSTICS_TOPIC, FORCE_TOPIC, GRAB_TOPIC, MARKERS_TOPIC,
-                              MONITOR_DEPTH, NODE_NAME, PAUSE_SERVICE, POSE_TOPIC, RELEASE_SERVICE,
-                              RESET_SERVICE, STEP_SERVICE, TARGET_QOS, TARGET_TOPIC, TWIST_TOPIC,
-                              VIEW_NODE_NAME)
+from ..wire.interface import (DIAGNOSTICS_TOPIC, GRAB_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH,
+                              PAUSE_SERVICE, POSE_TOPIC, RELEASE_SERVICE, RESET_SERVICE,
+                              STEP_SERVICE, TARGET_QOS, TARGET_TOPIC, VIEW_NODE_NAME)
 from ..wire.messages import point_message
 
 # Only the newest pose and twist matter to the view: depth 1, best effort (a reliable
@@ -63,11 +61,6 @@ LATEST_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)
 # Periods (s): the queued work and the throttle's flush, the panel's numbers, the look for
 # the node.
 WORK_PERIOD, PANEL_PERIOD, PRESENCE_PERIOD = 0.004, 0.2, 0.5
-
-
-def node_name(private: str) -> str:
-    """Return a private name of the node (``~/reset``) as the view reaches it (relative)."""
-    return NODE_NAME + private[1:] if private.startswith('~') else private
 
 
 def _pose(message: PoseStamped) -> Pose:
@@ -84,22 +77,6 @@ def _camera(client) -> Optional[Camera]:
     except (AssertionError, AttributeError, TypeError, ValueError):
         return None
     return Camera(position, forward)
-
-
-def _vector(raw: Optional[bytes], message_type,
-            field) -> Tuple[Optional[bytes], Optional[Vector3]]:
-    """
-    Return (``raw``, the Vector3 ``field(message)`` of it as a tuple), or (None, None).
-
-    A message that does not decode is passed over: the panel shows n/a until a good one comes.
-    """
-    if raw is None:
-        return None, None
-    try:
-        vector = field(deserialize_message(raw, message_type))
-    except Exception:
-        return None, None
-    return raw, (vector.x, vector.y, vector.z)
 
 
 class MouseViewNode(Node):
@@ -124,8 +101,6 @@ class MouseViewNode(Node):
         self._monotonic = clock
         self._work: 'queue.SimpleQueue[Callable[[], None]]' = queue.SimpleQueue()
         self._pose_raw: Optional[bytes] = None
-        self._twist_raw: Optional[bytes] = None
-        self._force_raw: Optional[bytes] = None
         self._latest: Optional[Pose] = None
         self.pushes = 0  # poses pushed to the page
         self.grab_publisher = self.create_publisher(PointStamped, GRAB_TOPIC, TARGET_QOS)
@@ -134,11 +109,7 @@ class MouseViewNode(Node):
         self.reader = Node(f'{VIEW_NODE_NAME}_reader', context=self.context,
                            namespace=self.get_namespace())
         self.pose_subscription = NewestMessage(self.reader, PoseStamped, POSE_TOPIC, LATEST_QOS)
-        self.twist_subscription = NewestMessage(self.reader, TwistStamped, TWIST_TOPIC,
-                                                LATEST_QOS)
-        # The force the pointer feels, while the node publishes it (publish_force).
-        self.force_subscription = NewestMessage(self.reader, WrenchStamped, FORCE_TOPIC,
-                                                LATEST_QOS)
+        self.readings = PanelReadings(self.reader, LATEST_QOS)
         self.create_subscription(MarkerArray, node_name(MARKERS_TOPIC), self._on_markers,
                                  MONITOR_DEPTH)
         self.create_subscription(DiagnosticArray, DIAGNOSTICS_TOPIC, self._on_diagnostics,
@@ -147,9 +118,8 @@ class MouseViewNode(Node):
                                      on_parameters=self._parameters_changed,
                                      discovery_seconds=discovery_seconds, clock=clock)
         self.target_node = self.follower.target_node
-        self._node_services = {name: self.create_client(kind, node_name(name)) for name, kind in (
-            (PAUSE_SERVICE, SetBool), (STEP_SERVICE, Trigger), (RESET_SERVICE, Trigger),
-            (RELEASE_SERVICE, Trigger))}
+        self.node_services = NodeServices(self, self.target_node,
+                                          lambda text: self.scene.show_reply(text))
         self.scene = scene_factory(self.parameters)
         self._bind_scene()
         # On the steady clock: the page stays live while a simulated clock stands still.
@@ -264,35 +234,8 @@ class MouseViewNode(Node):
 
     def call(self, service: str, data: Optional[bool] = None, *,
              on_answer: Optional[Callable[[], None]] = None) -> bool:
-        """
-        Call one of the node's services; show its answer on the page.
-
-        :param service: the service's name (private to the node).
-        :param data: the request's ``data`` (SetBool).
-        :param on_answer: called once the node answered, after the page shows it (also when
-            that fails).
-        :returns: whether the call went out (False: no such service).
-        """
-        client = self._node_services[service]
-        name = self.target_node + service[1:]
-        if not client.service_is_ready():
-            self.scene.show_reply(f'{name}: no such service (is the node running?)')
-            return False
-        request = client.srv_type.Request()
-        if data is not None:
-            request.data = data
-        future = client.call_async(request)
-
-        def answered(done) -> None:
-            try:
-                response = done.result()
-                if response is not None:
-                    self.scene.show_reply(f'{name}: {response.message}')
-            finally:
-                if on_answer is not None:
-                    on_answer()
-        future.add_done_callback(answered)
-        return True
+        """Call one of the node's services, its answer shown on the page (``NodeServices``)."""
+        return self.node_services.call(service, data, on_answer=on_answer)
 
     def release(self) -> None:
         """Let the body go (the panel's Release): a release sent in order, as a gesture's."""
@@ -350,29 +293,12 @@ class MouseViewNode(Node):
             self.readouts = Readouts()
 
     def _update_panel(self) -> None:
-        self._twist_raw, linear = _vector(self.twist_subscription.take() or self._twist_raw,
-                                          TwistStamped, lambda m: m.twist.linear)
-        speed = None if linear is None else math.sqrt(sum(c * c for c in linear))
-        # The last force shown goes with its publisher: publish_force off shows n/a again.
-        forces = self.force_subscription
-        held = self._force_raw if forces.subscription.get_publisher_count() else None
-        self._force_raw, force = _vector(forces.take() or held, WrenchStamped,
-                                         lambda m: m.wrench.force)
-        topic = self.pose_subscription.topic_name
-        present = self.follower.present
-        if present is None:
-            status = f'looking for **{self.target_node}** on `{topic}`'
-        else:
-            status = (f'**{self.target_node}** on `{topic}`' if present else
-                      f'**no node on {topic}**: waiting for it (`make run`)')
-        readouts = self.readouts
-        numbers = '  \n'.join((
-            f'COM speed: {number_text(speed, "m/s")}',
-            f'anchor error: {number_text(readouts.anchor_error, "mm", scale=1e3, decimals=2)}',
-            f'force felt: {force_text(force)}',
-            f'rate: {number_text(readouts.rate_hz, "Hz", decimals=1)}',
-            f'mode: {self.parameters.mode}'))
-        self.scene.show_text(status=status, numbers=numbers, paused=readouts.paused)
+        speed, force, readouts = self.readings.speed(), self.readings.force(), self.readouts
+        self.scene.show_text(
+            status=status_text(self.target_node, self.pose_subscription.topic_name,
+                               self.follower.present),
+            numbers=numbers_text(speed, readouts, force, self.parameters.mode),
+            paused=readouts.paused)
 
     def destroy_node(self) -> None:
         """Stop the timers, then destroy the node."""
