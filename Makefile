@@ -130,13 +130,32 @@ endef
 DISCOVERY_PROFILE := $(CURDIR)/config/fast_discovery.xml
 run view demo demo-figure: export FASTRTPS_DEFAULT_PROFILES_FILE ?= $(DISCOVERY_PROFILE)
 
-run: venv
-	@echo '$(VENV)/bin/mouse_constraint_node --ros-args --params-file config/params.yaml'
-	@$(call foreground,$(VENV)/bin/mouse_constraint_node --ros-args --params-file config/params.yaml)
+# The source tree as an ament prefix in .venv, as colcon's --symlink-install lays one out: the
+# package's share/ links config/, launch/, rviz/ and package.xml of the source, and the ament
+# index lists the package. make run and make view search it first (AMENT_PREFIX_PATH), so a
+# URDF's package://mouse_constraint_ros/ meshes resolve as in an installed workspace.
+SHARE := $(VENV)/share/mouse_constraint_ros
+$(SHARE)/package.xml: package.xml | $(STAMP)
+	mkdir -p $(VENV)/share/ament_index/resource_index/packages $(SHARE)
+	touch $(VENV)/share/ament_index/resource_index/packages/mouse_constraint_ros
+	for f in config launch rviz package.xml; do ln -sfn $(CURDIR)/$$f $(SHARE)/$$f; done
+run view: export AMENT_PREFIX_PATH := $(abspath $(VENV))$(if $(AMENT_PREFIX_PATH),:$(AMENT_PREFIX_PATH))
+
+# URDF=config/tool.urdf: the body is that URDF's link (robot_description, docs/bodies.md), with
+# the parameters of the .yaml beside it (config/tool.yaml) over config/params.yaml.
+URDF ?=
+URDF_PARAMS := $(VENV)/robot_description.yaml
+NODE_COMMAND := $(VENV)/bin/mouse_constraint_node --ros-args --params-file config/params.yaml \
+  $(if $(URDF),--params-file $(URDF_PARAMS) $(if $(wildcard $(URDF:.urdf=.yaml)),--params-file \
+  $(URDF:.urdf=.yaml)))
+run: venv $(SHARE)/package.xml
+	$(if $(URDF),$(VPY) -m mouse_constraint_ros.cli.urdf_params $(URDF) $(URDF_PARAMS))
+	@echo '$(NODE_COMMAND)'
+	@$(call foreground,$(NODE_COMMAND))
 
 # VIEW_ARGS: mouse_view's options, e.g. make view VIEW_ARGS='--port 8090'.
 VIEW_ARGS ?=
-view: venv
+view: venv $(SHARE)/package.xml
 	@echo '$(VENV)/bin/mouse_view $(VIEW_ARGS)'
 	@$(call foreground,$(VENV)/bin/mouse_view $(VIEW_ARGS))
 

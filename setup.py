@@ -28,7 +28,8 @@ setup(
         ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
         ('share/' + package_name, ['package.xml']),
         ('share/' + package_name + '/config',
-         sorted(glob('config/*.yaml') + glob('config/*.xml'))),
+         sorted(glob('config/*.yaml') + glob('config/*.xml') + glob('config/*.urdf')
+                + glob('config/*.stl'))),
         ('share/' + package_name + '/launch', sorted(glob('launch/*.launch.py'))),
         ('share/' + package_name + '/rviz', sorted(glob('rviz/*.rviz'))),
     ],

@@ -282,3 +282,41 @@ def test_the_venv_install_shows_its_progress():
     assert len(installs) >= 3
     for line in installs:
         assert not re.search(r'\s(?:-q+|--quiet)\b', line), line
+
+
+def test_make_run_takes_a_urdf_and_the_parameters_beside_it():
+    """URDF=config/tool.urdf: its text as robot_description, then config/tool.yaml, in order."""
+    commands = dry_run('run', 'URDF=config/tool.urdf')
+    assert ('.venv/bin/python -m mouse_constraint_ros.cli.urdf_params config/tool.urdf '
+            '.venv/robot_description.yaml') in commands
+    assert ('.venv/bin/mouse_constraint_node --ros-args --params-file config/params.yaml '
+            '--params-file .venv/robot_description.yaml --params-file config/tool.yaml'
+            ) in commands
+    assert 'urdf_params' not in dry_run('run')
+
+
+@pytest.mark.system
+def test_make_run_starts_the_shipped_mug_with_its_package_mesh():
+    """
+    make run URDF=config/mug.urdf: the node resolves package://mouse_constraint_ros/ in .venv.
+
+    The mug's mesh is named by package://, which the ament prefix of the source tree in .venv
+    resolves; the node starts with the link and the mass its density gives, and Ctrl-C (without
+    a terminal: SIGINT to make's process group) ends it with exit 0.
+    """
+    process = subprocess.Popen(['make', '--no-print-directory', 'run', 'URDF=config/mug.urdf'],
+                               cwd=ROOT, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                               stderr=subprocess.STDOUT, start_new_session=True)
+    try:
+        out, deadline = b'', time.monotonic() + 60.0
+        while b"link 'mug'" not in out and time.monotonic() < deadline:
+            if select.select([process.stdout], [], [], 0.1)[0]:
+                chunk = os.read(process.stdout.fileno(), 4096)
+                if not chunk:
+                    break
+                out += chunk
+        assert b"link 'mug' (COM" in out and b'mass 0.390176 kg' in out, out
+    finally:
+        os.killpg(process.pid, signal.SIGINT)
+        rest, _ = process.communicate(timeout=30)
+    assert process.returncode == 0, out + rest

@@ -42,6 +42,7 @@ from rclpy.publisher import Publisher
 from rclpy.service_introspection import ServiceIntrospectionState
 from rclpy.signals import SignalHandlerOptions
 from rclpy.subscription import Subscription
+from std_msgs.msg import String
 from std_srvs.srv import SetBool, Trigger
 
 from .anchor_parameter import AnchorParameter
@@ -63,9 +64,10 @@ from ..inputs.throttle import RefusalLog, Throttle
 from ..physics import MouseSimulation
 from ..timing.guarded_time_source import guard_time_source
 from ..timing.spin import NodeRun
-from ..wire.interface import (GRAB_TOPIC, NODE_NAME, PAUSE_SERVICE, RELEASE_SERVICE,
-                              RESET_SERVICE, SERVICE_EVENT_QOS, STEP_SERVICE, TARGET_POSE_TOPIC,
-                              TARGET_QOS, TARGET_TOPIC, WRENCH_QOS, WRENCH_TOPIC)
+from ..wire.interface import (DESCRIPTION_QOS, DESCRIPTION_TOPIC, GRAB_TOPIC, NODE_NAME,
+                              PAUSE_SERVICE, RELEASE_SERVICE, RESET_SERVICE, SERVICE_EVENT_QOS,
+                              STEP_SERVICE, TARGET_POSE_TOPIC, TARGET_QOS, TARGET_TOPIC,
+                              WRENCH_QOS, WRENCH_TOPIC)
 from ..wire.state_publishers import (BroadcasterFactory, DEFAULT_BROADCASTER, StatePublishers,
                                      TF_UNAVAILABLE)
 
@@ -85,8 +87,10 @@ class MouseConstraintNode(Node):
     Subscribes ``target`` (PointStamped), publishes ``pose`` (PoseStamped) and ``twist``
     (TwistStamped) at the publish rate (every tick by default), TF and ``odom`` (Odometry) when
     on, offers ``~/reset`` and ``~/release`` (Trigger), ``~/pause`` (SetBool) and ``~/step``.
+    With ``robot_description`` (a URDF link as the body) it offers the URDF, latched, on
+    ``robot_description`` for RViz's RobotModel.
 
-    A point on ``grab`` (PointStamped) that lies on the body's box (``grab`` module) becomes the
+    A point on ``grab`` (PointStamped) that lies on the body's shape (``grab`` module) becomes the
     anchor and the target: the node sets its own ``anchor`` parameter to it, so that the
     configuration, ``ros2 param get`` and the markers all show the grabbed point. Targets then
     drag that point, ``~/release`` lets go of it, ``~/reset`` restores the configured anchor:
@@ -177,6 +181,13 @@ class MouseConstraintNode(Node):
                                   target=self._target, wrench=self._wrench,
                                   state_publishers=self._state_publishers)
         self._monitors.configure(config)
+        self._description = self.create_publisher(String, DESCRIPTION_TOPIC, DESCRIPTION_QOS)
+        self._publish_description(self.get_parameter('robot_description').value)
+
+    def _publish_description(self, text: str) -> None:
+        """Offer ``robot_description`` on its topic (latched) when it is set, as RViz reads it."""
+        if text:
+            self._description.publish(String(data=text))
 
     def _wire(self) -> None:
         """Create the subscriptions and services, each calling its part."""
@@ -268,6 +279,9 @@ class MouseConstraintNode(Node):
             self._target.restart_age(now)
             self._wrench.restart_age(now)
         self._monitors.configure(config)
+        for change in changes:
+            if change.name == 'robot_description':
+                self._publish_description(change.value)
         if self._anchor.setting:
             # A grab or a reset: one short line, at most every WARN_PERIOD (grabs can flood).
             # Six digits: the line stays short with the count of the lines it stands for.

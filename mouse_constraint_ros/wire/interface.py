@@ -26,7 +26,7 @@ RELIABLE or BEST_EFFORT, can match, with depth 100 so that a catch-up burst (up 
 ticks at 1 kHz) is not overwritten in the writer's history before a reliable reader has it.
 """
 
-from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 NODE_NAME = 'mouse_constraint'
 
@@ -74,6 +74,13 @@ WRENCH_QOS = TARGET_QOS
 # which follows the node's target through them. RELIABLE, and deep enough for a burst of calls.
 SERVICE_EVENT_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
                                reliability=ReliabilityPolicy.RELIABLE)
+# The body's URDF (std_msgs/String), when robot_description is set: as robot_state_publisher
+# offers it (relative name, TRANSIENT_LOCAL so that a late reader such as RViz's RobotModel
+# display still gets it, depth 1), for RViz to draw the link on the node's TF.
+DESCRIPTION_TOPIC = 'robot_description'
+DESCRIPTION_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
+                             reliability=ReliabilityPolicy.RELIABLE,
+                             durability=DurabilityPolicy.TRANSIENT_LOCAL)
 # The browser view of the node (``mouse_view``), in the node's namespace.
 VIEW_NODE_NAME = 'mouse_view'
 # The node as an RViz interactive marker (``mouse_marker``), in the node's namespace: the
