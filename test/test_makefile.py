@@ -298,7 +298,7 @@ def test_make_run_takes_a_urdf_and_the_parameters_beside_it():
 @pytest.mark.system
 def test_make_run_starts_the_shipped_mug_with_its_package_mesh():
     """
-    make run URDF=config/mug.urdf: the node resolves package://mouse_constraint_ros/ in .venv.
+    The shipped mug's package:// mesh resolves in .venv: ``make run URDF=config/mug.urdf``.
 
     The mug's mesh is named by package://, which the ament prefix of the source tree in .venv
     resolves; the node starts with the link and the mass its density gives, and Ctrl-C (without
