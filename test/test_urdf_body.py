@@ -18,7 +18,8 @@ A URDF link through ROS: ``SimulatedBody(robot_description=..., body_link=...)``
 The shipped tool (config/tool.urdf) and one whose ``<inertial>`` frame is turned have their COM
 off the link frame and a full inertia tensor (products of inertia). Hung by an anchor in the link
 frame, each swings with the period of the exact physical pendulum of its inertia, which the test
-derives on its own (scipy); pose, TF and the anchor are of the link frame. A box URDF reproduces the box parameters' run bit for bit.
+derives on its own (scipy); pose, TF and the anchor are of the link frame. A box URDF reproduces
+the box parameters' run bit for bit.
 """
 
 import math
