@@ -38,7 +38,7 @@ CONFIG = ROOT / 'config'
 
 
 def shipped(name: str) -> dict:
-    """Return config/params.yaml's parameters with config/<name>.yaml's and the URDF's over them."""
+    """Return config/params.yaml's parameters, config/<name>.yaml's and the URDF's over them."""
     values = dict(DEFAULTS)
     for path in (CONFIG / 'params.yaml', CONFIG / f'{name}.yaml'):
         values.update(yaml.safe_load(path.read_text())['/**']['ros__parameters'])
