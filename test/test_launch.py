@@ -44,7 +44,8 @@ NODE_NAME = 'mouse_constraint'
 NODE_TOPICS = {'markers': f'/{NODE_NAME}/markers', 'pose': '/pose', 'grab': '/grab',
                'target': '/target', 'marker_update': '/mouse_marker/update',
                'marker_feedback': '/mouse_marker/feedback',
-               'marker_service': '/mouse_marker/get_interactive_markers'}
+               'marker_service': '/mouse_marker/get_interactive_markers',
+               'robot_description': '/robot_description'}
 SKIP_REASON = ('the ROS launch and launch_ros packages are not importable here (no wheel ships '
                'them; an apt ROS install or their sources provide them)')
 
@@ -87,11 +88,22 @@ def share_path(expression: ast.AST, share_directory: Path) -> Path:
 
 def test_colcon_installs_the_launch_rviz_and_config_files(install):
     """share/<pkg>/ launch/, rviz/ and config/ hold copies of the source tree's files."""
-    for folder, name in (('launch', LAUNCH_FILE), ('rviz', RVIZ_FILE), ('config', 'params.yaml'),
-                         ('config', 'fast_discovery.xml')):
+    examples = [('config', path.name) for path in sorted((ROOT / 'config').glob('*'))]
+    assert {'tool.urdf', 'mug.urdf', 'mug.stl', 'tool.yaml', 'mug.yaml'} <= {
+        name for _, name in examples}
+    for folder, name in (('launch', LAUNCH_FILE), ('rviz', RVIZ_FILE), *examples):
         installed = share(install) / folder / name
         assert installed.is_file(), installed
         assert installed.read_bytes() == (ROOT / folder / name).read_bytes()
+
+
+def test_the_installed_mug_finds_its_package_mesh(install, monkeypatch):
+    """With the install's ament index, package://mouse_constraint_ros/config/mug.stl resolves."""
+    from mouse_constraint_ros.description import body_model
+    monkeypatch.setenv('AMENT_PREFIX_PATH', str(install))
+    text = (share(install) / 'config' / 'mug.urdf').read_text()
+    model = body_model(text, density=2400.0)
+    assert model.geometry.collisions[0].kind == 'mesh' and model.mass > 0.3
 
 
 def test_launch_file_names_the_installed_params_and_rviz_files(install, monkeypatch):
@@ -112,8 +124,8 @@ def test_launch_file_names_the_installed_params_and_rviz_files(install, monkeypa
     assert share_directory == share(install)
     arguments = {ast.literal_eval(call.args[0]): keywords(call)
                  for call in launch_calls(path, 'DeclareLaunchArgument')}
-    assert list(arguments) == ['namespace', 'params_file', 'use_sim_time', 'rviz',
-                               'body_frame_id', 'marker']
+    assert list(arguments) == ['namespace', 'params_file', 'use_sim_time', 'rviz', 'urdf',
+                               'body_link', 'body_frame_id', 'marker']
     # The marker server goes with RViz unless told otherwise.
     assert ast.unparse(arguments['marker']['default_value']) == "LaunchConfiguration('rviz')"
     assert all(ast.literal_eval(argument['description']) for argument in arguments.values())
@@ -129,8 +141,13 @@ def test_launch_file_names_the_installed_params_and_rviz_files(install, monkeypa
     assert ast.unparse(node['name']) == 'NODE_NAME' and f"NODE_NAME = '{NODE_NAME}'" in source
     assert (install / 'lib' / PACKAGE / executable).is_file()
     assert ast.unparse(node['parameters']).startswith("[LaunchConfiguration('params_file'), {")
-    assert "'body_frame_id': LaunchConfiguration('body_frame_id')" in ast.unparse(
-        node['parameters'])
+    parameters = ast.unparse(node['parameters'])
+    assert "'body_frame_id': LaunchConfiguration('body_frame_id')" in parameters
+    # The URDF file's text as a string (never YAML-parsed), read only when urdf:= is given.
+    assert "'robot_description': ParameterValue(urdf_text, value_type=str)" in parameters
+    assert ("urdf_text = IfElseSubstitution(NotEqualsSubstitution(urdf, ''), FileContent(urdf), "
+            "'')") in source
+    assert "'body_link': LaunchConfiguration('body_link')" in parameters
     assert all(ast.literal_eval(n['output']) == 'screen' for n in nodes.values())
     marker = nodes['mouse_marker']
     assert ast.unparse(marker['package']) == 'PACKAGE' and ast.unparse(marker['name']) == \
@@ -164,6 +181,10 @@ def test_rviz_configuration_names_the_node_topics_and_the_world_frame():
         NODE_TOPICS['markers']
     assert displays['rviz_default_plugins/Pose']['Topic']['Value'] == NODE_TOPICS['pose']
     assert displays['rviz_default_plugins/TF']['Enabled'] is True
+    robot = displays['rviz_default_plugins/RobotModel']
+    assert (robot['Description Source'], robot['Description Topic']['Value'],
+            robot['Description Topic']['Durability Policy']) == (
+        'Topic', NODE_TOPICS['robot_description'], 'Transient Local')
     assert all(d['Enabled'] is True for d in displays.values())
     points = [t['Topic']['Value'] for t in manager['Tools']
               if t['Class'] == 'rviz_default_plugins/PublishPoint']
@@ -207,6 +228,11 @@ DISPLAYS = {
     'rviz_default_plugins/InteractiveMarkers': {
         'Interactive Markers Namespace': None, 'Show Descriptions': None, 'Show Axes': None,
         'Show Visual Aids': None, 'Enable Transparency': None},
+    'rviz_default_plugins/RobotModel': {
+        'Visual Enabled': None, 'Collision Enabled': None,
+        'Mass Properties': {'Mass': None, 'Inertia': None}, 'Update Interval': None,
+        'Alpha': None, 'Description Source': None, 'Description File': None,
+        'Description Topic': TOPIC, 'TF Prefix': None, 'Links': ANY},
     'rviz_default_plugins/TF': {
         'Frame Timeout': None, 'Frames': ANY, 'Marker Scale': None, 'Show Arrows': None,
         'Show Axes': None, 'Show Names': None, 'Tree': ANY, 'Update Interval': None,
@@ -391,15 +417,15 @@ def test_launch_file_parses_and_describes_its_arguments(real_launch, install, mo
         str(share(install) / 'launch' / LAUNCH_FILE))
     arguments = description.get_launch_arguments()
     assert all(a.description and a.description != 'no description given' for a in arguments)
-    for namespace, body_frame in (('', 'body'), ('/robot', 'robot/body'),
+    for namespace, body_frame in (('', ''), ('/robot', 'robot/body'),
                                   ('/a/b/', 'a/b/body')):
         context = LaunchContext()
         context.launch_configurations['namespace'] = namespace
         defaults = {a.name: perform_substitutions(context, a.default_value) for a in arguments}
         assert defaults == {
             'namespace': '', 'params_file': str(share(install) / 'config' / 'params.yaml'),
-            'use_sim_time': 'false', 'rviz': 'false', 'body_frame_id': body_frame,
-            'marker': 'false'}
+            'use_sim_time': 'false', 'rviz': 'false', 'urdf': '', 'body_link': '',
+            'body_frame_id': body_frame, 'marker': 'false'}
     choices = {a.name: a.choices for a in arguments}
     assert choices['rviz'] == choices['use_sim_time'] and {'True', 'true'} <= set(
         choices['rviz'])
