@@ -104,6 +104,7 @@ def measure(command, rate: float, seconds: float, first_timeout: float = 10.0,
         'load': last.load,
         'observer_cpu_pct': ros_process.cpu_percent(first, last, observer),
         'rss_mib': last.rss[publisher.pid] / 1024.0,
+        'rss_start_mib': first.rss[publisher.pid] / 1024.0,
         'twists': int(data['also_received']),
         'threads_cpu_s': {kind: last.threads[publisher.pid][kind] - seconds
                           for kind, seconds in first.threads[publisher.pid].items()},

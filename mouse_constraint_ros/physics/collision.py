@@ -18,9 +18,11 @@ The body's convex collision pieces, in the body frame from the COM, and their fl
 A body is a union of convex pieces; each meets the floor where it reaches lowest:
 
 - polytopes (a box, a mesh's convex hull): their vertices, fixed in the body. A vertex within
-  the contact margin of the plane is a contact; where more than ``MAX_VERTEX_CONTACTS`` are (a
-  finely meshed face lying flat), the deepest and then the ones farthest from those chosen
-  (farthest-point sampling in the plane) are kept, which spans the face's support polygon;
+  the contact margin of the plane is a contact (a shape of more than ``PLAIN_VERTICES``: only
+  within a band above its lowest vertex, what the substep can bring down to the plane); where
+  more than ``MAX_VERTEX_CONTACTS`` are (a finely meshed face lying flat), four that span them
+  are kept (``_spread``): the deepest, the farthest from it and the farthest on either side of
+  the line through both;
 - spheres: exactly the lowest point, centre - radius z, one contact that rolls with the body;
 - cylinders: exactly the lowest point of each rim circle, and the rim points a quarter, a half
   and three quarters of the way round from it (``RIM_POINTS`` per rim), so a cylinder on its
@@ -44,8 +46,13 @@ from .algebra import Vector3
 from .limits import MAX_DISTANCE
 from .validation import finite_vector, scalar, shown
 
-# The most vertex contacts solved per substep: a box's eight corners stay as they are.
-MAX_VERTEX_CONTACTS = 8
+# Shapes of at most this many vertices (a box, a mesh cube) take every vertex within the margin
+# as a contact, on plain floats in the box's own order and arithmetic.
+PLAIN_VERTICES = 8
+# The most vertex contacts of a shape with more vertices: four, the deepest and three spread
+# over the support polygon (as Bullet's persistent manifold keeps four points): a face lying
+# flat stands on them, and the floor's sweeps cost what a box's do.
+MAX_VERTEX_CONTACTS = 4
 # Contacts per cylinder rim: the lowest point and three more, a quarter turn apart.
 RIM_POINTS = 4
 # The most vertices a body's pieces may have in all: the contact test reads them every substep.
@@ -92,11 +99,11 @@ class CollisionShape:
     vertices: Tuple[Vector3, ...] = ()
     spheres: Tuple[Sphere, ...] = ()
     cylinders: Tuple[Cylinder, ...] = ()
-    # Derived: the vertices' columns sorted, and the radius of a ball about the COM holding
-    # every piece (a cheap bound of the reach below it).
-    columns: Tuple[np.ndarray, np.ndarray, np.ndarray] = field(
-        init=False, repr=False, compare=False)
+    # Derived: the vertices sorted, as an n x 3 array, and the radius of a ball about the COM
+    # holding every piece (a cheap bound of the reach below it).
+    points: np.ndarray = field(init=False, repr=False, compare=False)
     bound: float = field(init=False, repr=False, compare=False)
+    _memo: list = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         """Validate the pieces, sort the vertices, derive the bound; raise ValueError."""
@@ -111,8 +118,8 @@ class CollisionShape:
         order = np.lexsort((-points[:, 0], -points[:, 1], -points[:, 2])) if len(points) else []
         points = points[order]
         object.__setattr__(self, 'vertices', tuple(tuple(float(c) for c in p) for p in points))
-        columns = tuple(np.ascontiguousarray(points[:, k]) for k in range(3))
-        object.__setattr__(self, 'columns', columns)
+        object.__setattr__(self, 'points', np.ascontiguousarray(points))
+        object.__setattr__(self, '_memo', [None, None])
         bound = float(np.sqrt((points * points).sum(axis=1)).max()) if len(points) else 0.0
         for sphere in self.spheres:
             finite_vector('sphere center', sphere.center)
@@ -137,16 +144,19 @@ class CollisionShape:
     @property
     def contact_count_bound(self) -> int:
         """Return the most contacts one substep can have."""
-        return (min(len(self.vertices), MAX_VERTEX_CONTACTS) + len(self.spheres)
-                + 2 * RIM_POINTS * len(self.cylinders))
+        count = len(self.vertices)
+        return ((count if count <= PLAIN_VERTICES else MAX_VERTEX_CONTACTS)
+                + len(self.spheres) + 2 * RIM_POINTS * len(self.cylinders))
 
     def reach(self, rotation: Sequence[float]) -> float:
         """Return how far below the COM the lowest point reaches (m), for rotation matrix R."""
         r20, r21, r22 = rotation[6], rotation[7], rotation[8]
         lowest = math.inf
-        if self.vertices:
-            x, y, z = self.columns
-            lowest = float((r20 * x + r21 * y + r22 * z).min())
+        if len(self.vertices) > PLAIN_VERTICES:
+            lowest = float(self._heights(r20, r21, r22).min())
+        else:
+            for a, b, c in self.vertices:
+                lowest = min(lowest, r20 * a + r21 * b + r22 * c)
         for sphere in self.spheres:
             cx, cy, cz = sphere.center
             lowest = min(lowest, r20 * cx + r21 * cy + r22 * cz - sphere.radius)
@@ -155,19 +165,22 @@ class CollisionShape:
                 lowest = min(lowest, rz)
         return -lowest
 
-    def contacts(self, rotation: Sequence[float], base: float, margin: float) -> List[Contact]:
+    def contacts(self, rotation: Sequence[float], base: float, margin: float,
+                 band: float = math.inf) -> List[Contact]:
         """
         Return the contact points within ``margin`` of the plane, in index order.
 
         :param rotation: the body's rotation matrix R, row major.
         :param base: the COM's height above the plane (m).
         :param margin: how far above the plane a point is still a contact (m).
+        :param band: a many-vertex shape's vertices count only within this much (m) of its
+            lowest one: those the substep can bring to the plane (``floor_contact``).
         """
         r00, r01, r02, r10, r11, r12, r20, r21, r22 = rotation
         found: List[Contact] = []
         count = len(self.vertices)
         if count:
-            if count <= MAX_VERTEX_CONTACTS:
+            if count <= PLAIN_VERTICES:
                 # A box: plain floats, in the order and the arithmetic of the box's corners.
                 for index, (a, b, c) in enumerate(self.vertices):
                     rz = r20 * a + r21 * b + r22 * c
@@ -176,7 +189,7 @@ class CollisionShape:
                         found.append((index, r00 * a + r01 * b + r02 * c,
                                       r10 * a + r11 * b + r12 * c, rz, s))
             else:
-                found.extend(self._vertex_contacts(rotation, base, margin))
+                found.extend(self._vertex_contacts(rotation, base, margin, band))
         index = count
         for sphere in self.spheres:
             cx, cy, cz = sphere.center
@@ -194,24 +207,38 @@ class CollisionShape:
                 index += 1
         return found
 
-    def _vertex_contacts(self, rotation: Sequence[float], base: float,
-                         margin: float) -> List[Contact]:
-        """Return the vertex contacts of a many-vertex shape, at most MAX_VERTEX_CONTACTS."""
+    def _vertex_contacts(self, rotation: Sequence[float], base: float, margin: float,
+                         band: float) -> List[Contact]:
+        """
+        Return the vertex contacts of a many-vertex shape, at most MAX_VERTEX_CONTACTS.
+
+        The vertices within the margin and within ``band`` of the lowest: at rest on a curved
+        hull that is the few about the lowest point, on a face lying flat the face's.
+        """
         r00, r01, r02, r10, r11, r12, r20, r21, r22 = rotation
-        x, y, z = self.columns
-        heights = r20 * x + r21 * y + r22 * z
-        s = base + heights
-        near = np.flatnonzero(s <= margin)
+        heights = self._heights(r20, r21, r22)
+        near = np.flatnonzero(heights <= min(margin - base, float(heights.min()) + band))
         if not len(near):
             return []
-        nx, ny, nz = x[near], y[near], z[near]
-        wx = r00 * nx + r01 * ny + r02 * nz
-        wy = r10 * nx + r11 * ny + r12 * nz
+        plane = np.array(((r00, r10), (r01, r11), (r02, r12)))
         if len(near) > MAX_VERTEX_CONTACTS:
-            keep = _spread(wx, wy, s[near])
-            near, wx, wy = near[keep], wx[keep], wy[keep]
-        return [(int(i), float(a), float(b), float(c), float(d))
-                for i, a, b, c, d in zip(near, wx, wy, heights[near], s[near])]
+            near = near[_spread(self.points[near] @ plane, heights[near])]
+        found = (self.points[near] @ plane).tolist()
+        return [(i, x, y, z, base + z)
+                for i, (x, y), z in zip(near.tolist(), found, heights[near].tolist())]
+
+    def _heights(self, r20: float, r21: float, r22: float) -> np.ndarray:
+        """
+        Return the vertices' heights above the COM for the rotation's last row (world z).
+
+        The touching test and the contacts of a substep ask for the same row: the last one
+        is kept.
+        """
+        memo = self._memo
+        if memo[0] != (r20, r21, r22):
+            memo[0] = (r20, r21, r22)
+            memo[1] = self.points @ np.array(memo[0])
+        return memo[1]
 
 
 def box_corners(size: Sequence[float], *, center: Vector3 = (0.0, 0.0, 0.0),
@@ -232,15 +259,20 @@ def box_corners(size: Sequence[float], *, center: Vector3 = (0.0, 0.0, 0.0),
     return tuple(corners)
 
 
-def _spread(wx: np.ndarray, wy: np.ndarray, s: np.ndarray) -> np.ndarray:
-    """Return MAX_VERTEX_CONTACTS indices: the deepest, then farthest-point samples in x, y."""
-    chosen = [int(np.argmin(s))]
-    distance = (wx - wx[chosen[0]]) ** 2 + (wy - wy[chosen[0]]) ** 2
-    while len(chosen) < MAX_VERTEX_CONTACTS:
-        k = int(np.argmax(distance))
-        chosen.append(k)
-        distance = np.minimum(distance, (wx - wx[k]) ** 2 + (wy - wy[k]) ** 2)
-    return np.array(sorted(chosen))
+def _spread(xy: np.ndarray, heights: np.ndarray) -> np.ndarray:
+    """
+    Return at most MAX_VERTEX_CONTACTS indices of the points ``xy`` (n x 2) that span them.
+
+    The deepest point, the one farthest from it, and the two farthest on either side of the
+    line through both: a quadrilateral of nearly the largest area (Bullet keeps its persistent
+    manifold's four points so). Fewer when points coincide or lie on one line.
+    """
+    deepest = int(np.argmin(heights))
+    offset = xy - xy[deepest]
+    far = int(np.argmax(np.einsum('ij,ij->i', offset, offset)))
+    ex, ey = offset[far]
+    side = offset[:, 0] * ey - offset[:, 1] * ex
+    return np.array(sorted({deepest, far, int(np.argmax(side)), int(np.argmin(side))}))
 
 
 def _rim_frame(cylinder: Cylinder, rotation: Sequence[float]):

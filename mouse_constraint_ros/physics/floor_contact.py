@@ -119,7 +119,11 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
     previous = {row[0]: row for row in warm}
     rows = []
     bounces = warmed = False
-    for index, rx, ry, rz, s in shape.contacts(rotation, pz - height, margin):
+    # What the substep can bring down to the plane: the slop, and twice the fastest a point
+    # within the shape's bound moves down in a substep (the warm start and the sweeps change
+    # the velocity: twice leaves room).
+    band = slop + 2.0 * h * (abs(vz) + math.sqrt(wx * wx + wy * wy + wz * wz) * shape.bound)
+    for index, rx, ry, rz, s in shape.contacts(rotation, pz - height, margin, band):
         # I_w^-1 (r x d) and K for d = z, x, y.
         nx, ny, nz = i00 * ry - i01 * rx, i01 * ry - i11 * rx, i02 * ry - i12 * rx
         tx, ty, tz = i01 * rz - i02 * ry, i11 * rz - i12 * ry, i12 * rz - i22 * ry
