@@ -86,7 +86,8 @@ UNIT_PARALLEL ?= -n auto
 # compile them again.
 unexport PYTHONDONTWRITEBYTECODE
 
-# The last run takes the browser tier too when chromium is there; without it, make says so.
+# The tests marked alone take the browser tier along when chromium is there; without it, make
+# says so.
 HAS_CHROMIUM := $(shell test -x $(CHROMIUM) && echo yes)
 ALONE := $(if $(HAS_CHROMIUM),alone or browser,alone and not browser)
 NO_BROWSER := browser tier skipped: no $(CHROMIUM)

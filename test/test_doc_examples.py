@@ -118,14 +118,28 @@ def test_a_block_marked_as_a_test_module_is_that_module(block):
     assert block.code == body
 
 
+# The package's executables (setup.py's console scripts), as ``ros2 run`` names them.
+SCRIPTS = (ROOT / 'setup.py').read_text().split("'console_scripts': [", 1)[1].split(']', 1)[0]
+EXECUTABLES = set(re.findall(r"'(\w+) = ", SCRIPTS))
+PACKAGE_RUN = ['ros2', 'run', 'mouse_constraint_ros']
+
+
 def command_lines() -> Iterator[tuple]:
-    """Yield (block, command, arguments) for each shell line that runs one of the commands."""
+    """
+    Yield (block, command, arguments) for each shell line that runs one of the commands.
+
+    A command is named by its path (``.venv/bin/mouse_target``) or run by ``ros2 run
+    mouse_constraint_ros NAME``, whatever ``NAME`` is: the test of the line checks it.
+    """
     for block in SHELL:
         for line in block.code.replace('\\\n', ' ').splitlines():
             line = line.removeprefix('$ ').split(' #')[0].split('&')[0].strip()
             words = shlex.split(line) if line else []
             for index, word in enumerate(words):
                 command = Path(word).name
+                if words[index:index + 3] == PACKAGE_RUN and len(words) > index + 3:
+                    yield block, words[index + 3], words[index + 4:]
+                    break
                 if command in PARSERS or command == 'mouse_constraint_node':
                     yield block, command, words[index + 1:]
                     break
@@ -140,10 +154,20 @@ def test_the_shell_blocks_run_the_commands():
 @pytest.mark.parametrize('line', [pytest.param((command, words), id=f'{block.name()} {command}')
                                   for block, command, words in command_lines()])
 def test_each_command_line_shown_parses(line):
-    """The arguments parse with the command's parser; -p names a parameter of the node."""
+    """The command is the package's, its arguments parse; -p names a parameter of the node."""
     command, words = line
+    assert command in EXECUTABLES, command
     names = {p.name for p in PARAMETERS} | ROS_PARAMETERS
     given = [words[i + 1].split(':=')[0] for i, word in enumerate(words[:-1]) if word == '-p']
     assert set(given) <= names, given
     if command in PARSERS:
         PARSERS[command]().parse_args(remove_ros_args(['command', *words])[1:])
+
+
+@pytest.mark.parametrize('page, commands', [
+    ('README.md', {'mouse_target', 'mouse_wrench', 'mouse_record', 'mouse_ctl'}),
+    ('docs/haptics.md', {'mouse_constraint_node'})])
+def test_readme_and_the_haptics_page_show_commands_whose_lines_are_parsed(page, commands):
+    """The worked example's commands, and the node started for a haptic device, are checked."""
+    shown = {command for block, command, _ in command_lines() if block.page == ROOT / page}
+    assert commands <= shown

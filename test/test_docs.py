@@ -118,7 +118,7 @@ def _section(title: str) -> str:
 
 def test_the_ros_native_route_installs_what_it_needs_before_building():
     """Install with rosdep before colcon; viser at its pin for mouse_view; rviz2 for RViz."""
-    section = _section('The ROS-native route')
+    section = (ROOT / 'docs' / 'launch.md').read_text()
     commands = re.search(r'```bash\n(.*?)```', section, re.S).group(1).splitlines()
     rosdep = next(i for i, line in enumerate(commands)
                   if line.startswith('rosdep install --from-paths src'))
@@ -152,3 +152,78 @@ def test_every_link_between_the_pages_resolves():
             if not path.exists() or (anchor and anchor not in _anchors(path)):
                 broken.append(f'{page.name}: {target}#{anchor}')
     assert not broken
+
+
+# The pages that say what a command does and guarantees; measured figures live in
+# bench/results.md (make bench writes it) and in the tests' assertions.
+PROSE = [ROOT / 'Makefile', README, ROOT / 'CONTRIBUTING.md', ROOT / 'bench' / 'README.md',
+         *sorted((ROOT / 'docs').glob('*.md'))]
+# A command or step whose wall-clock time depends on the machine and the day.
+RUN_SUBJECT = re.compile(r'make (?:test|venv|bench|lint)|\.ci/run|test-(?:unit|loaded|browser)'
+                         r'|\btest (?:run|suite|tiers?)\b|\bthe suite\b|\btests (?:each|passed)\b'
+                         r'|\bmaking (?:the )?venv\b|\bfresh.clone\b|\bpip install(?:s|ed)?\b'
+                         r'|\buv\b', re.IGNORECASE)
+DURATION = re.compile(r'\b\d+(?:\.\d+)? ?(?:min|minutes?|s|seconds?|h|hours?)\b')
+MACHINE = re.compile(r'\b(?:Xeon|EPYC|Opteron|Ryzen|Threadripper|Intel|AMD|Graviton)\b'
+                     r'|\b(?:\d+|two|four|eight)[- ]cores?\b', re.IGNORECASE)
+COUNT = r'(?:two|three|four|five|six|seven|eight|nine|ten|(?<![.\d])[1-9]\d*)'
+RUN_COUNT = re.compile(
+    rf'\b{COUNT} (?:(?:loaded|fresh-clone|full|test|bench|benchmark|suite|CI|clean|more) )?runs\b'
+    r'|\b(?:first|second|third|fourth|fifth|latest|last|previous|earlier) (?:[\w-]+ )?runs?\b'
+    r'|\bruns? of the day\b|\bfresh-clone runs?\b|\bthe (?:bench |`make bench` )?run '
+    r'(?:above|below|before)\b|\bthis run\b|\bin the bench run\b', re.IGNORECASE)
+
+
+def sentences(page: Path):
+    """Yield the sentences of ``page``, a Makefile's comment or a page's paragraph joined up."""
+    text = page.read_text()
+    if page.name == 'Makefile':
+        text = '\n'.join(line.lstrip('#') if line.startswith('#') else '\n'
+                         for line in text.splitlines())
+    for paragraph in re.split(r'\n\s*\n', text):
+        yield from re.split(r'(?<=[.;:!?])\s+(?=[A-Z`(])|\n(?=\s*[-|#]|\s*\d+\. )',
+                            ' '.join(paragraph.split('\n ')).replace('\n', ' \n'))
+
+
+def test_no_page_quotes_a_run_time_a_machine_or_a_run_count():
+    """
+    No page carries how long a test run or an install took, the machine, or which run it was.
+
+    Those are readings of one run on one machine that go stale with the next; the pages say
+    what a command does and guarantees, and link to bench/results.md for measured values.
+    """
+    found = []
+    for page in PROSE:
+        for sentence in sentences(page):
+            sentence = ' '.join(sentence.split())
+            hits = MACHINE.findall(sentence) + RUN_COUNT.findall(sentence)
+            if RUN_SUBJECT.search(sentence):
+                hits += DURATION.findall(sentence)
+            if hits:
+                found.append(f'{page.relative_to(ROOT)}: {hits}: {sentence[:160]}')
+    assert not found, '\n'.join(found)
+
+
+def test_readme_is_an_entry_point_of_at_most_250_lines():
+    """README: what it is, set-up, a worked example, the interface and links; the rest in docs/."""
+    assert len(README.read_text().splitlines()) <= 250
+
+
+def test_no_module_is_over_350_lines():
+    """The package's, the test support's, the benchmarks' and the launch files' modules."""
+    folders = ('mouse_constraint_ros', 'test_support', 'bench', 'launch', 'demo')
+    modules = [path for folder in folders for path in sorted((ROOT / folder).rglob('*.py'))]
+    assert len(modules) > 100
+    long = {str(path.relative_to(ROOT)): count for path in modules
+            if (count := len(path.read_text().splitlines())) > 350}
+    assert not long
+
+
+def test_every_benchmark_the_pages_name_is_in_make_bench():
+    """Each ``python -m bench.NAME`` of a page is a section of the suite: make bench writes it."""
+    from bench.run_all import SUITE
+    suite = {name for name, _ in SUITE} | {'run_all'}
+    named = {(page.relative_to(ROOT), name) for page in PROSE
+             for name in re.findall(r'python -m bench\.(\w+)', page.read_text())}
+    assert len(named) > 10
+    assert not {(str(page), name) for page, name in named if name not in suite}

@@ -16,14 +16,15 @@
 """
 A periodic call on the steady clock that the spin loop makes itself, not the executor.
 
-An rclpy timer under the EventsExecutor costs a thread of its own: it waits for the timer,
-then posts the call to the executor's queue, which wakes the spinning thread. At 1 kHz that
-thread alone takes about a sixth of a bare timer node's CPU (docs/benchmarks.md). ``LoopTimer``
-keeps the timer's schedule instead, and the spin loop that serves the node (``spin.spin_until``
-with a ``pace``) waits in ``spin_once`` only until the next call is due, then makes the call in
-the same thread: one thread, one wake per call. A call the loop takes late (``on_time``: it was
-busy, not waiting) belongs behind what queued up meanwhile; its caller posts it to the back of
-the executor's queue, the place an rclpy timer's call takes (``tick_loop.NodeClockTicks``).
+An rclpy timer under the EventsExecutor costs a thread of its own: it waits for the timer, then
+posts the call to the executor's queue, which wakes the spinning thread. At 1 kHz that thread alone
+takes a good share of a bare timer node's CPU (``python -m bench.node_cost`` reads it per thread,
+docs/benchmarks.md). ``LoopTimer`` keeps the timer's schedule instead, and the spin loop that
+serves the node (``spin.spin_until`` with a ``pace``) waits in ``spin_once`` only until the next
+call is due, then makes the call in the same thread: one thread, one wake per call. A call the loop
+takes late (``on_time``: it was busy, not waiting) belongs behind what queued up meanwhile; its
+caller posts it to the back of the executor's queue, the place an rclpy timer's call takes
+(``tick_loop.NodeClockTicks``).
 
 Its schedule is an rclpy timer's: calls at ``start + k * period``; a call that runs late is
 still made once, and the periods it overran are skipped, not caught up (the caller's grid
