@@ -33,13 +33,14 @@ end (memory flat: it grows by at most ``MAX_GROWTH_MIB`` over a window). Standal
 ``python -m bench.node_hull [--quick]`` prints the section as JSON.
 """
 
+from pathlib import Path
 import statistics
 import sys
 import tempfile
 import time
-from pathlib import Path
 
 from bench import node_rate, ros_process
+
 from mouse_constraint_ros.cli.urdf_params import params_text
 from test_support.meshes import ellipsoid_hull, geometry, urdf, write
 

@@ -50,6 +50,7 @@ SUITE = [
     ('node_cost', 'the node against the rclpy floor: medians of alternating windows, per tick'),
     ('tick_profile', "where a tick's time goes: py-spy samples of the node's main thread"),
     ('node_floor', 'the node at 1 kHz resting on the floor against no floor: CPU ratio'),
+    ('node_hull', 'a 500-vertex mesh body on the floor at 1 kHz against the rclpy floor'),
     ('publish_rate', 'publishing at 100 Hz from 1 kHz physics, if the node offers it'),
     ('latency', 'target published -> first pose reflecting it, at 1 kHz'),
     ('force_latency', 'target pose published -> first force reflecting it, config/haptic.yaml'),

@@ -19,9 +19,26 @@ The body from a URDF link (``robot_description``): its inertia, collision and vi
 ``urdf_link.BodyModel`` in the link frame: the physics takes its mass, inertia and COM and its
 convex collision pieces (``physics.collision``); the grab, the view and the markers take its
 surfaces. No ROS here beyond ``ament_index_python`` for ``package://`` paths.
+
+The parser and trimesh are imported with the first URDF (PEP 562): a node with the box body
+neither loads them nor holds their memory.
 """
 
+import importlib
+from typing import Any
+
 from .body_geometry import BodyGeometry
-from .urdf_link import body_model, BodyModel
 
 __all__ = ['BodyGeometry', 'body_model', 'BodyModel']
+
+
+def __getattr__(name: str) -> Any:
+    """Import ``urdf_link`` when ``body_model`` or ``BodyModel`` is first asked for."""
+    if name in ('body_model', 'BodyModel'):
+        return getattr(importlib.import_module('.urdf_link', __name__), name)
+    raise AttributeError(f'module {__name__!r} has no attribute {name!r}')
+
+
+def __dir__() -> list:
+    """List the public names, imported or not."""
+    return sorted(__all__)

@@ -26,13 +26,15 @@ convex pieces ``collision_shape`` gives (a mesh by its convex hull), and the dra
 from dataclasses import dataclass
 from functools import cached_property
 import math
-from typing import Optional, Sequence, Tuple
+from typing import Optional, Sequence, Tuple, TYPE_CHECKING
 
 import numpy as np
-import trimesh
 
 from ..physics.algebra import Vector3
 from ..physics.collision import box_corners, CollisionShape, Cylinder, Sphere
+
+if TYPE_CHECKING:
+    import trimesh
 
 # Sections of a cylinder and subdivisions of a sphere where one is drawn as triangles.
 DRAWN_SECTIONS = 48
@@ -55,7 +57,7 @@ class Piece:
     kind: str
     transform: np.ndarray
     size: Tuple[float, ...] = ()
-    mesh: Optional[trimesh.Trimesh] = None
+    mesh: Optional['trimesh.Trimesh'] = None
     uri: str = ''
     color: Optional[Tuple[float, float, float, float]] = None
 
@@ -77,6 +79,7 @@ class Piece:
                               max(0.0, abs(p[2]) - 0.5 * length))
         if self.mesh.contains([p])[0]:
             return 0.0
+        import trimesh  # a mesh body's: the box body runs without it
         _, distance, _ = trimesh.proximity.closest_point(self.mesh, [p])
         return float(distance[0])
 
@@ -98,8 +101,9 @@ class Piece:
         t = t[t >= 0.0]
         return float(t.min()) if len(t) else None
 
-    def triangles(self) -> trimesh.Trimesh:
+    def triangles(self) -> 'trimesh.Trimesh':
         """Return the piece as triangles in the link frame (primitives tessellated)."""
+        import trimesh
         if self.kind == 'box':
             mesh = trimesh.creation.box(self.size)
         elif self.kind == 'sphere':
@@ -167,8 +171,9 @@ class BodyGeometry:
         hits = [t for t in (p.ray(origin, direction) for p in self.collisions) if t is not None]
         return min(hits) if hits else None
 
-    def surface(self, *, collision: bool = False) -> trimesh.Trimesh:
+    def surface(self, *, collision: bool = False) -> 'trimesh.Trimesh':
         """Return the drawn surface in the link frame: the visuals (or collisions) as one mesh."""
+        import trimesh
         pieces = self.collisions if collision or not self.visuals else self.visuals
         return trimesh.util.concatenate([piece.triangles() for piece in pieces])
 

@@ -24,7 +24,7 @@ the COM (``physics.body_frame``). Without it, the body is the box of ``box_size`
 
 from typing import Any, Mapping, NamedTuple, Tuple
 
-from ..description import body_model, BodyGeometry
+from ..description import BodyGeometry
 from ..physics import RigidBody
 from ..physics.body_frame import BodyFrame
 from ..physics.validation import finite_vector, scalar, shown
@@ -69,6 +69,8 @@ def body_from(values: Mapping[str, Any]) -> Body:
         if link:
             raise ValueError(f'body_link {link!r} needs robot_description (a URDF) to name')
         return _box(values)
+    # The parser and trimesh load with the first URDF: the box body runs without them.
+    from ..description.urdf_link import body_model
     model = body_model(description, link, density=density)
     geometry = model.geometry
     return Body(model.rigid_body(), geometry, BodyFrame(geometry.com),
@@ -88,6 +90,7 @@ def geometry_from(values: Mapping[str, Any]) -> BodyGeometry:
     """
     if not values['robot_description']:
         return BodyGeometry.box(finite_vector('box_size', values['box_size']))
+    from ..description.urdf_link import body_model
     return body_model(values['robot_description'], values['body_link'],
                       density=values['density']).geometry
 
