@@ -244,7 +244,7 @@ def test_its_node_has_no_qos_event_handlers_and_the_node_alone_has_them():
                                     parameter_overrides=[Parameter('publish_clock', value=True)])
         try:
             topics = len(list(alone.publishers)) + len(list(alone.subscriptions))
-            assert len(list(alone.waitables)) == 2 * topics == 20
+            assert len(list(alone.waitables)) == 2 * topics == 22
         finally:
             alone.destroy_node()
 
