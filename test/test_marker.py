@@ -20,6 +20,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 from visualization_msgs.msg import InteractiveMarkerControl
 
+from mouse_constraint_ros.description import BodyGeometry
 from mouse_constraint_ros.marker.drag import MarkerDrag
 from mouse_constraint_ros.marker.input_pacer import InputPacer
 from mouse_constraint_ros.marker.presence import departed, watched
@@ -35,7 +36,7 @@ SHOWN = Pose((0.0, 0.0, 1.0), tuple(Rotation.from_euler('z', 0.3).as_quat()))
 NOW = Pose((0.05, 0.0, 0.98), tuple(Rotation.from_euler('zy', [0.35, 0.1]).as_quat()))
 LOCAL = (0.1, -0.1, 0.02)  # a point of the -y face, body frame
 # The node's box and grab_margin, which a press is checked against.
-NODE = {'box_size': BOX, 'margin': 0.01}
+NODE = {'geometry': BodyGeometry.box(BOX), 'margin': 0.01}
 
 
 def test_a_press_on_the_body_grabs_the_pressed_point_carried_to_the_latest_pose():
@@ -92,7 +93,7 @@ def test_updates_are_numbered_one_after_the_other_and_poses_go_at_most_30_a_seco
     """The whole marker first; then a pose per 1/30 s at most, only when it moved."""
     updates = MarkerUpdates('/mouse_marker')
     assert updates.current() == [] and updates.pose(SHOWN, 0.0) == []
-    [first] = updates.marker(frame_id='world', box_size=BOX, pose=SHOWN)
+    [first] = updates.marker(frame_id='world', geometry=BodyGeometry.box(BOX), pose=SHOWN)
     [marker] = first.markers
     assert (first.seq_num, marker.name, marker.header.frame_id) == (1, MARKER_NAME, 'world')
     [control] = marker.controls
@@ -116,11 +117,12 @@ def test_updates_are_numbered_one_after_the_other_and_poses_go_at_most_30_a_seco
 def test_during_a_drag_no_pose_goes_and_at_its_end_the_marker_snaps_back():
     """Mid-drag: no poses, the whole marker deferred; the end: one update, next in number."""
     updates = MarkerUpdates('/mouse_marker')
-    updates.marker(frame_id='world', box_size=BOX, pose=SHOWN)
+    updates.marker(frame_id='world', geometry=BodyGeometry.box(BOX), pose=SHOWN)
     updates.dragging = True
     moved = [Pose((k * 0.01, 0.0, 1.0), SHOWN.orientation) for k in range(1, 50)]
     assert _updates_at(updates, moved, [k * 0.05 for k in range(1, 50)]) == []
-    assert updates.marker(frame_id='world', box_size=(0.5, 0.2, 0.1), pose=NOW) == []
+    assert updates.marker(frame_id='world', geometry=BodyGeometry.box((0.5, 0.2, 0.1)),
+                          pose=NOW) == []
     [end] = updates.drag_ended(moved[-1])
     assert end.seq_num == 2 and end.markers[0].controls[0].markers[0].scale.x == 0.5
     assert pose_of(end.markers[0].pose) == moved[-1]

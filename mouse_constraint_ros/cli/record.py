@@ -29,7 +29,7 @@ progress bar, into
   which Foxglove and ``ros2 bag info/play`` open;
 - ``run.png`` at the end: anchor and target paths from above and from the side, the anchor
   error, speed and angular speed over time, grabs marked; pushes as spans, the anchor's path
-  while pushed in red, and the applied force over time.
+  while pushed in red, and the applied force over time; a URDF body's hull outlined.
 
 The CSV and the MCAP file are written while recording (``RecordingFiles``): a recorder killed
 outright leaves all but its last half second. The anchor (body frame), ``hold_initial_anchor``,
@@ -59,6 +59,7 @@ from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
 from .help_text import plain_text
+from ..recording.body_outline import body_hull
 from ..recording.capture import capture, fetch_start, Progress, Recorder, wait_for_first_pose
 from ..recording.figure import write_figure
 from ..recording.outputs import check_writable, describe_os_error, output_paths
@@ -240,7 +241,8 @@ def finish_outputs(node: Recorder, files: RecordingFiles, options: argparse.Name
                 path.unlink(missing_ok=True)
             return 1
         write_figure(written[1], files.rows(), anchor=start['anchor'],
-                     frame_id=files.frame_id or '?', ticks=files.figure_rows.count)
+                     frame_id=files.frame_id or '?', ticks=files.figure_rows.count,
+                     hull=body_hull(start, logger.warning))
     except OSError as error:
         logger.error(f'cannot write {describe_os_error(error)}')
         return 1

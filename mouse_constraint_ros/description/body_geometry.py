@@ -52,6 +52,7 @@ class Piece:
     :param mesh: the triangle mesh in its own frame, scaled (kind 'mesh').
     :param uri: the mesh's filename as the URDF names it (kind 'mesh').
     :param color: RGBA in [0, 1] (visuals), or None.
+    :param scale: the URDF's ``scale`` of the mesh file (x, y, z), which ``mesh`` has applied.
     """
 
     kind: str
@@ -60,6 +61,7 @@ class Piece:
     mesh: Optional['trimesh.Trimesh'] = None
     uri: str = ''
     color: Optional[Tuple[float, float, float, float]] = None
+    scale: Tuple[float, float, float] = (1.0, 1.0, 1.0)
 
     def local(self, point: Sequence[float]) -> np.ndarray:
         """Return a link-frame point in the piece's frame."""

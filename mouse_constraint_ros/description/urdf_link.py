@@ -156,7 +156,9 @@ def _piece(element, link: str, kind: str, find_package: PackageFinder) -> Piece:
                              find_package=find_package)
         except ValueError as error:
             raise ValueError(f'{where}: {error}') from None
-        return Piece('mesh', transform, mesh=mesh, uri=uri, color=color)
+        scale = np.broadcast_to(1.0 if geometry.mesh.scale is None else geometry.mesh.scale, 3)
+        return Piece('mesh', transform, mesh=mesh, uri=uri, color=color,
+                     scale=tuple(float(s) for s in scale))
     raise ValueError(f'{where} has no box, sphere, cylinder or mesh')
 
 

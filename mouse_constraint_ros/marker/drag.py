@@ -38,9 +38,10 @@ that is not finite.
 A pose's quaternion is read as the turn it stands for, normalised (``unit_pose``); a pose whose
 quaternion cannot be normalised (zero, not finite, overflowing) is passed over. A grab is sent
 only when the node takes it: its point, at the node's latest pose, within ``grab_margin`` of the
-box (the node's own test, ``inputs.grab``). A point the node would refuse is no hit, and the
-drag moves the node's anchor, which the node still holds: the drag never goes on from a point
-that is not the anchor.
+body's collision pieces (a URDF link's boxes, spheres, cylinders and meshes, or the box of
+``box_size``: the node's own test, ``inputs.grab``). A point the node would refuse is no hit,
+and the drag moves the node's anchor, which the node still holds: the drag never goes on from a
+point that is not the anchor.
 """
 
 import math
@@ -72,17 +73,17 @@ class MarkerDrag:
         return self.client is not None
 
     def press(self, client: str, *, shown: Pose, hit: Optional[Vector3], now: Pose,
-              anchor: Vector3, box_size: Sequence[float], margin: float) -> List[Action]:
+              anchor: Vector3, geometry: BodyGeometry, margin: float) -> List[Action]:
         """
         Start a drag: grab the pressed point of the body, or drag by the anchor without one.
 
         :param client: the RViz client's id.
-        :param shown: the marker's pose at the press: the body as RViz showed it.
+        :param shown: the marker's pose at the press: the body (link frame) as RViz showed it.
         :param hit: the pressed point (world, m), None when RViz's pick found none.
-        :param now: the body's latest pose from the node.
+        :param now: the body's latest pose from the node (its link frame's).
         :param anchor: the node's anchor (body frame, m), dragged when there is no hit.
-        :param box_size: the node's box (m).
-        :param margin: the node's ``grab_margin`` (m): how far off the box a grab is taken.
+        :param geometry: the body's shape in its link frame (``BodyShape``).
+        :param margin: the node's ``grab_margin`` (m): how far off the body a grab is taken.
         :returns: the grab, or nothing.
         """
         shown, now = unit_pose(shown), unit_pose(now)
@@ -94,8 +95,7 @@ class MarkerDrag:
             return []
         local = local_point(hit, shown)
         point = material_point(hit, shown=shown, now=now)
-        if not grab(BodyState(now.position, now.orientation), BodyGeometry.box(box_size),
-                    point).taken(margin):
+        if not grab(BodyState(now.position, now.orientation), geometry, point).taken(margin):
             self._local = tuple(anchor)
             return []
         self._local = local

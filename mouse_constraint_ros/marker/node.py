@@ -58,6 +58,7 @@ from std_srvs.srv import Trigger
 from visualization_msgs.msg import InteractiveMarkerFeedback, InteractiveMarkerUpdate
 from visualization_msgs.srv import GetInteractiveMarkers
 
+from .body_shape import BodyShape
 from .drag import MarkerDrag
 from .input_pacer import InputPacer
 from .presence import departed, Endpoint, watched
@@ -100,6 +101,7 @@ class MouseMarkerNode(Node):
             description='Keep the body held where a drag ends instead of calling ~/release.'))
         self._monotonic = clock
         self.drag = MarkerDrag()
+        self.shape = BodyShape(self.get_logger().warning)
         self.updates = MarkerUpdates(self.get_fully_qualified_name())
         # The grabs, targets and releases that go to the node (a release has no message).
         self._inputs: InputPacer[Optional[PointStamped]] = InputPacer(MAX_INPUT_RATE)
@@ -148,7 +150,8 @@ class MouseMarkerNode(Node):
         if self._latest is not None and self.follower.parameters_known:
             parameters = self.follower.parameters
             self._publish(self.updates.marker(frame_id=parameters.frame_id,
-                                              box_size=parameters.box_size, pose=self._latest))
+                                              geometry=self.shape.geometry(parameters),
+                                              pose=self._latest))
 
     def _parameters_changed(self, _parameters: ViewParameters) -> None:
         self._draw()
@@ -214,7 +217,8 @@ class MouseMarkerNode(Node):
             hit = (point.x, point.y, point.z) if feedback.mouse_point_valid else None
             was, parameters = self.drag.client, self.follower.parameters
             actions = self.drag.press(client, shown=pose, hit=hit, now=latest,
-                                      anchor=parameters.anchor, box_size=parameters.box_size,
+                                      anchor=parameters.anchor,
+                                      geometry=self.shape.geometry(parameters),
                                       margin=parameters.grab_margin)
             if was is None and self.drag.client is not None:
                 self._hung_on = watched(client, self._feedback_publishers())

@@ -15,30 +15,34 @@
 """
 The body as one interactive marker, and the updates that keep RViz's copy of it.
 
-The marker, ``body``, is the node's box (``box_size``, the RViz markers' colour) at the body's
-pose, with one ``MOVE_3D`` control that shows it always: RViz's Interact tool drags it on the
-plane that faces the camera. ``MarkerUpdates`` numbers every update it makes, one after the
-other (RViz's client resets the marker on a gap), and says when a pose goes:
+The marker, ``body``, is the node's body at its pose, with one ``MOVE_3D`` control that shows
+it always: RViz's Interact tool drags it on the plane that faces the camera. The control draws
+the body as the node's RViz markers do (``monitoring.body_markers``): the box of ``box_size`` in
+their colour, or a URDF link's pieces, each at its origin in the link frame, which is the
+marker's pose (the ``pose`` the node publishes). ``MarkerUpdates`` numbers every update it
+makes, one after the other (RViz's client resets the marker on a gap), and says when a pose
+goes:
 
 - at most ``MAX_POSE_RATE`` a second (RViz draws at 30 frames a second), and only when the body
   moved; the newest pose held back goes when its slot comes (``PushThrottle``);
 - none while the marker is dragged: RViz holds pose updates until the drag ends, and the marker
   follows the cursor meanwhile; at the release the body's pose goes at once, and the marker
   snaps back onto the body;
-- the whole marker when the box or the frame changed, never mid-drag (RViz would reset the drag
-  it is in): then at the release.
+- the whole marker when the body or the frame changed, never mid-drag (RViz would reset the
+  drag it is in): then at the release.
 
 ``get_interactive_markers`` answers with the whole marker at the latest pose and the number of
 the latest update, after which RViz takes the updates that follow.
 """
 
-from typing import List, Optional, Sequence
+from typing import List, Optional
 
 from geometry_msgs.msg import Pose as PoseMessage
-from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import (InteractiveMarker, InteractiveMarkerControl,
-                                    InteractiveMarkerPose, InteractiveMarkerUpdate, Marker)
+                                    InteractiveMarkerPose, InteractiveMarkerUpdate)
 
+from ..description import BodyGeometry
+from ..monitoring.body_markers import drawn_pieces, piece_marker
 from ..monitoring.markers import BODY_COLOR
 from ..pointer.geometry import Pose
 from ..pointer.push_throttle import PushThrottle
@@ -47,7 +51,8 @@ from ..wire.messages import set_stamp
 MARKER_NAME, CONTROL_NAME = 'body', 'drag'
 # Pose updates a second at most: RViz's default frame rate.
 MAX_POSE_RATE = 30.0
-# The marker's scale (the size RViz draws its controls' aids at) over the box's longest edge.
+# The marker's scale (the size RViz draws its controls' aids at) over the longest edge of the
+# body's box (a URDF link's: the box about its collision pieces).
 SCALE_FRACTION = 1.2
 
 
@@ -66,17 +71,21 @@ def pose_of(message: PoseMessage) -> Pose:
     return Pose((p.x, p.y, p.z), (q.x, q.y, q.z, q.w))
 
 
-def body_marker(*, frame_id: str, box_size: Sequence[float], pose: Pose) -> InteractiveMarker:
-    """Return the interactive marker of the body: its box, dragged in 3D facing the camera."""
-    box = Marker(type=Marker.CUBE)
-    box.scale.x, box.scale.y, box.scale.z = (float(c) for c in box_size)
-    box.color = ColorRGBA(r=BODY_COLOR[0], g=BODY_COLOR[1], b=BODY_COLOR[2], a=BODY_COLOR[3])
+def body_marker(*, frame_id: str, geometry: BodyGeometry, pose: Pose) -> InteractiveMarker:
+    """
+    Return the interactive marker of the body, dragged in 3D facing the camera.
+
+    :param frame_id: the frame of ``pose``.
+    :param geometry: the body's shape: its drawn pieces, in the link frame (the marker's).
+    :param pose: the body's (link frame's) pose.
+    """
     control = InteractiveMarkerControl(
         name=CONTROL_NAME, interaction_mode=InteractiveMarkerControl.MOVE_3D,
-        always_visible=True, markers=[box], description='drag the body')
+        always_visible=True, description='drag the body',
+        markers=[piece_marker(piece) for piece in drawn_pieces(geometry, BODY_COLOR)])
     control.orientation.w = 1.0
     marker = InteractiveMarker(name=MARKER_NAME, description='', controls=[control],
-                               scale=SCALE_FRACTION * float(max(box_size)))
+                               scale=SCALE_FRACTION * float(max(geometry.extents)))
     marker.header.frame_id = frame_id
     marker.pose = pose_message(pose)
     return marker
@@ -97,7 +106,7 @@ class MarkerUpdates:
         self._throttle: PushThrottle[Pose] = PushThrottle(max_rate)
         self._sent: Optional[Pose] = None
         self._marker: Optional[InteractiveMarker] = None
-        self._stale = False  # the whole marker is due (box or frame changed)
+        self._stale = False  # the whole marker is due (body or frame changed)
         self.dragging = False
 
     def _update(self, **fields) -> InteractiveMarkerUpdate:
@@ -105,10 +114,10 @@ class MarkerUpdates:
         return InteractiveMarkerUpdate(server_id=self.server_id, seq_num=self.sequence,
                                        type=InteractiveMarkerUpdate.UPDATE, **fields)
 
-    def marker(self, *, frame_id: str, box_size: Sequence[float],
+    def marker(self, *, frame_id: str, geometry: BodyGeometry,
                pose: Pose) -> List[InteractiveMarkerUpdate]:
         """Return the whole marker's update, or none mid-drag (it then goes at the release)."""
-        self._marker = body_marker(frame_id=frame_id, box_size=box_size, pose=pose)
+        self._marker = body_marker(frame_id=frame_id, geometry=geometry, pose=pose)
         self._sent = pose
         if self.dragging:
             self._stale = True
@@ -146,7 +155,7 @@ class MarkerUpdates:
         """
         Return the updates of a drag's end: the marker back on the body at ``pose``.
 
-        The whole marker when the box or the frame changed during the drag, else its pose.
+        The whole marker when the body or the frame changed during the drag, else its pose.
         """
         self.dragging = False
         if self._marker is None:

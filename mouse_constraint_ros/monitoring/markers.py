@@ -20,7 +20,8 @@ RViz markers of the body, its anchor, the target and the constraint line (no rcl
 ============  =========  =========================================================================
 namespace     type       what
 ============  =========  =========================================================================
-body          CUBE       the body: a box of ``box_size`` at the COM pose
+body          CUBE       the body: a box of ``box_size`` at the COM pose; a URDF link's pieces
+                         instead, one marker each at the link's pose (``body_markers``)
 anchor        SPHERE     the anchor (dragged point) in the world
 target        SPHERE     the target; deleted while the body is free
 constraint    LINE_LIST  anchor to target, green (no force) - yellow - red (``reference_force``)
@@ -35,7 +36,8 @@ contacts      SPHERE_LIST the box's corners touching the floor; deleted while th
 ============  =========  =========================================================================
 
 The spheres' diameter is ``SPHERE_FRACTION`` of the box's longest edge, the line's width a third
-of that, so the markers scale with the body.
+of that, so the markers scale with the body; for a URDF link the box is the one about its
+collision pieces (``BodyGeometry.extents``).
 """
 
 import math
@@ -45,6 +47,7 @@ from geometry_msgs.msg import Point
 from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import Marker, MarkerArray
 
+from .body_markers import body_markers, DrawnPiece
 from ..physics import BodyState, Floor, Settings, STANDARD_GRAVITY
 from ..physics.algebra import Vector3
 from ..physics.settings import force_bound
@@ -154,14 +157,17 @@ def marker_array(*, frame_id: str, stamp_ns: int, box_size: Vector3, state: Body
                  reference: float, wrench_force: Optional[Vector3] = None,
                  wrench_reference: float = 1.0, floor: Optional[Floor] = None,
                  contacts: Sequence[Vector3] = (),
-                 felt_force: Optional[Vector3] = None) -> MarkerArray:
+                 felt_force: Optional[Vector3] = None,
+                 pieces: Optional[Sequence[DrawnPiece]] = None,
+                 link_pose: Optional[BodyState] = None, previous_pieces: int = 0) -> MarkerArray:
     """
     Return the markers of one moment of the simulation.
 
     :param frame_id: the frame of everything (the node's ``frame_id``).
     :param stamp_ns: the stamp (ns), that of the tick the state belongs to.
-    :param box_size: the body box's edge lengths (m).
-    :param state: the body's state; its pose places the box.
+    :param box_size: the body box's edge lengths (m); for a URDF link, the box about its
+        collision pieces, which scales the other markers.
+    :param state: the body's (COM's) state; its pose places the box.
     :param anchor: the anchor's world position (m).
     :param target: the target (m), or None for a free body (target and line are deleted).
     :param force: the constraint force (N) that colours the line.
@@ -175,14 +181,24 @@ def marker_array(*, frame_id: str, stamp_ns: int, box_size: Vector3, state: Body
     :param contacts: the world points of the box's corners touching the floor (m).
     :param felt_force: the force the pointer feels (N, ``messages.felt_force``), drawn from
         the anchor at the wrench arrow's scale; zero deletes its arrow, None leaves it out.
+    :param pieces: a URDF link's pieces in the link frame (``body_markers.drawn_pieces``),
+        drawn instead of the box at ``link_pose``, ids 0, 1, ... of the body namespace.
+    :param link_pose: the link frame's pose; None: ``state``'s (a frame at the COM).
+    :param previous_pieces: the body markers the previous array drew: the ids past
+        ``pieces`` are deleted.
     """
-    body = _marker('body', Marker.CUBE, frame_id, stamp_ns)
-    fill_pose(body, state)
-    fill_point(body.scale, box_size)
-    body.color = _color(BODY_COLOR)
+    if pieces is None:
+        body = _marker('body', Marker.CUBE, frame_id, stamp_ns)
+        fill_pose(body, state)
+        fill_point(body.scale, box_size)
+        body.color = _color(BODY_COLOR)
+        markers = [body]
+    else:
+        markers = body_markers(pieces, pose=state if link_pose is None else link_pose,
+                               frame_id=frame_id, stamp_ns=stamp_ns, previous=previous_pieces)
     diameter = SPHERE_FRACTION * max(box_size)
-    markers = [body, _sphere('anchor', frame_id=frame_id, stamp_ns=stamp_ns, center=anchor,
-                             diameter=diameter, rgba=ANCHOR_COLOR)]
+    markers.append(_sphere('anchor', frame_id=frame_id, stamp_ns=stamp_ns, center=anchor,
+                           diameter=diameter, rgba=ANCHOR_COLOR))
     if target is None:
         markers += [_deleted('target', frame_id, stamp_ns),
                     _deleted('constraint', frame_id, stamp_ns)]

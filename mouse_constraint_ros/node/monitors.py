@@ -30,10 +30,11 @@ from .parameters import NodeConfig
 from .target_input import TargetInput
 from .ticker import Ticker
 from .wrench_input import WrenchInput
+from ..monitoring.body_markers import drawn_pieces
 from ..monitoring.diagnostics import (constraint_status, diagnostic_array, INITIAL_ANCHOR,
                                       NO_TARGET, Pacing, publishing_values, rate_status,
                                       simulator_status, Thresholds, TickWindow, USER_TARGET)
-from ..monitoring.markers import marker_array, reference_force, wrench_reference
+from ..monitoring.markers import BODY_COLOR, marker_array, reference_force, wrench_reference
 from ..physics import MouseSimulation
 from ..physics.settings import force_bound
 from ..wire.interface import DIAGNOSTICS_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH
@@ -74,6 +75,9 @@ class Monitors:
         self._timers = []
         self._rates = None
         self._config: Optional[NodeConfig] = None
+        # The body's pieces as drawn, of the geometry they were made from; how many went last.
+        self._drawn = (None, ())
+        self._pieces_sent = 0
 
     def configure(self, config: NodeConfig) -> None:
         """
@@ -105,22 +109,30 @@ class Monitors:
         Publish the markers of the latest tick, with its stamp, while anything subscribes.
 
         With no subscription the array is not built: DDS would send it nowhere, and building
-        and converting it costs more than a tick of the physics (docs/benchmarks.md).
+        and converting it costs more than a tick of the physics (docs/benchmarks.md). The body
+        is its link's pieces at the link pose (the box's one CUBE at the COM pose).
         """
         publisher = self._marker_publisher
         if publisher.get_subscription_count() == 0:
             return
         simulation, config = self._simulation, self._config
+        geometry, state = config.geometry, simulation.state
+        if self._drawn[0] is not geometry:
+            self._drawn = (geometry, drawn_pieces(geometry, BODY_COLOR))
+        pieces = self._drawn[1]
         publisher.publish(marker_array(
             frame_id=config.frame_id, stamp_ns=self._record.stamp_ns,
-            box_size=config.box_size, state=simulation.state,
+            box_size=geometry.extents, state=state,
             anchor=simulation.anchor_position(), target=simulation.target,
             force=simulation.constraint_force, reference=reference_force(simulation.settings),
             wrench_force=simulation.wrench[0],
             wrench_reference=wrench_reference(simulation.settings),
             floor=simulation.settings.floor,
             contacts=[point for point, _ in simulation.contacts],
-            felt_force=felt_force(simulation.tick_impulse) if config.publish_force else None))
+            felt_force=felt_force(simulation.tick_impulse) if config.publish_force else None,
+            pieces=pieces, link_pose=config.body_frame.link_state(state),
+            previous_pieces=self._pieces_sent))
+        self._pieces_sent = len(pieces)
 
     def publish_diagnostics(self) -> None:
         """

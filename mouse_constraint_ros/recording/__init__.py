@@ -23,7 +23,7 @@ The parts of ``mouse_record``, one idea a module, below the thin command ``cli/r
 - ``rows``: messages to CSV rows (one per tick), made as the messages come;
 - ``recording_files``: the files written while recording; ``csv_file`` and ``mcap_file`` the
   CSV and the MCAP file (and the ``ros2msg`` schemas it carries);
-- ``figure``: the PNG figure (matplotlib, no display);
+- ``figure``: the PNG figure (matplotlib, no display); ``body_outline`` a URDF body's hull on it;
 - ``missing_ticks``: which ticks of the node's grid a recording lacks;
 - ``outputs``: the files a recording writes, checked for writing before it starts.
 """

@@ -40,9 +40,9 @@ from rclpy.serialization import deserialize_message
 from service_msgs.msg import ServiceEventInfo
 
 from .mcap_file import offered_qos_yaml
-from .received import (COUNTED_TOPICS, header_stamp, MESSAGE_TYPES, NODE_PARAMETERS,
-                       parameter_changes, PARAMETER_EVENTS_TOPIC, Received, service_event_topic,
-                       SERVICE_EVENTS, TOPICS)
+from .received import (BODY_PARAMETERS, COUNTED_TOPICS, header_stamp, MESSAGE_TYPES,
+                       NODE_PARAMETERS, parameter_changes, PARAMETER_EVENTS_TOPIC, Received,
+                       service_event_topic, SERVICE_EVENTS, TOPICS)
 from ..timing.guarded_time_source import guard_time_source
 from ..timing.spin import spin_until, SpinEnd, StopRequest, wait_until
 from ..wire.interface import NODE_NAME, POSE_TOPIC, SERVICE_EVENT_QOS, TWIST_TOPIC
@@ -188,18 +188,19 @@ class Recorder(Node):
 def fetch_start(node: Node, executor: Executor, stop: StopRequest, *, target_node: str,
                 timeout: float) -> Dict[str, object]:
     """
-    Return ``target_node``'s parameters of ``NODE_PARAMETERS`` (the anchor in the body frame, m).
+    Return ``target_node``'s parameters of ``NODE_PARAMETERS`` and ``BODY_PARAMETERS``.
 
-    Only ``anchor`` must be there; without the others a reset's target and the grid are not
-    known (``rows.NodeView``, ``missing_ticks``).
+    Only ``anchor`` (in the body frame, m) must be there; without the others a reset's target
+    and the grid are not known (``rows.NodeView``, ``missing_ticks``), nor a URDF body's outline
+    (``body_outline``).
 
     :param timeout: seconds to wait for the parameter service, then as long for its answer.
     :raises RuntimeError: saying why they could not be read.
     :raises Interrupted: when ``stop`` is requested meanwhile.
     """
-    return fetch_parameters(node, executor, stop, target_node=target_node,
-                            types=NODE_PARAMETERS, timeout=timeout,
-                            optional=set(NODE_PARAMETERS) - {'anchor'})
+    types = {**NODE_PARAMETERS, **BODY_PARAMETERS}
+    return fetch_parameters(node, executor, stop, target_node=target_node, types=types,
+                            timeout=timeout, optional=set(types) - {'anchor'})
 
 
 def wait_for_first_pose(node: Recorder, executor: Executor, stop: StopRequest, *,

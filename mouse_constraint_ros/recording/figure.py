@@ -18,6 +18,8 @@ The figure of a recording: anchor and target paths, anchor error, speed and angu
 A recording with pushes (a wrench the node applied) gets a third row, the applied force over
 time, and each push is marked where it acted: a shaded span and a line at its start on the time
 plots, and its stretch of the anchor's path drawn over in magenta from a triangle where it began.
+A URDF body is outlined on the path plots where it started and where it ended: its convex hull
+seen from above and from the side (``body_outline``); the box body is not drawn.
 
 matplotlib is imported when a figure is drawn, with its Agg canvas: no display is needed. Axes
 show plain numbers (no offset such as ``1e-9+1``, which a body at rest would otherwise get), a
@@ -27,11 +29,12 @@ as its escapes rather than as missing glyphs.
 
 import math
 from pathlib import Path
-from typing import Optional, Sequence
+from typing import Optional, Sequence, Tuple
 
 import numpy as np
 
 from .applied_wrench import push_spans
+from .body_outline import outline
 from .rows import Row
 from ..physics.algebra import Vector3
 
@@ -49,6 +52,9 @@ PUSH_COLOR = 'magenta'
 PUSH_ALPHA = 0.15
 # The height of the applied wrench's row, relative to the other two rows.
 WRENCH_ROW_HEIGHT = 0.6
+# A URDF body's outline: its colour, and its line where the body started and where it ended.
+BODY_OUTLINE_COLOR = 'tab:blue'
+BODY_OUTLINES = ((0, ':', 'body at start (hull)'), (-1, '-', 'body at end (hull)'))
 
 
 def drawable(text: str) -> str:
@@ -61,7 +67,8 @@ def drawable(text: str) -> str:
 
 
 def draw_figure(rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
-                title: str = 'mouse_constraint', ticks: Optional[int] = None):
+                title: str = 'mouse_constraint', ticks: Optional[int] = None,
+                hull: Optional[np.ndarray] = None):
     """
     Return the recording's figure (a matplotlib ``Figure`` on the Agg canvas, not shown).
 
@@ -80,6 +87,9 @@ def draw_figure(rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
     :param frame_id: the frame of the positions, named on the axes.
     :param ticks: the ticks recorded, named in the title, when ``rows`` are fewer
         (``FigureRows``); by default ``len(rows)``.
+    :param hull: a URDF body's hull vertices in the link frame (``body_outline.body_hull``):
+        outlined on the path plots at the first row's pose, dotted, labelled 'body at start
+        (hull)', and at the last row's, labelled 'body at end (hull)'; None draws no body.
     :raises ValueError: without rows.
     """
     from matplotlib.figure import Figure
@@ -118,6 +128,8 @@ def draw_figure(rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
                 index == 0 or not pushed[index - 1])]]
             axes.plot(starts[:, i], starts[:, j], '^', color=PUSH_COLOR, markersize=8,
                       label='push start')
+        if hull is not None:
+            _draw_outlines(axes, hull, rows, (i, j))
         for taken, color, label in ((True, 'black', 'grab'), (False, 'grey', 'grab ignored')):
             points = np.array([row.grab for row in grabbed if row.grab_taken is taken])
             if len(points):
@@ -165,6 +177,15 @@ def draw_figure(rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
     figure.suptitle(f'{drawable(title)}: {t[-1]:.1f} s, {ticks} ticks, anchor '
                     f'{point(anchor)}{changed} m in the body frame{grab_note}{push_note}')
     return figure
+
+
+def _draw_outlines(axes, hull: np.ndarray, rows: Sequence[Row], plane: Tuple[int, int]) -> None:
+    """Outline the body's hull at the first and the last row's pose (``BODY_OUTLINES``)."""
+    for index, style, label in BODY_OUTLINES:
+        ring = outline(hull, rows[index].position, rows[index].orientation, plane)
+        if ring is not None:
+            axes.plot(ring[:, 0], ring[:, 1], color=BODY_OUTLINE_COLOR, linestyle=style,
+                      linewidth=1.0, label=label)
 
 
 def _draw_error(axes, t, errors) -> None:
@@ -227,7 +248,8 @@ def _draw_wrench(axes, t, rows):
 
 
 def write_figure(path: Path, rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
-                 title: str = 'mouse_constraint', ticks: Optional[int] = None) -> None:
+                 title: str = 'mouse_constraint', ticks: Optional[int] = None,
+                 hull: Optional[np.ndarray] = None) -> None:
     """Draw the recording (``draw_figure``) into a PNG of ``FIGURE_INCHES`` at ``FIGURE_DPI``."""
-    draw_figure(rows, anchor=anchor, frame_id=frame_id, title=title, ticks=ticks).savefig(
-        path, dpi=FIGURE_DPI)
+    draw_figure(rows, anchor=anchor, frame_id=frame_id, title=title, ticks=ticks,
+                hull=hull).savefig(path, dpi=FIGURE_DPI)

@@ -59,6 +59,11 @@ NODE_PARAMETERS = {'anchor': ParameterType.PARAMETER_DOUBLE_ARRAY,
                    'max_wrench_force': ParameterType.PARAMETER_DOUBLE,
                    'max_wrench_torque': ParameterType.PARAMETER_DOUBLE,
                    'wrench_timeout': ParameterType.PARAMETER_DOUBLE}
+# The recorded node's body, read at the start only: a URDF link's hull is outlined on the
+# figure (``body_outline``); without robot_description the node's body is the box.
+BODY_PARAMETERS = {'robot_description': ParameterType.PARAMETER_STRING,
+                   'body_link': ParameterType.PARAMETER_STRING,
+                   'density': ParameterType.PARAMETER_DOUBLE}
 # The length of each array parameter of NODE_PARAMETERS.
 _LENGTHS = {'anchor': 3, 'initial_position': 3, 'initial_orientation': 4}
 
