@@ -16,12 +16,14 @@
 What the view reads from the node: the parameters it draws with, and the panel's live numbers.
 
 ``ViewParameters`` holds the node parameters the page needs: ``frame_id`` (of the points the
-view sends), ``box_size`` (the box drawn), ``anchor`` (the dragged point, in the body frame),
-``frequency_hz`` (0: rigid mode, else soft), ``grab_margin`` (how far off the box a grab is
-taken) and, where the node has them, ``floor`` and ``floor_height``. ``with_values`` takes them
-from a ``GetParameters`` answer or a ``/parameter_events`` message: a parameter it does not
-know, of another type or with a value it cannot draw (a non-finite or non-positive box edge) is
-passed over, never raised on.
+view sends), the body's shape (``robot_description``, ``body_link`` and ``density``: a URDF
+link, else the box of ``box_size``; ``body_shape`` makes it), ``anchor`` (the dragged point, in
+the body's frame: the link frame of a URDF), ``frequency_hz`` (0: rigid mode, else soft),
+``grab_margin`` (how far off the body a grab is taken) and, where the node has them, ``floor``
+and ``floor_height``. ``with_values`` takes them from a ``GetParameters`` answer or a
+``/parameter_events`` message: a parameter it does not know, of another type or with a value it
+cannot draw (a non-finite or non-positive box edge, a negative density) is passed over, never
+raised on.
 
 ``Readouts`` picks the node's own statuses out of ``/diagnostics`` (``<node>: rate``,
 ``<node>: constraint``, ``<node>: simulator``): the achieved rate, the anchor error and whether
@@ -54,6 +56,9 @@ class ViewParameters(NamedTuple):
     floor: bool = False
     floor_height: float = 0.0
     grab_margin: float = 0.01
+    robot_description: str = ''
+    body_link: str = ''
+    density: float = 0.0
 
     @property
     def mode(self) -> str:
@@ -81,11 +86,12 @@ def _vector(value: ParameterValue, positive: bool) -> Optional[Vector3]:
 
 def _parse(name: str, value: ParameterValue):
     kind = value.type
-    if name == 'frame_id' and kind == ParameterType.PARAMETER_STRING:
+    if name in ('frame_id', 'robot_description', 'body_link') \
+            and kind == ParameterType.PARAMETER_STRING:
         return value.string_value
     if name in ('box_size', 'anchor') and kind == ParameterType.PARAMETER_DOUBLE_ARRAY:
         return _vector(value, positive=name == 'box_size')
-    if name in ('frequency_hz', 'floor_height', 'grab_margin') \
+    if name in ('frequency_hz', 'floor_height', 'grab_margin', 'density') \
             and kind == ParameterType.PARAMETER_DOUBLE:
         number = value.double_value
         return number if math.isfinite(number) and (name == 'floor_height' or number >= 0.0) \
