@@ -158,3 +158,15 @@ def test_a_page_that_loads_is_turned_to_the_middle_of_the_mug(ros, server, mug_p
         assert tuple(handle.camera.position) == pytest.approx(expected.position, abs=1e-6)
     finally:
         client.close()
+
+
+def test_a_visuals_material_colour_is_drawn(ros, server):
+    """One box visual in red, half opaque: a box under the /body frame in that colour."""
+    red = ('<visual><geometry><box size="0.1 0.1 0.1"/></geometry><material name="red">'
+           '<color rgba="1 0 0 0.5"/></material></visual>')
+    node, view = _started(ros, server, urdf([geometry('box', size=(0.1, 0.1, 0.1)), red]),
+                          anchor=[0.0, 0.0, 0.05])
+    assert isinstance(view.scene.body, viser.FrameHandle)
+    [box] = view.scene.drawing.pieces
+    assert isinstance(box, viser.BoxHandle) and tuple(box.dimensions) == (0.1, 0.1, 0.1)
+    assert tuple(box.color) == (255, 0, 0) and box.opacity == 0.5

@@ -15,14 +15,15 @@
 """
 The body in the page: the box of ``box_size``, or a URDF link's pieces, and its anchor sphere.
 
-The box body is one box scene node, ``/body``, at the COM. A URDF link is a frame, ``/body``,
-at the pose the node publishes (the link frame), holding one scene node per visual piece (the
-collision pieces where the link has no ``<visual>``), each at its origin in the link frame: a
-mesh as its triangles (``add_mesh_simple``), a box, a sphere and a cylinder as viser's shapes
-(a cylinder along z, as in URDF), each in its material's colour, else the markers' body colour.
-The anchor sphere is a child of ``/body`` at the ``anchor`` parameter, which is in the same
-frame. A press on a piece reaches ``/body``'s drag and click callbacks: the page hands a
-pointer event on a scene node to its ancestors.
+The box body (and a link that is one uncoloured box about its origin) is one box scene node,
+``/body``, as it always was. Any other URDF link is a frame, ``/body``, at the pose the node
+publishes (the link frame), holding one scene node per visual piece (the collision pieces where
+the link has no ``<visual>``), each at its origin in the link frame: a mesh as its triangles
+(``add_mesh_simple``), a box, a sphere and a cylinder as viser's shapes (a cylinder along z, as
+in URDF), each in its material's colour, else the markers' body colour. The anchor sphere is
+a child of ``/body`` at the ``anchor`` parameter, which is in the same frame. A press on a piece
+reaches ``/body``'s drag and click callbacks: the page hands a pointer event on a scene node to
+its ancestors.
 
 ``draw`` replaces the scene nodes when the shape changes, registers the callbacks on the new
 ``/body`` and puts it at the last pose shown; a box that only changes its edges is resized in
@@ -102,7 +103,8 @@ class BodyDrawing:
         if geometry is self.geometry:
             return False
         self.geometry = geometry
-        edges = lone_box(drawn_pieces(geometry))
+        pieces = drawn_pieces(geometry)
+        edges = lone_box(pieces) if pieces[0].color is None else None
         if edges is not None:
             self.extents, self.center = edges, (0.0, 0.0, 0.0)
         else:
@@ -121,7 +123,7 @@ class BodyDrawing:
             self.body = self._scene.add_frame('/body', show_axes=False, position=position,
                                               wxyz=wxyz)
             self.pieces = [self._add_piece(f'/body/piece_{i}', piece)
-                           for i, piece in enumerate(drawn_pieces(geometry))]
+                           for i, piece in enumerate(pieces)]
         # A child of the body: it moves with the body's pose, at no cost per push.
         self.anchor = self._scene.add_icosphere('/body/anchor', 1.0, _rgb(ANCHOR_COLOR))
         for callbacks in self._callbacks:
