@@ -35,7 +35,7 @@ ALLOWED = {
     'cli': {'cli', 'physics', 'description', 'timing', 'inputs', 'wire', 'recording',
             'node/parameters.py', 'node/body_parameters.py'},
     # The pointer on the body and the node it drags, shared by the web view and the RViz marker.
-    'pointer': {'pointer', 'physics', 'description', 'wire'},
+    'pointer': {'pointer', 'physics', 'description', 'wire', 'node/body_parameters.py'},
     # The two tools import neither each other: what they share is pointer/.
     'view': {'view', 'pointer', 'physics', 'description', 'timing', 'inputs', 'wire',
              'monitoring'},

@@ -29,11 +29,9 @@ label reads dark. It saves a screenshot of the drag: to
 temporary folder.
 """
 
-import contextlib
 import itertools
 import os
 from pathlib import Path
-import threading
 import time
 
 import numpy as np
@@ -50,18 +48,13 @@ from mouse_constraint_ros.view.command import page_address
 from mouse_constraint_ros.view.node import MouseViewNode
 from mouse_constraint_ros.view.scene import ViewScene
 from mouse_constraint_ros.view.server import start
+from test_support import browser_page
+from test_support.browser_page import (camera_known, clear_of_the_panel, newest_client,
+                                       PinholeCamera, press_until_grabbed, spinning, VIEWPORT,
+                                       wait_for)
 
 pytestmark = pytest.mark.browser
 
-CHROMIUM = '/usr/bin/chromium'
-CHROMIUM_ARGS = ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking',
-                 '--disable-component-update', '--disable-sync', '--no-first-run']
-VIEWPORT = {'width': 1280, 'height': 720}
-# Device pixels per CSS pixel: the browser answers each mouse event after a frame, and SwiftShader
-# draws a sixteenth of the pixels at 0.25 (the test takes half the time it takes at 0.5); the
-# mouse and the camera are in CSS pixels all the same. The screenshot for the docs
-# (MOUSE_VIEW_SCREENSHOT set) is drawn at full size.
-SCALE = 1.0 if 'MOUSE_VIEW_SCREENSHOT' in os.environ else 0.25
 BOX = (0.4, 0.2, 0.1)
 # The body at rest where it starts; a slow guide, so that the picture catches it on its way; 100 Hz
 # and no markers or diagnostics, so that the node, which shares this process with Playwright,
@@ -80,79 +73,11 @@ GRAB_TIMEOUT = 180.0
 HINT_START = 'Press on the body'
 
 
-@contextlib.contextmanager
-def spinning(ros):
-    """Spin the harness's executor on a thread until the block ends."""
-    stop = threading.Event()
-
-    def spin() -> None:
-        while not stop.is_set():
-            ros.executor.spin_once(timeout_sec=0.01)
-    thread = threading.Thread(target=spin, daemon=True)
-    thread.start()
-    try:
-        yield
-    finally:
-        stop.set()
-        thread.join(timeout=5.0)
-
-
-def wait_for(condition, timeout: float, what: str) -> None:
-    """Poll ``condition()`` until it holds; fail saying ``what`` after ``timeout`` s."""
-    deadline = time.monotonic() + timeout
-    while not condition():
-        if time.monotonic() > deadline:
-            pytest.fail(f'{what} within {timeout:g} s')
-        time.sleep(0.05)
-
-
-class PinholeCamera:
-    """The browser's camera: pixels to rays and back (OpenCV axes: x right, y down, z ahead)."""
-
-    def __init__(self, camera) -> None:
-        """
-        Read the position, orientation, vertical field of view and the image's aspect.
-
-        The pixels are the page's (CSS px, where the mouse goes): the image the browser
-        reports may be drawn smaller (viser lowers its resolution when frames come slowly).
-        """
-        self.position = np.array(camera.position, dtype=float)
-        w, x, y, z = camera.wxyz
-        self.rotation = Rotation.from_quat([x, y, z, w]).as_matrix()
-        self.aspect = camera.image_width / camera.image_height
-        self.width, self.height = VIEWPORT['width'], VIEWPORT['height']
-        self.focal = 0.5 * self.height / np.tan(0.5 * camera.fov)
-
-    def pixel(self, point) -> np.ndarray:
-        """Return where the world ``point`` is drawn on the canvas (CSS px)."""
-        x, y, z = self.rotation.T @ (np.asarray(point) - self.position)
-        return np.array([0.5 * self.width + self.focal * x / z,
-                         0.5 * self.height + self.focal * y / z])
-
-    def ray(self, pixel) -> np.ndarray:
-        """Return the world direction of the ray through ``pixel``."""
-        u, v = pixel
-        return self.rotation @ np.array([(u - 0.5 * self.width) / self.focal,
-                                         (v - 0.5 * self.height) / self.focal, 1.0])
-
-    @property
-    def forward(self) -> np.ndarray:
-        """Return the viewing direction."""
-        return self.rotation[:, 2]
-
-
 @pytest.fixture
 def chromium_page():
     """Yield a 1280x720 page of Debian's chromium, headless; closed afterwards."""
-    if not os.access(CHROMIUM, os.X_OK):
-        pytest.skip(f'no {CHROMIUM} (apt-get install chromium)')
-    sync_api = pytest.importorskip('playwright.sync_api')
-    with sync_api.sync_playwright() as playwright:
-        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
-        try:
-            yield browser.new_page(viewport=VIEWPORT, device_scale_factor=SCALE)
-        finally:
-            browser.close()
+    with browser_page.chromium_page() as page:
+        yield page
 
 
 def test_a_real_mouse_grabs_drags_and_releases_the_body(ros, chromium_page, tmp_path):
@@ -166,7 +91,7 @@ def test_a_real_mouse_grabs_drags_and_releases_the_body(ros, chromium_page, tmp_
         page = chromium_page
         with spinning(ros):
             page.goto(page_address('127.0.0.1', server.get_port()), timeout=60_000)
-            wait_for(lambda: any(_camera_known(c) for c in server.get_clients().values()),
+            wait_for(lambda: any(camera_known(c) for c in server.get_clients().values()),
                      60.0, 'the browser reported its camera')
             _assert_framed(server, view)
             _check_the_panel(page)
@@ -227,24 +152,6 @@ def _check_the_panel(page) -> None:
     assert max(channels) <= 80, color
 
 
-def _camera_known(client) -> bool:
-    try:
-        return client.camera.image_height > 0 and client.camera.fov > 0.0
-    except AssertionError:
-        return False
-
-
-def _page(server):
-    """
-    Return the page's client: the newest connection.
-
-    A page that connected again (a websocket handshake failed) leaves an older connection whose
-    camera is not the one drawn; aim with the newest.
-    """
-    clients = server.get_clients()
-    return clients[max(clients)]
-
-
 def _assert_framed(server, view) -> None:
     """
     Check the loaded page looks at the body, which spans a quarter of its height or more.
@@ -257,8 +164,8 @@ def _assert_framed(server, view) -> None:
     turned = []
 
     def page_turned() -> bool:
-        client = _page(server)
-        if view.scene.shown is None or not _camera_known(client):
+        client = newest_client(server)
+        if view.scene.shown is None or not camera_known(client):
             return False
         look_at = np.array(client.camera.look_at)
         camera = PinholeCamera(client.camera)
@@ -290,7 +197,7 @@ def _aim(server, view):
     The camera is turned to the body again first: a press before the page has drawn the body
     orbits it.
     """
-    client = _page(server)
+    client = newest_client(server)
     view.scene.frame(client)
     time.sleep(0.5)
     camera = PinholeCamera(client.camera)
@@ -300,7 +207,7 @@ def _aim(server, view):
              for axis in range(3) for s in (-1.0, 1.0)]
     local = min(faces, key=lambda face: _facing(pose, face, camera))
     press = camera.pixel(world_point(pose, local))
-    assert 100 < press[0] < 900 and 150 < press[1] < 650  # clear of the panel and the notes
+    assert clear_of_the_panel(press)
     return camera, press
 
 
@@ -316,20 +223,4 @@ def _grab(page, node, aim, grabbed=None):
     if grabbed is None:
         def grabbed() -> bool:
             return not np.allclose(node.get_parameter('anchor').value, DEFAULT_ANCHOR)
-    deadline = time.monotonic() + GRAB_TIMEOUT
-    while True:
-        camera, press = aim()
-        page.mouse.move(*press)
-        page.mouse.down()
-        page.mouse.move(*(press + (6.0, 0.0)), steps=3)
-        try:
-            wait_for(grabbed, 3.0, 'grab')
-            return camera, press
-        except pytest.fail.Exception:
-            page.mouse.up()  # the page was not drawn yet: press again
-            if time.monotonic() > deadline:
-                shot = Path(os.environ.get('MOUSE_VIEW_SCREENSHOT', '/tmp/view.png'))
-                page.screenshot(path=str(shot.with_name('view-no-grab.png')))
-                pytest.fail(f'no grab reached the node within {GRAB_TIMEOUT:g} s of pressing at '
-                            f'{press}: see {shot.with_name("view-no-grab.png")}')
-            time.sleep(1.0)
+    return press_until_grabbed(page, aim, grabbed, GRAB_TIMEOUT)

@@ -192,11 +192,12 @@ def test_without_the_camera_the_targets_are_the_web_views_plane_points():
 def test_a_click_grabs_where_the_ray_meets_the_box_then_releases_unless_held():
     """A click: a grab on the top face, then a release; with shift, the grab only."""
     down = ((0.1, 0.0, 3.0), (0.0, 0.0, -1.0))
-    actions = Gestures.click(*down, now=AT_REST, box_size=BOX, modifier=None, hold=False)
+    actions = Gestures.click(*down, now=AT_REST, geometry=BOX_SHAPE, modifier=None, hold=False)
     assert actions == [Action(GRAB, pytest.approx((0.1, 0.0, 1.05))), Action(RELEASE)]
-    held = Gestures.click(*down, now=AT_REST, box_size=BOX, modifier=HOLD_MODIFIER, hold=False)
+    held = Gestures.click(*down, now=AT_REST, geometry=BOX_SHAPE, modifier=HOLD_MODIFIER,
+                          hold=False)
     assert [action.kind for action in held] == [GRAB]
-    assert Gestures.click((1.0, 0.0, 3.0), (0.0, 0.0, -1.0), now=AT_REST, box_size=BOX,
+    assert Gestures.click((1.0, 0.0, 3.0), (0.0, 0.0, -1.0), now=AT_REST, geometry=BOX_SHAPE,
                           modifier=None, hold=False) == []
 
 

@@ -191,8 +191,9 @@ def framing(center: Sequence[float], box_size: Sequence[float], fov: float) -> F
     ``FRAME_FRACTION`` of the view's height, with its near plane in proportion (a 1 mm box and
     a 4 m box look alike).
 
-    :param center: the body's COM (world, m).
-    :param box_size: the box's edges (m).
+    :param center: the box's centre (world, m): the box body's COM, the middle of a URDF
+        body's drawn bounds.
+    :param box_size: the box's edges (m): the body's drawn bounds.
     :param fov: the camera's vertical field of view (rad).
     """
     distance = max(box_size) / (FRAME_FRACTION * 2.0 * math.tan(0.5 * fov))

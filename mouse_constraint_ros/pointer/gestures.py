@@ -26,8 +26,8 @@ release                       ``~/release``: the body flies free (``SEGMENT_GAP`
 release with HOLD_MODIFIER    nothing more: the last target holds the body where it was let
 down, or the page's hold      go
 toggle on
-click (press, release, no     ``grab`` where the ray first meets the box at the latest pose
-motion)                       (``ray_box_hit``), then a release as above
+click (press, release, no     ``grab`` where the ray first meets the body's collision pieces
+motion)                       at the latest pose (``ray_body_hit``), then a release as above
 ============================  ==============================================================
 
 A drag's plane is fixed when it starts, like the web view's own: the camera does not move
@@ -45,7 +45,9 @@ once (``scene``), where the web view would wait for the pointer to move or 0.1 s
 
 from typing import Dict, List, NamedTuple, Optional, Sequence, Tuple
 
-from .geometry import camera_plane_point, material_point, Pose, ray_box_hit
+from .body_shape import ray_body_hit
+from .geometry import camera_plane_point, material_point, Pose
+from ..description.body_geometry import BodyGeometry
 from ..physics.algebra import Vector3
 
 # Held at release (the drag's modifier), it keeps the body held instead of letting it fly.
@@ -176,19 +178,20 @@ class Gestures:
 
     @staticmethod
     def click(origin: Sequence[float], direction: Sequence[float], *, now: Pose,
-              box_size: Sequence[float], modifier: Optional[str], hold: bool) -> List[Action]:
+              geometry: BodyGeometry, modifier: Optional[str],
+              hold: bool) -> List[Action]:
         """
-        Return what a click on the body sends: a grab where its ray meets the box, a release.
+        Return what a click on the body sends: a grab where its ray meets the body, a release.
 
         :param origin: the click's ray origin (world, m).
         :param direction: its direction.
-        :param now: the body's latest pose.
-        :param box_size: the box's edges (m).
+        :param now: the body's latest pose (its frame's: the link's for a URDF body).
+        :param geometry: the body's shape in that frame (its collision pieces are met).
         :param modifier: the modifier keys held (None: none).
         :param hold: the page's hold toggle.
-        :returns: nothing when the ray misses the box at the latest pose.
+        :returns: nothing when the ray misses the body at the latest pose.
         """
-        hit = ray_box_hit(origin, direction, pose=now, box_size=box_size)
+        hit = ray_body_hit(origin, direction, pose=now, geometry=geometry)
         if hit is None:
             return []
         return [Action(GRAB, hit)] + ([] if _holds(modifier, hold) else [Action(RELEASE)])

@@ -16,13 +16,14 @@
 What the view reads from the node: the parameters it draws with, and the panel's live numbers.
 
 ``ViewParameters`` holds the node parameters the page needs: ``frame_id`` (of the points the
-view sends), ``box_size`` (the box drawn), ``anchor`` (the dragged point, in the body frame),
-``frequency_hz`` (0: rigid mode, else soft), ``grab_margin`` (how far off the box a grab is
-taken) and, where the node has them, ``floor``, ``floor_height`` and the URDF body's
-``robot_description``, ``body_link`` and ``density``. ``with_values`` takes them from a
-``GetParameters`` answer or a ``/parameter_events`` message: a parameter it does not know, of
-another type or with a value it cannot draw (a non-finite or non-positive box edge, a negative
-density) is passed over, never raised on.
+view sends), the body's shape (``robot_description``, ``body_link`` and ``density``: a URDF
+link, else the box of ``box_size``; ``body_shape`` makes it), ``anchor`` (the dragged point, in
+the body's frame: the link frame of a URDF), ``frequency_hz`` (0: rigid mode, else soft),
+``grab_margin`` (how far off the body a grab is taken) and, where the node has them, ``floor``
+and ``floor_height``. ``with_values`` takes them from a ``GetParameters`` answer or a
+``/parameter_events`` message: a parameter it does not know, of another type or with a value it
+cannot draw (a non-finite or non-positive box edge, a negative density) is passed over, never
+raised on.
 
 ``Readouts`` picks the node's own statuses out of ``/diagnostics`` (``<node>: rate``,
 ``<node>: constraint``, ``<node>: simulator``): the achieved rate, the anchor error and whether

@@ -19,7 +19,8 @@ It wires ROS to pure parts and holds no geometry of its own: ``Gestures`` says w
 event sends, ``ReleaseOrder`` when (nothing past a release the node has not answered),
 ``PushThrottle`` how often a pose goes to the browser, ``node_readouts`` what the
 node's parameters and /diagnostics say, ``NodeFollower`` whether the node is there and its
-parameters, ``panel`` what the panel's buttons call and what its numbers say. All names are
+parameters, ``BodyShape`` the body's shape they give (a URDF link or the box: drawn, and met by
+a click's ray), ``panel`` what the panel's buttons call and what its numbers say. All names are
 the ``interface`` module's, relative to the view's namespace, so ``--ros-args -r __ns:=/robot``
 views ``/robot/mouse_constraint``.
 
@@ -43,6 +44,7 @@ from rclpy.serialization import deserialize_message
 from visualization_msgs.msg import Marker, MarkerArray
 
 from .panel import node_name, NodeServices, numbers_text, PanelReadings, status_text
+from ..pointer.body_shape import BodyShape
 from ..pointer.geometry import Pose, world_point
 from ..pointer.gestures import Action, Camera, Gestures, GRAB, RELEASE
 from ..pointer.newest_message import NewestMessage
@@ -102,6 +104,7 @@ class MouseViewNode(Node):
         self._work: 'queue.SimpleQueue[Callable[[], None]]' = queue.SimpleQueue()
         self._pose_raw: Optional[bytes] = None
         self._latest: Optional[Pose] = None
+        self.shape = BodyShape()
         self.pushes = 0  # poses pushed to the page
         self.grab_publisher = self.create_publisher(PointStamped, GRAB_TOPIC, TARGET_QOS)
         self.target_publisher = self.create_publisher(PointStamped, TARGET_TOPIC, TARGET_QOS)
@@ -156,10 +159,7 @@ class MouseViewNode(Node):
 
     def _bind_scene(self) -> None:
         scene = self.scene
-        scene.body.on_drag('left')(self._on_drag)
-        scene.body.on_drag('left', modifier='shift')(self._on_drag)
-        scene.body.on_click(self._on_click)
-        scene.body.on_click(modifier='shift')(self._on_click)
+        scene.bind_body(self._on_drag, self._on_click)
         scene.on_button(scene.pause, lambda: self.queue(self.toggle_pause))
         scene.on_button(scene.release, lambda: self.queue(self.release))
         for button, service in ((scene.step, STEP_SERVICE), (scene.reset, RESET_SERVICE)):
@@ -201,7 +201,7 @@ class MouseViewNode(Node):
             now = self.latest_pose()
             if now is not None:
                 self.send(Gestures.click(event.ray_origin, event.ray_direction, now=now,
-                                         box_size=self.parameters.box_size,
+                                         geometry=self.shape.geometry,
                                          modifier=event.modifier, hold=hold), stamp)
         self.queue(click)
 
@@ -285,7 +285,9 @@ class MouseViewNode(Node):
         return self.follower.parameters
 
     def _parameters_changed(self, parameters: ViewParameters) -> None:
-        self.scene.apply_parameters(parameters)
+        if self.shape.update(parameters) and self.shape.error is not None:
+            self.get_logger().warning(self.shape.error)
+        self.scene.apply_parameters(parameters, self.shape.geometry)
 
     def _look_for_node(self) -> None:
         self.follower.look()

@@ -15,11 +15,12 @@
 """
 The page that ``viser`` draws in the browser: the scene and the panel.
 
-The scene holds the body, its anchor, the target and the line between, a trail of the anchor,
-the grid and axes, and the floor when the node has one; the panel the buttons and the numbers.
-A page that loads is turned to the body (``framing``): the camera looks at it from where its
-longest edge spans a quarter of the view's height; so is every page open when the first pose
-comes.
+The scene holds the body and its anchor (``body_drawing``: the box of ``box_size``, or a URDF
+link's pieces), the target and the line between, a trail of the anchor, the grid and axes, and
+the floor when the node has one; the panel the buttons and the numbers. A page that loads is
+turned to the body (``framing``): the camera looks at the middle of its drawn bounds from where
+their longest edge spans a quarter of the view's height; so is every page open when the first
+pose comes, or when the body's shape is drawn anew.
 
 ``ViewScene`` builds them once on a ``viser.ViserServer`` and then only moves them: each push
 sets a pose or a point, which viser sends to every browser attached. The colours and the
@@ -44,10 +45,11 @@ import numpy as np
 import viser
 from viser import _messages
 
-from ..monitoring.markers import (ANCHOR_COLOR, BODY_COLOR, LINE_FRACTION, SPHERE_FRACTION,
-                                  TARGET_COLOR)
+from .body_drawing import BodyDrawing
+from ..description.body_geometry import BodyGeometry
+from ..monitoring.markers import LINE_FRACTION, SPHERE_FRACTION, TARGET_COLOR
 from ..physics.algebra import Vector3
-from ..pointer.geometry import framing, Pose, wxyz
+from ..pointer.geometry import framing, Pose, world_point, wxyz
 from ..pointer.node_readouts import ViewParameters
 
 # The trail keeps every TRAIL_EVERY-th anchor position pushed, TRAIL_LENGTH of them: about a
@@ -55,7 +57,7 @@ from ..pointer.node_readouts import ViewParameters
 TRAIL_EVERY, TRAIL_LENGTH = 3, 20
 TRAIL_COLOR = (1.0, 0.75, 0.4)
 FLOOR_COLOR = (0.55, 0.55, 0.55)
-# The floor drawn: a square slab this wide (m) and thin, its top FLOOR_GAP times the box's
+# The floor drawn: a square slab this wide (m) and thin, its top FLOOR_GAP times the body's
 # longest edge below floor_height, so that the grid at z = 0 is drawn over it, not through it.
 FLOOR_WIDTH, FLOOR_THICKNESS, FLOOR_GAP = 6.0, 0.002, 0.005
 GRID_WIDTH, GRID_CELL = 4.0, 0.1
@@ -124,10 +126,7 @@ class ViewScene:
         self.floor = scene.add_box('/floor', _rgb(FLOOR_COLOR),
                                    (FLOOR_WIDTH, FLOOR_WIDTH, FLOOR_THICKNESS), opacity=0.5,
                                    visible=False)
-        self.body = scene.add_box('/body', _rgb(BODY_COLOR), parameters.box_size,
-                                  opacity=BODY_COLOR[3])
-        # A child of the body: it moves with the body's pose, at no cost per push.
-        self.anchor = scene.add_icosphere('/body/anchor', 1.0, _rgb(ANCHOR_COLOR))
+        self.drawing = BodyDrawing(scene, BodyGeometry.box(parameters.box_size))
         self.target = scene.add_icosphere('/target', 1.0, _rgb(TARGET_COLOR), visible=False)
         self.line = scene.add_line_segments('/constraint', np.zeros((1, 2, 3)),
                                             _rgb(TARGET_COLOR), visible=False)
@@ -149,27 +148,49 @@ class ViewScene:
         self._pushes = 0
         self._anchor: Optional[Vector3] = None
         self._target: Optional[Vector3] = None
-        self._box_size = parameters.box_size
         self.apply_parameters(parameters)
         server.on_client_connect(self.frame)
         # Kept with the scene: every page, now or later, runs it once.
         gui._websock_interface.queue_message(_messages.RunJavascriptMessage(source=PAGE_SCRIPT))
+
+    @property
+    def body(self):
+        """Return the body's scene node, ``/body``: the box, or the URDF link's frame."""
+        return self.drawing.body
+
+    @property
+    def anchor(self):
+        """Return the anchor sphere's scene node, a child of ``/body``."""
+        return self.drawing.anchor
+
+    def bind_body(self, on_drag: Callable, on_click: Callable) -> None:
+        """Call ``on_drag`` and ``on_click`` on the body's drags and clicks (viser's threads)."""
+        self.drawing.bind(on_drag, on_click)
 
     def grabbed(self) -> None:
         """Take the hint away: the body was grabbed."""
         if self.hint.visible:
             self.hint.visible = False
 
-    def apply_parameters(self, parameters: ViewParameters) -> None:
+    def apply_parameters(self, parameters: ViewParameters,
+                         geometry: Optional[BodyGeometry] = None) -> None:
         """
-        Draw the box at ``box_size`` and the floor as the node's parameters say.
+        Draw the body, its anchor and the floor as the node's parameters say.
 
-        The spheres and lines are the RViz markers' size for the box (``SPHERE_FRACTION``,
-        ``LINE_FRACTION`` of its longest edge).
+        The spheres and lines are the RViz markers' size for the body (``SPHERE_FRACTION``,
+        ``LINE_FRACTION`` of its drawn longest edge).
+
+        :param parameters: the node's parameters as known.
+        :param geometry: the body's shape (``pointer.body_shape``); None: the box of
+            ``box_size``.
         """
-        longest = max(parameters.box_size)
-        self._box_size = parameters.box_size
-        self.body.dimensions = parameters.box_size
+        drawing = self.drawing
+        if geometry is None:
+            geometry = BodyGeometry.box(parameters.box_size)
+        if drawing.draw(geometry) and self.shown is not None:
+            for client in self._server.get_clients().values():
+                self.frame(client)
+        longest = max(drawing.extents)
         self.anchor.position = parameters.anchor
         self.anchor.radius = self.target.radius = 0.5 * SPHERE_FRACTION * longest
         self.line.thickness = LINE_FRACTION * longest
@@ -189,7 +210,9 @@ class ViewScene:
         shown = self.shown
         if shown is None:
             return
-        view = framing(shown.position, self._box_size, float(client.camera.fov))
+        drawing = self.drawing
+        view = framing(world_point(shown, drawing.center), drawing.extents,
+                       float(client.camera.fov))
         # The start first: whoever sees the page's camera turned (from another thread: this
         # runs in viser's) sees its "Reset View" turned too.
         initial = self._server.initial_camera
@@ -207,7 +230,7 @@ class ViewScene:
         :param anchor: the anchor's world position at ``pose``.
         """
         with self._server.atomic():  # position and orientation land in one frame
-            self.body.position, self.body.wxyz = pose.position, wxyz(pose.orientation)
+            self.drawing.move(pose.position, wxyz(pose.orientation))
         first = self.shown is None
         self.shown, self._anchor = pose, anchor
         if first:

@@ -1,0 +1,106 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The body's shape as the node has it, and where a pointer's ray meets it (no ROS here).
+
+``BodyShape`` keeps the ``BodyGeometry`` of the node's ``GEOMETRY_PARAMETERS``
+(``robot_description``, ``body_link``, ``density``, ``box_size``), made by the node's own
+``geometry_from``: the URDF link's collision and visual pieces in the link frame, or the box of
+``box_size`` about the COM. It is made again only when one of those changes, not at each grab
+(which sets ``anchor``). A description this process cannot read, though the node could (a mesh
+file this machine does not have, a ``package://`` outside its ``AMENT_PREFIX_PATH``), leaves the
+box of ``box_size`` in its place, and ``error`` says why.
+
+``ray_body_hit`` is a click's ray on the body at a pose: in the body's frame, the nearest hit on
+its collision pieces (``BodyGeometry.ray``: boxes, spheres and cylinders in closed form, meshes
+by trimesh's ray test), so a click on a mesh grabs the mesh where the ray meets it, also inside a
+concave part that a box or hull would cover. A body whose only collision piece is a box about
+its frame's origin, unturned (the box of ``box_size``), is met by ``ray_box_hit``, as it always
+was: a ray that starts inside it meets it where it leaves.
+"""
+
+import math
+from typing import Optional, Sequence, Tuple
+
+import numpy as np
+
+from .geometry import local_point, Pose, ray_box_hit
+from .node_readouts import ViewParameters
+from ..description.body_geometry import BodyGeometry, Piece
+from ..node.body_parameters import geometry_from, GEOMETRY_PARAMETERS
+from ..physics.algebra import multiply_transposed, rotation_matrix, Vector3
+
+
+def lone_box(pieces: Sequence[Piece]) -> Optional[Vector3]:
+    """Return the edges (m) of ``pieces`` that are one box about the frame's origin, else None."""
+    if len(pieces) == 1 and pieces[0].kind == 'box' and not (
+            pieces[0].transform - np.eye(4)).any():
+        return tuple(float(e) for e in pieces[0].size)
+    return None
+
+
+def ray_body_hit(origin: Sequence[float], direction: Sequence[float], *, pose: Pose,
+                 geometry: BodyGeometry) -> Optional[Vector3]:
+    """
+    Return the first point where a ray meets the body's collision pieces, or None.
+
+    :param origin: the ray's origin, world frame (m).
+    :param direction: the ray's direction, world frame (any non-zero length).
+    :param pose: the pose of the body's frame (the link's; the box's COM).
+    :param geometry: the body's shape in that frame.
+    :returns: the world point (m), or None for a miss, a ray pointing away, or a zero or
+        non-finite direction.
+    """
+    edges = lone_box(geometry.collisions)
+    if edges is not None:
+        return ray_box_hit(origin, direction, pose=pose, box_size=edges)
+    start = local_point(origin, pose)
+    heading = multiply_transposed(tuple(float(c) for c in direction),
+                                  rotation_matrix(pose.orientation))
+    if not all(math.isfinite(c) for c in (*start, *heading)) or not any(heading):
+        return None
+    t = geometry.ray(start, heading)
+    if t is None:
+        return None
+    return tuple(float(o) + t * float(d) for o, d in zip(origin, direction))
+
+
+class BodyShape:
+    """The body's shape of the node's parameters as last known (the default box at first)."""
+
+    def __init__(self) -> None:
+        """Start with the box of the default ``box_size``."""
+        self._key: Optional[Tuple] = None
+        self.geometry = BodyGeometry.box(ViewParameters().box_size)
+        self.error: Optional[str] = None
+        self.update(ViewParameters())
+
+    def update(self, parameters: ViewParameters) -> bool:
+        """
+        Take the shape of ``parameters``; return whether it changed.
+
+        :param parameters: the node's parameters as known (``GEOMETRY_PARAMETERS`` of them).
+        """
+        values = {name: getattr(parameters, name) for name in GEOMETRY_PARAMETERS}
+        key = tuple(values[name] for name in GEOMETRY_PARAMETERS)
+        if key == self._key:
+            return False
+        self._key = key
+        try:
+            self.geometry, self.error = geometry_from(values), None
+        except ValueError as error:
+            self.geometry = BodyGeometry.box(parameters.box_size)
+            self.error = f'the body is drawn as the box of box_size: {error}'
+        return True

@@ -1,0 +1,174 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+The browser tier's page and camera: Debian's chromium, headless, driven by Playwright.
+
+``chromium_page`` opens a 1280x720 page (skipped where ``/usr/bin/chromium`` or Playwright is
+missing); ``spinning`` spins an in-process harness on a thread while Playwright drives the
+browser; ``PinholeCamera`` turns the camera a page reports into pixels and rays, so that the
+mouse is aimed at a point of the body; ``newest_client`` is the page's connection to aim with;
+``press_until_grabbed`` presses on the body until the node took the grab (the page's first frame
+comes late in software rendering).
+"""
+
+import contextlib
+import os
+from pathlib import Path
+import threading
+import time
+from typing import Callable, Iterator, Tuple
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+CHROMIUM = '/usr/bin/chromium'
+CHROMIUM_ARGS = ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking',
+                 '--disable-component-update', '--disable-sync', '--no-first-run']
+VIEWPORT = {'width': 1280, 'height': 720}
+# Device pixels per CSS pixel: the browser answers each mouse event after a frame, and SwiftShader
+# draws a sixteenth of the pixels at 0.25 (the test takes half the time it takes at 0.5); the
+# mouse and the camera are in CSS pixels all the same. The screenshot for the docs
+# (MOUSE_VIEW_SCREENSHOT set) is drawn at full size.
+SCALE = 1.0 if 'MOUSE_VIEW_SCREENSHOT' in os.environ else 0.25
+
+
+@contextlib.contextmanager
+def chromium_page() -> Iterator:
+    """Yield a 1280x720 page of Debian's chromium, headless; closed afterwards (or skip)."""
+    if not os.access(CHROMIUM, os.X_OK):
+        pytest.skip(f'no {CHROMIUM} (apt-get install chromium)')
+    sync_api = pytest.importorskip('playwright.sync_api')
+    with sync_api.sync_playwright() as playwright:
+        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        try:
+            yield browser.new_page(viewport=VIEWPORT, device_scale_factor=SCALE)
+        finally:
+            browser.close()
+
+
+@contextlib.contextmanager
+def spinning(ros) -> Iterator[None]:
+    """Spin the harness's executor on a thread until the block ends."""
+    stop = threading.Event()
+
+    def spin() -> None:
+        while not stop.is_set():
+            ros.executor.spin_once(timeout_sec=0.01)
+    thread = threading.Thread(target=spin, daemon=True)
+    thread.start()
+    try:
+        yield
+    finally:
+        stop.set()
+        thread.join(timeout=5.0)
+
+
+def wait_for(condition: Callable[[], bool], timeout: float, what: str) -> None:
+    """Poll ``condition()`` until it holds; fail saying ``what`` after ``timeout`` s."""
+    deadline = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > deadline:
+            pytest.fail(f'{what} within {timeout:g} s')
+        time.sleep(0.05)
+
+
+class PinholeCamera:
+    """The browser's camera: pixels to rays and back (OpenCV axes: x right, y down, z ahead)."""
+
+    def __init__(self, camera) -> None:
+        """
+        Read the position, orientation, vertical field of view and the image's aspect.
+
+        The pixels are the page's (CSS px, where the mouse goes): the image the browser
+        reports may be drawn smaller (viser lowers its resolution when frames come slowly).
+        """
+        self.position = np.array(camera.position, dtype=float)
+        w, x, y, z = camera.wxyz
+        self.rotation = Rotation.from_quat([x, y, z, w]).as_matrix()
+        self.aspect = camera.image_width / camera.image_height
+        self.width, self.height = VIEWPORT['width'], VIEWPORT['height']
+        self.focal = 0.5 * self.height / np.tan(0.5 * camera.fov)
+
+    def pixel(self, point) -> np.ndarray:
+        """Return where the world ``point`` is drawn on the canvas (CSS px)."""
+        x, y, z = self.rotation.T @ (np.asarray(point) - self.position)
+        return np.array([0.5 * self.width + self.focal * x / z,
+                         0.5 * self.height + self.focal * y / z])
+
+    def ray(self, pixel) -> np.ndarray:
+        """Return the world direction of the ray through ``pixel``."""
+        u, v = pixel
+        return self.rotation @ np.array([(u - 0.5 * self.width) / self.focal,
+                                         (v - 0.5 * self.height) / self.focal, 1.0])
+
+    @property
+    def forward(self) -> np.ndarray:
+        """Return the viewing direction."""
+        return self.rotation[:, 2]
+
+
+def camera_known(client) -> bool:
+    """Return whether a page has reported its camera (viser raises before it has)."""
+    try:
+        return client.camera.image_height > 0 and client.camera.fov > 0.0
+    except AssertionError:
+        return False
+
+
+def newest_client(server):
+    """
+    Return the page's client: the newest connection.
+
+    A page that connected again (a websocket handshake failed) leaves an older connection whose
+    camera is not the one drawn; aim with the newest.
+    """
+    clients = server.get_clients()
+    return clients[max(clients)]
+
+
+def clear_of_the_panel(pixel) -> bool:
+    """Return whether ``pixel`` lies in the canvas away from the panel and the page's notes."""
+    return 100 < pixel[0] < 900 and 150 < pixel[1] < 650
+
+
+def press_until_grabbed(page, aim: Callable[[], Tuple[PinholeCamera, np.ndarray]],
+                        grabbed: Callable[[], bool], timeout: float):
+    """
+    Press on the body and move past the drag threshold until the node takes the grab.
+
+    Each try aims anew (``aim``: the camera put back where it starts, and the pixel to press);
+    a try the node did not take within 3 s is let go and pressed again, until ``timeout`` s.
+
+    :param grabbed: whether the node took the grab.
+    :returns: the camera and the pressed pixel of the try that grabbed.
+    """
+    deadline = time.monotonic() + timeout
+    while True:
+        camera, press = aim()
+        page.mouse.move(*press)
+        page.mouse.down()
+        page.mouse.move(*(press + (6.0, 0.0)), steps=3)
+        try:
+            wait_for(grabbed, 3.0, 'grab')
+            return camera, press
+        except pytest.fail.Exception:
+            page.mouse.up()  # the page was not drawn yet: press again
+            if time.monotonic() > deadline:
+                shot = Path(os.environ.get('MOUSE_VIEW_SCREENSHOT', '/tmp/view.png'))
+                page.screenshot(path=str(shot.with_name('view-no-grab.png')))
+                pytest.fail(f'no grab reached the node within {timeout:g} s of pressing at '
+                            f'{press}: see {shot.with_name("view-no-grab.png")}')
+            time.sleep(1.0)
