@@ -33,7 +33,6 @@ from scipy.spatial.transform import Rotation
 from visualization_msgs.msg import InteractiveMarkerFeedback, Marker
 
 from mouse_constraint_ros.description import body_model, BodyGeometry
-from mouse_constraint_ros.marker.body_shape import BodyShape
 from mouse_constraint_ros.marker.drag import MarkerDrag
 from mouse_constraint_ros.marker.node import MouseMarkerNode
 from mouse_constraint_ros.marker.updates import (body_marker, MARKER_NAME, pose_message,
@@ -127,26 +126,6 @@ def test_the_marker_draws_the_pieces_in_the_link_frame_at_the_link_pose(cup, tmp
     assert (mesh.pose.position.x, mesh.pose.position.y, mesh.pose.position.z) == (0.0,) * 3
     assert mesh.pose.orientation.w == 1.0
     assert marker.scale == pytest.approx(SCALE_FRACTION * 0.25, abs=1e-12)
-
-
-def test_the_shape_follows_the_parameters_and_falls_back_to_the_box_with_a_warning(tmp_path):
-    """Parsed once per change; the box without a URDF; a URDF unreadable here: the box, said."""
-    warnings = []
-    shape = BodyShape(warnings.append)
-    box = ViewParameters(box_size=(0.3, 0.2, 0.1))
-    assert shape.geometry(box).collisions[0].size == (0.3, 0.2, 0.1)
-    with_urdf = box._replace(robot_description=cup_urdf(tmp_path))
-    first = shape.geometry(with_urdf)
-    assert [piece.kind for piece in first.collisions] == ['sphere', 'mesh']
-    assert shape.geometry(with_urdf._replace(anchor=(0.1, 0.0, 0.0))) is first
-    unreadable = urdf([inertial(1.0, (0.01, 0.0, 0.0, 0.01, 0.0, 0.01)), geometry(
-        'mesh', filename='package://no_such_package/meshes/a.stl')])
-    fallback = shape.geometry(box._replace(robot_description=unreadable))
-    assert fallback.collisions[0].kind == 'box' and fallback.extents == (0.3, 0.2, 0.1)
-    [warning] = warnings
-    assert "source the workspace that installs 'no_such_package'" in warning
-    assert 'the box of box_size (0.3, 0.2, 0.1) instead' in warning
-    assert shape.geometry(with_urdf) is not first and warnings == [warning]
 
 
 def test_the_followed_parameters_take_the_urdf_body():

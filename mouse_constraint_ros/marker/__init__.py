@@ -16,7 +16,6 @@
 ``mouse_marker``: the body as an RViz interactive marker, dragged with RViz's Interact tool.
 
 - ``drag``: what a press, a move and a release of the marker send to the node (no ROS);
-- ``body_shape``: the body's shape from the node's parameters, a URDF link or the box;
 - ``updates``: the interactive marker and the updates that keep RViz's copy of it;
 - ``presence``: which feedback publishers a drag hangs on, and whether one left;
 - ``node``: the ``mouse_marker`` node's wiring; ``command``: its arguments and ``main``.

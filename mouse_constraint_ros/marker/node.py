@@ -58,11 +58,12 @@ from std_srvs.srv import Trigger
 from visualization_msgs.msg import InteractiveMarkerFeedback, InteractiveMarkerUpdate
 from visualization_msgs.srv import GetInteractiveMarkers
 
-from .body_shape import BodyShape
 from .drag import MarkerDrag
 from .input_pacer import InputPacer
 from .presence import departed, Endpoint, watched
 from .updates import MARKER_NAME, MarkerUpdates, pose_of
+from ..description.body_geometry import BodyGeometry
+from ..pointer.body_shape import BodyShape
 from ..pointer.geometry import Pose, unit_pose
 from ..pointer.gestures import Action, GRAB, RELEASE
 from ..pointer.newest_message import NewestMessage
@@ -101,7 +102,7 @@ class MouseMarkerNode(Node):
             description='Keep the body held where a drag ends instead of calling ~/release.'))
         self._monotonic = clock
         self.drag = MarkerDrag()
-        self.shape = BodyShape(self.get_logger().warning)
+        self.shape = BodyShape()
         self.updates = MarkerUpdates(self.get_fully_qualified_name())
         # The grabs, targets and releases that go to the node (a release has no message).
         self._inputs: InputPacer[Optional[PointStamped]] = InputPacer(MAX_INPUT_RATE)
@@ -150,8 +151,14 @@ class MouseMarkerNode(Node):
         if self._latest is not None and self.follower.parameters_known:
             parameters = self.follower.parameters
             self._publish(self.updates.marker(frame_id=parameters.frame_id,
-                                              geometry=self.shape.geometry(parameters),
+                                              geometry=self._geometry(parameters),
                                               pose=self._latest))
+
+    def _geometry(self, parameters: ViewParameters) -> BodyGeometry:
+        """Return the body's shape of ``parameters``; say once why a URDF is drawn as a box."""
+        if self.shape.update(parameters) and self.shape.error is not None:
+            self.get_logger().warning(self.shape.error)
+        return self.shape.geometry
 
     def _parameters_changed(self, _parameters: ViewParameters) -> None:
         self._draw()
@@ -218,7 +225,7 @@ class MouseMarkerNode(Node):
             was, parameters = self.drag.client, self.follower.parameters
             actions = self.drag.press(client, shown=pose, hit=hit, now=latest,
                                       anchor=parameters.anchor,
-                                      geometry=self.shape.geometry(parameters),
+                                      geometry=self._geometry(parameters),
                                       margin=parameters.grab_margin)
             if was is None and self.drag.client is not None:
                 self._hung_on = watched(client, self._feedback_publishers())
