@@ -25,12 +25,17 @@ import re
 import signal
 import subprocess
 import sys
+import threading
+import time
 
 from geometry_msgs.msg import PoseStamped
 import numpy as np
 import pytest
+import rclpy
+from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
+from std_srvs.srv import Trigger
 
 from mouse_constraint_ros.cli import ctl
 from mouse_constraint_ros.cli.echo import ECHOES, EchoPrinter, RateMeter, vector
@@ -115,6 +120,51 @@ def test_reset_and_release_in_lockstep(simulated_body, client_node, capsys):
         'back to the initial state, anchor held where it starts\n')
     body.step(1)
     assert np.allclose(body.anchor, (0.2, 0.1, 1.05), atol=1e-6)
+
+
+@pytest.fixture
+def slow_node():
+    """
+    Yield a node ``mouse_constraint`` of another context whose ``~/step`` answers 1.5 s late.
+
+    Its executor spins in a thread of its own, as the node would in its own process; what it
+    served is the list ``served``.
+    """
+    context = rclpy.Context()
+    rclpy.init(context=context)
+    node = Node('mouse_constraint', context=context)
+    node.served = []
+
+    def step(_request, response):
+        node.served.append(None)
+        time.sleep(1.5)
+        response.success = True
+        response.message = f'step {len(node.served)}'
+        return response
+    node.create_service(Trigger, '~/step', step)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(node)
+    thread = threading.Thread(target=executor.spin, daemon=True)
+    thread.start()
+    yield node
+    executor.shutdown()
+    thread.join(timeout=10.0)
+    node.destroy_node()
+    rclpy.try_shutdown(context=context)
+
+
+def test_a_step_slow_to_answer_is_served_once(ros, slow_node, capsys):
+    """
+    Step 2 on a node whose every answer takes 1.5 s: two steps served, each reply printed.
+
+    Longer than a request of another command goes unanswered before it is sent again; a step
+    sent again would be a step more.
+    """
+    with StopRequest() as stop:
+        status = ctl.call(ros.probe, ros.executor, stop, options('step', ticks=2))
+    out, err = capsys.readouterr()
+    assert (status, out, err) == (0, 'step 1\nstep 2\n', '')
+    assert len(slow_node.served) == 2
 
 
 def test_a_service_that_is_not_there_is_said_with_exit_1(simulated_body, capsys):

@@ -19,7 +19,9 @@ The ``mouse_ctl`` command: the node's services and output from the venv's comman
 does what a user needs of them with the node, from the venv alone:
 
 - ``mouse_ctl pause`` / ``resume``: ``~/pause`` with true / false;
-- ``mouse_ctl step [N]``: ``~/step`` N times (default 1), while paused;
+- ``mouse_ctl step [N]``: ``~/step`` N times (default 1), while paused; each request is sent
+  once and its answer waited for (``--timeout``), never sent again: a slow answer is not a
+  second step;
 - ``mouse_ctl reset`` / ``release``: ``~/reset`` / ``~/release``;
 - ``mouse_ctl echo [pose|twist|force|wrench]``: a line per message (at most ``--print-rate`` a
   second of the node's clock), with the rate the messages come at; ``force`` is the force the
@@ -39,6 +41,7 @@ import sys
 import time
 from typing import Callable, List, NamedTuple, Optional
 
+from rcl_interfaces.srv import ListParameters
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.utilities import remove_ros_args
@@ -47,7 +50,8 @@ from std_srvs.srv import SetBool, Trigger
 from .command_node import command_node, SHUTDOWN_STATUS
 from .echo import ECHOES, EchoPrinter
 from .help_text import plain_text
-from ..timing.spin import call_until_answered, Interrupted, spin_until, StopRequest, wait_until
+from ..timing.spin import (call_once, call_until_answered, Interrupted, spin_until, StopRequest,
+                           wait_until)
 from ..wire.interface import (NODE_NAME, PAUSE_SERVICE, RELEASE_SERVICE, RESET_SERVICE,
                               STATE_QOS, STEP_SERVICE)
 
@@ -58,17 +62,23 @@ MAX_STEPS = 1_000_000
 
 
 class Action(NamedTuple):
-    """A call of one of the node's services: its type, its name (``~/...``) and request."""
+    """
+    A call of one of the node's services: its type, its name (``~/...``) and request.
+
+    ``once``: a request served twice does twice what was asked (a step), so it is sent once
+    and waited for, never sent again while it goes unanswered.
+    """
 
     service_type: type
     service: str
     request: Callable[[], object]
+    once: bool = False
 
 
 ACTIONS = {
     'pause': Action(SetBool, PAUSE_SERVICE, lambda: SetBool.Request(data=True)),
     'resume': Action(SetBool, PAUSE_SERVICE, lambda: SetBool.Request(data=False)),
-    'step': Action(Trigger, STEP_SERVICE, Trigger.Request),
+    'step': Action(Trigger, STEP_SERVICE, Trigger.Request, once=True),
     'reset': Action(Trigger, RESET_SERVICE, Trigger.Request),
     'release': Action(Trigger, RELEASE_SERVICE, Trigger.Request),
 }
@@ -161,6 +171,21 @@ def parse_arguments(argv: List[str]) -> argparse.Namespace:
     return options
 
 
+def node_answers(node: Node, executor, stop: StopRequest, options: argparse.Namespace) -> bool:
+    """
+    Return whether the node answered its ``list_parameters``, asked again while unanswered.
+
+    Made after the action's client: a node that answered has matched that client's endpoints
+    too (``timing.spin``), and a request sent once on it reaches the node.
+    """
+    client = node.create_client(ListParameters, f'{options.node}/list_parameters')
+    try:
+        return call_until_answered(client, ListParameters.Request(depth=1), executor, stop,
+                                   deadline=time.monotonic() + options.timeout) is not None
+    finally:
+        node.destroy_client(client)
+
+
 def call(node: Node, executor, stop: StopRequest, options: argparse.Namespace) -> int:
     """Call the node's service ``options.command`` (``step``: N times); return the exit status."""
     client = create_client(node, options.command, options.node)
@@ -170,12 +195,19 @@ def call(node: Node, executor, stop: StopRequest, options: argparse.Namespace) -
         print(f'mouse_ctl: no service {name} after {options.timeout:g} s: is the '
               'node running (same ROS_DOMAIN_ID and namespace, --node)?', file=sys.stderr)
         return 1
+    action = ACTIONS[options.command]
+    if action.once and not node_answers(node, executor, stop, options):
+        print(f'mouse_ctl: {options.node} did not answer in {options.timeout:g} s',
+              file=sys.stderr)
+        return 1
+    send = call_once if action.once else call_until_answered
     for _ in range(getattr(options, 'ticks', 1)):
-        response = call_until_answered(client, ACTIONS[options.command].request(), executor,
-                                       stop, deadline=time.monotonic() + options.timeout)
+        response = send(client, action.request(), executor, stop,
+                        deadline=time.monotonic() + options.timeout)
         if response is None:
-            print(f'mouse_ctl: {name} did not answer in {options.timeout:g} s',
-                  file=sys.stderr)
+            print(f'mouse_ctl: {name} did not answer in {options.timeout:g} s'
+                  + (': the request was sent once, it may have been served' if action.once
+                     else ''), file=sys.stderr)
             return 1
         if not response.success:
             print(f'mouse_ctl: {options.command}: {response.message}', file=sys.stderr)
