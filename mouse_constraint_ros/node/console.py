@@ -21,7 +21,11 @@ SIGINT with a KeyboardInterrupt traceback and SIGTERM and SIGHUP with death by t
 where the node promises exit 0. Here, before anything of the node is imported, each of them
 ends the process at once with exit status 0: no node exists before ``StopRequest`` takes the
 signals over, so there is nothing to close. ``StopRequest`` puts these handlers back when the
-spin ends, so a second signal during the node's teardown ends it at once, with 0 too.
+spin ends, so a second signal during the node's teardown ends it at once, with 0 too. Once the
+node is torn down (destroyed, its context shut down), they are ignored: what is left is the
+interpreter's own exit, some tenths of a second of finalization in which Python puts back the
+default handler (death by the signal) of every signal it handled, and a second signal then
+would end a clean stop with -2 or -15 instead of 0; an ignored signal stays ignored.
 Standard library only: this module must load in no time.
 """
 
@@ -47,7 +51,10 @@ def main() -> int:
     for signum in STOP_SIGNALS:
         signal.signal(signum, exit_at_once)
     from .mouse_constraint_node import main as node_main
-    return node_main()
+    status = node_main()
+    for signum in STOP_SIGNALS:
+        signal.signal(signum, signal.SIG_IGN)
+    return status
 
 
 if __name__ == '__main__':
