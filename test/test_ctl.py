@@ -52,7 +52,7 @@ COMMAND = ([str(BIN / 'mouse_ctl')] if (BIN / 'mouse_ctl').is_file()
 def test_setup_installs_the_command_beside_the_others():
     """A console script of setup.py, which setup.cfg installs under lib/<package> for colcon."""
     source = (ROOT / 'setup.py').read_text()
-    assert "'mouse_ctl = mouse_constraint_ros.cli.ctl:main'," in source
+    assert "'mouse_ctl = mouse_constraint_ros.cli.console:ctl'," in source
     assert 'install_scripts=$base/lib/mouse_constraint_ros' in (ROOT / 'setup.cfg').read_text()
 
 
@@ -300,3 +300,35 @@ def test_the_command_line_says_what_is_wrong(ros):
     assert ros.spin_until(lambda: publisher.get_subscription_count() > 0, timeout=30.0)
     process.send_signal(signal.SIGINT)
     assert process.wait(timeout=10) == 0 and 'Traceback' not in process.communicate()[1]
+
+
+def mapped(pid: int, name: str) -> bool:
+    """Return whether the process ``pid`` has mapped a file whose path holds ``name``."""
+    return name in Path(f'/proc/{pid}/maps').read_text()
+
+
+@pytest.mark.system
+@pytest.mark.parametrize('delay', [0.0, 0.1, 0.3])
+def test_ctrl_c_while_the_command_starts_is_exit_130_without_a_traceback(delay):
+    """
+    Ctrl-C once the command imports rclpy, and 0.1 and 0.3 s after: exit 130, nothing said.
+
+    The command then has not taken the signals itself yet (its imports, rclpy's start), which
+    gave a KeyboardInterrupt traceback; it ends as a call stopped before its answer. No node:
+    a command that got so far waits for the service.
+    """
+    process = subprocess.Popen([*COMMAND, '--timeout', '60', 'release'],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 20.0
+        while not mapped(process.pid, '_rclpy_pybind11'):
+            assert time.monotonic() < deadline and process.poll() is None
+            time.sleep(0.001)
+        time.sleep(delay)
+        process.send_signal(signal.SIGINT)
+        status = process.wait(timeout=20.0)
+    finally:
+        if process.poll() is None:
+            process.kill()
+    out, err = process.communicate()
+    assert (status, out, err) == (130, '', '')

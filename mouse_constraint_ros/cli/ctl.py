@@ -32,7 +32,9 @@ A call prints the node's reply and exits 0; a reply that says the node could not
 while running, a ``reset`` it could not make) goes to stderr with exit status 1, as does no
 service or no message within ``--timeout``. The node is ``--node`` (default
 ``mouse_constraint``) in this command's namespace: ``--ros-args -r __ns:=/robot`` reaches one
-in ``/robot``. Ctrl-C ends an echo with exit status 0, a call before its answer with 130.
+in ``/robot``. Ctrl-C ends an echo with exit status 0, a call before its answer with 130, and
+any command with 130 before it started (its imports, rclpy's start: ``console``, the console
+script).
 """
 
 import argparse
@@ -48,6 +50,7 @@ from rclpy.utilities import remove_ros_args
 from std_srvs.srv import SetBool, Trigger
 
 from .command_node import command_node, SHUTDOWN_STATUS
+from .console import INTERRUPTED_STATUS
 from .echo import ECHOES, EchoPrinter
 from .help_text import plain_text
 from ..timing.spin import (call_once, call_until_answered, Interrupted, spin_until, StopRequest,
@@ -55,8 +58,6 @@ from ..timing.spin import (call_once, call_until_answered, Interrupted, spin_unt
 from ..wire.interface import (NODE_NAME, PAUSE_SERVICE, RELEASE_SERVICE, RESET_SERVICE,
                               STATE_QOS, STEP_SERVICE)
 
-# The exit status when a stop comes before a call's answer.
-INTERRUPTED_STATUS = 130
 # The most steps one command makes.
 MAX_STEPS = 1_000_000
 
