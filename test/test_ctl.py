@@ -38,7 +38,7 @@ from rclpy.parameter import Parameter
 from std_srvs.srv import Trigger
 
 from mouse_constraint_ros.cli import ctl
-from mouse_constraint_ros.cli.echo import ECHOES, EchoPrinter, RateMeter, vector
+from mouse_constraint_ros.cli.echo import ECHOES, EchoPrinter, Graph, RateMeter, silence, vector
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.timing.spin import StopRequest
 
@@ -221,6 +221,54 @@ def test_echo_force_is_the_force_the_pointer_feels(simulated_body_factory):
     body.step(2)
     assert forces[-1] == ('0.002000 s  force (0.000000, 0.000000, -19.613300) N  torque '
                           '(0.000000, 0.000000, 0.000000) N m  rate 1000.0 Hz')
+
+
+def run_echo(body, caller, what: str, capsys, timeout: float):
+    """Run the command's ``echo`` of ``what`` on the body's executor; return (status, stderr)."""
+    with StopRequest() as stop:
+        status = ctl.echo(caller, body.executor, stop, options('echo', what=what,
+                                                               timeout=timeout))
+    return status, capsys.readouterr().err
+
+
+def test_echo_says_why_nothing_came(simulated_body_factory, capsys):
+    """
+    A paused node: paused, as its /diagnostics say; force without publish_force: not published.
+
+    Neither is "is the node running?": the node is there, the graph and /diagnostics say so.
+    """
+    body = simulated_body_factory(diagnostics_rate_hz=20.0)
+    caller = body.add_node(Node('mouse_ctl', context=body.context))
+    body.step(3)
+    assert run_call(body, caller, 'pause', capsys)[0] == 0
+    assert run_echo(body, caller, 'pose', capsys, 1.0) == (1, (
+        'mouse_ctl: no message on /pose after 1 s: /mouse_constraint is paused: it publishes '
+        '/pose again once resumed (mouse_ctl resume) or stepped (mouse_ctl step)\n'))
+    assert run_echo(body, caller, 'force', capsys, 0.5) == (1, (
+        'mouse_ctl: no message on /force after 0.5 s: /mouse_constraint is running, but nothing '
+        'publishes /force (the node publishes it with publish_force true)\n'))
+
+
+@pytest.mark.parametrize('what, graph, reason', [
+    ('pose', Graph('/robot/mouse_constraint', False, 0),
+     'no node /robot/mouse_constraint: is the node running (same ROS_DOMAIN_ID and namespace, '
+     '--node)?'),
+    ('pose', Graph('/mouse_constraint', True, 1, False),
+     '/pose has 1 publisher, none sent a message: its clock may stand still (use_sim_time: no '
+     '/clock)'),
+    ('pose', Graph('/mouse_constraint', True, 2),
+     '/pose has 2 publishers, none sent a message: /mouse_constraint may be paused (mouse_ctl '
+     'resume), or its clock stand still (use_sim_time: no /clock)'),
+    ('wrench', Graph('/mouse_constraint', False, 0),
+     "nothing publishes /pose (the node's wrench input: mouse_wrench or another client "
+     'publishes it)'),
+    ('wrench', Graph('/mouse_constraint', True, 1, True),
+     '/pose has 1 publisher, none sent a message'),
+])
+def test_why_no_message_came_as_the_graph_says(what, graph, reason):
+    """The reason for each state of the graph; a node's pause says nothing of its input."""
+    assert silence(ECHOES[what], '/pose', 2.0, graph) == (
+        'no message on /pose after 2 s: ' + reason)
 
 
 def test_the_rate_is_that_of_the_last_second_of_stamps():

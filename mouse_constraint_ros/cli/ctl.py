@@ -30,7 +30,8 @@ does what a user needs of them with the node, from the venv alone:
 
 A call prints the node's reply and exits 0; a reply that says the node could not (``step``
 while running, a ``reset`` it could not make) goes to stderr with exit status 1, as does no
-service or no message within ``--timeout``. The node is ``--node`` (default
+service or no message within ``--timeout``; an echo that got none says why, as the graph tells
+it (no node, a topic nothing publishes, a node paused). The node is ``--node`` (default
 ``mouse_constraint``) in this command's namespace: ``--ros-args -r __ns:=/robot`` reaches one
 in ``/robot``. Ctrl-C ends an echo with exit status 0, a call before its answer with 130, and
 any command with 130 before it started (its imports, rclpy's start: ``console``, the console
@@ -43,6 +44,7 @@ import sys
 import time
 from typing import Callable, List, NamedTuple, Optional
 
+from diagnostic_msgs.msg import DiagnosticArray
 from rcl_interfaces.srv import ListParameters
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
@@ -51,12 +53,13 @@ from std_srvs.srv import SetBool, Trigger
 
 from .command_node import command_node, SHUTDOWN_STATUS
 from .console import INTERRUPTED_STATUS
-from .echo import ECHOES, EchoPrinter
+from .echo import ECHOES, EchoPrinter, Graph, paused_in, silence
 from .help_text import plain_text
 from ..timing.spin import (call_once, call_until_answered, Interrupted, spin_until, StopRequest,
                            wait_until)
-from ..wire.interface import (NODE_NAME, PAUSE_SERVICE, RELEASE_SERVICE, RESET_SERVICE,
-                              STATE_QOS, STEP_SERVICE)
+from ..wire.interface import (DIAGNOSTICS_TOPIC, MONITOR_DEPTH, NODE_NAME, node_name,
+                              PAUSE_SERVICE, RELEASE_SERVICE, RESET_SERVICE, STATE_QOS,
+                              STEP_SERVICE)
 
 # The most steps one command makes.
 MAX_STEPS = 1_000_000
@@ -222,14 +225,29 @@ def echo(node: Node, executor, stop: StopRequest, options: argparse.Namespace) -
     printer = create_echo(node, options.what, lambda line: print(line, flush=True),
                           print_rate=options.print_rate)
     topic = printer.topic
+    target = options.node if options.node.startswith('/') else node_name(
+        node.get_namespace(), options.node)
+    # Whether the node is paused, as its /diagnostics said last while the echo waited.
+    paused: List[Optional[bool]] = [None]
+
+    def on_diagnostics(array: DiagnosticArray) -> None:
+        said = paused_in(array, target)
+        if said is not None:
+            paused[0] = said
+    diagnostics = node.create_subscription(DiagnosticArray, DIAGNOSTICS_TOPIC, on_diagnostics,
+                                           MONITOR_DEPTH)
     try:
         if not wait_until(executor, stop, lambda: printer.received > 0,
                           deadline=time.monotonic() + options.timeout):
-            print(f'mouse_ctl: no message on {topic} after {options.timeout:g} s: is the node '
-                  'running (same ROS_DOMAIN_ID and namespace)?', file=sys.stderr)
+            found = target in (node_name(namespace, name) for name, namespace in
+                               node.get_node_names_and_namespaces())
+            graph = Graph(target, found, node.count_publishers(topic), paused[0])
+            print('mouse_ctl: ' + silence(ECHOES[options.what], topic, options.timeout, graph),
+                  file=sys.stderr)
             return 1
     except Interrupted:
         return 0
+    node.destroy_subscription(diagnostics)
     count = options.count
     spin_until(executor, stop, condition=lambda: 0 < count <= printer.printed)
     if printer.unreadable:

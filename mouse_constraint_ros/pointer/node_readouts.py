@@ -35,13 +35,14 @@ from diagnostic_msgs.msg import DiagnosticArray
 from rcl_interfaces.msg import ParameterType, ParameterValue
 
 from ..physics.algebra import Vector3
+from ..wire.interface import PAUSED_KEY, SIMULATOR_STATUS_SUFFIX
 
 # The node's statuses are named '<fully qualified node name><suffix>' (see the diagnostics
-# module); the keys are the ones its builders write.
-RATE_SUFFIX, CONSTRAINT_SUFFIX, SIMULATOR_SUFFIX = ': rate', ': constraint', ': simulator'
+# module; the simulator's suffix and its paused key are the interface's); the keys are the ones
+# its builders write.
+RATE_SUFFIX, CONSTRAINT_SUFFIX = ': rate', ': constraint'
 ACHIEVED_RATE_KEY = 'achieved rate (Hz)'
 ANCHOR_ERROR_KEY = 'anchor error (m)'
-PAUSED_KEY = 'paused'
 
 
 class ViewParameters(NamedTuple):
@@ -124,7 +125,7 @@ class Readouts(NamedTuple):
                 readouts = readouts._replace(rate_hz=_number(values[ACHIEVED_RATE_KEY]))
             elif status.name == node_name + CONSTRAINT_SUFFIX and ANCHOR_ERROR_KEY in values:
                 readouts = readouts._replace(anchor_error=_number(values[ANCHOR_ERROR_KEY]))
-            elif status.name == node_name + SIMULATOR_SUFFIX and PAUSED_KEY in values:
+            elif status.name == node_name + SIMULATOR_STATUS_SUFFIX and PAUSED_KEY in values:
                 readouts = readouts._replace(paused=values[PAUSED_KEY] == 'true')
         return readouts
 
