@@ -93,5 +93,11 @@ class Tick:
             self._state_publishers.publish(stamp, state)
 
     def publish_state(self) -> None:
-        """Publish the state as it stands, stamped with the latest tick (after a reset)."""
-        self._state_publishers.publish(self._record.stamp_ns, self._simulation.state)
+        """
+        Publish the state as it stands, stamped with the latest tick (after a reset); no force.
+
+        The force of that stamp went out with its tick, the tick's reaction; no tick ran since,
+        so there is no other force of that stamp to send (a reset's is zero).
+        """
+        self._state_publishers.publish(self._record.stamp_ns, self._simulation.state,
+                                       force=False)

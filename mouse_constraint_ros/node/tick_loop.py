@@ -130,6 +130,10 @@ class NodeClockTicks:
             # use_sim_time came on: /clock drives the calls from now on, through rclpy.
             self.retime(self._ticker.rate_hz, self._ticker.publish_rate_hz)
 
+    def now_ns(self) -> int:
+        """Return the node's clock's reading (ns)."""
+        return self._clock_now().nanoseconds
+
     def stop(self) -> None:
         """Destroy the timer: no tick runs until ``start``."""
         self._destroy_timer()

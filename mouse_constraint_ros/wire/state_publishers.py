@@ -154,8 +154,13 @@ class StatePublishers:
         """Whether ``publish`` sends the transform."""
         return self._send_transform is not None
 
-    def publish(self, stamp_ns: int, state: BodyState) -> None:
-        """Publish the pose, twist and, where on, the transform, odometry and force."""
+    def publish(self, stamp_ns: int, state: BodyState, *, force: bool = True) -> None:
+        """
+        Publish the pose, twist and, where on, the transform, odometry and force.
+
+        :param force: False: no force, whatever ``publish_force`` says (a state published out
+            of a tick has no reaction of its own to send).
+        """
         if self._raw_pose:
             self.pose_publisher.publish(
                 self._pose_layout.pack(stamp_ns, state.position, state.orientation))
@@ -183,7 +188,7 @@ class StatePublishers:
                 set_stamp(self._odometry.header.stamp, stamp_ns)
                 fill_odometry(self._odometry, state)
                 self.odometry_publisher.publish(self._odometry)
-        if self.force_publisher is not None:
+        if force and self.force_publisher is not None:
             impulse = self._simulation.tick_impulse
             if self._raw_force:
                 self.force_publisher.publish(self._force_layout.pack(
