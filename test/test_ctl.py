@@ -233,8 +233,9 @@ def run_echo(body, caller, what: str, capsys, timeout: float):
 
 def test_echo_says_why_nothing_came(simulated_body_factory, capsys):
     """
-    A paused node: paused, as its /diagnostics say; force without publish_force: not published.
+    A paused node: paused, as its /diagnostics say; force with publish_force false: off.
 
+    Off as the node's parameter says, whether its publisher was never made or stays silent.
     Neither is "is the node running?": the node is there, the graph and /diagnostics say so.
     """
     body = simulated_body_factory(diagnostics_rate_hz=20.0)
@@ -244,9 +245,12 @@ def test_echo_says_why_nothing_came(simulated_body_factory, capsys):
     assert run_echo(body, caller, 'pose', capsys, 1.0) == (1, (
         'mouse_ctl: no message on /pose after 1 s: /mouse_constraint is paused: it publishes '
         '/pose again once resumed (mouse_ctl resume) or stepped (mouse_ctl step)\n'))
-    assert run_echo(body, caller, 'force', capsys, 0.5) == (1, (
-        'mouse_ctl: no message on /force after 0.5 s: /mouse_constraint is running, but nothing '
-        'publishes /force (the node publishes it with publish_force true)\n'))
+    off = ('mouse_ctl: no message on /force after 0.5 s: /mouse_constraint has publish_force '
+           'false: it publishes /force once it is true\n')
+    assert run_echo(body, caller, 'force', capsys, 0.5) == (1, off)
+    body.set_parameters(publish_force=True)
+    body.set_parameters(publish_force=False)  # its publisher stays, silent
+    assert run_echo(body, caller, 'force', capsys, 0.5) == (1, off)
 
 
 @pytest.mark.parametrize('what, graph, reason', [
@@ -264,6 +268,9 @@ def test_echo_says_why_nothing_came(simulated_body_factory, capsys):
      'publishes it)'),
     ('wrench', Graph('/mouse_constraint', True, 1, True),
      '/pose has 1 publisher, none sent a message'),
+    ('force', Graph('/mouse_constraint', True, 0, False, True),
+     '/mouse_constraint is running, but nothing publishes /pose (the node publishes it with '
+     'publish_force true)'),
 ])
 def test_why_no_message_came_as_the_graph_says(what, graph, reason):
     """The reason for each state of the graph; a node's pause says nothing of its input."""

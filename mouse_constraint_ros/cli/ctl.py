@@ -45,6 +45,7 @@ import time
 from typing import Callable, List, NamedTuple, Optional
 
 from diagnostic_msgs.msg import DiagnosticArray
+from rcl_interfaces.msg import ParameterType
 from rcl_interfaces.srv import ListParameters
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
@@ -60,9 +61,12 @@ from ..timing.spin import (call_once, call_until_answered, Interrupted, spin_unt
 from ..wire.interface import (DIAGNOSTICS_TOPIC, MONITOR_DEPTH, NODE_NAME, node_name,
                               PAUSE_SERVICE, RELEASE_SERVICE, RESET_SERVICE, STATE_QOS,
                               STEP_SERVICE)
+from ..wire.remote_parameters import fetch_parameters
 
 # The most steps one command makes.
 MAX_STEPS = 1_000_000
+# The longest (s) an echo that got no message waits for the node to say whether it is on.
+SWITCH_TIMEOUT = 2.0
 
 
 class Action(NamedTuple):
@@ -190,6 +194,19 @@ def node_answers(node: Node, executor, stop: StopRequest, options: argparse.Name
         node.destroy_client(client)
 
 
+def switched_on(node: Node, executor, stop: StopRequest, options: argparse.Namespace,
+                target: str) -> Optional[bool]:
+    """Return the value of the echo's ``switch`` parameter on ``target``; None: not known."""
+    switch = ECHOES[options.what].switch
+    if switch is None:
+        return None
+    try:
+        return fetch_parameters(node, executor, stop, target_node=target, timeout=SWITCH_TIMEOUT,
+                                types={switch: ParameterType.PARAMETER_BOOL})[switch]
+    except RuntimeError:
+        return None
+
+
 def call(node: Node, executor, stop: StopRequest, options: argparse.Namespace) -> int:
     """Call the node's service ``options.command`` (``step``: N times); return the exit status."""
     client = create_client(node, options.command, options.node)
@@ -241,7 +258,8 @@ def echo(node: Node, executor, stop: StopRequest, options: argparse.Namespace) -
                           deadline=time.monotonic() + options.timeout):
             found = target in (node_name(namespace, name) for name, namespace in
                                node.get_node_names_and_namespaces())
-            graph = Graph(target, found, node.count_publishers(topic), paused[0])
+            graph = Graph(target, found, node.count_publishers(topic), paused[0],
+                          switched_on(node, executor, stop, options, target) if found else None)
             print('mouse_ctl: ' + silence(ECHOES[options.what], topic, options.timeout, graph),
                   file=sys.stderr)
             return 1

@@ -51,7 +51,8 @@ class Echo(NamedTuple):
     A stamped topic to echo: its name and type, and its fields as (label, size, unit).
 
     ``source`` says what publishes it, for when nothing does; ``from_node``: the node publishes
-    it (while it runs), else the node reads it (its input).
+    it (while it runs), else the node reads it (its input); ``switch``: the node's boolean
+    parameter that turns it on, if any.
     """
 
     topic: str
@@ -59,6 +60,7 @@ class Echo(NamedTuple):
     fields: Tuple[Tuple[str, int, str], ...]
     source: str
     from_node: bool = True
+    switch: Optional[str] = None
 
     @property
     def count(self) -> int:
@@ -73,7 +75,7 @@ ECHOES = {
     'twist': Echo(TWIST_TOPIC, TwistStamped, (('linear', 3, 'm/s'), ('angular', 3, 'rad/s')),
                   'the node publishes it at every tick it publishes'),
     'force': Echo(FORCE_TOPIC, WrenchStamped, (('force', 3, 'N'), ('torque', 3, 'N m')),
-                  'the node publishes it with publish_force true'),
+                  'the node publishes it with publish_force true', switch='publish_force'),
     'wrench': Echo(WRENCH_TOPIC, WrenchStamped, (('force', 3, 'N'), ('torque', 3, 'N m')),
                    "the node's wrench input: mouse_wrench or another client publishes it",
                    from_node=False),
@@ -173,24 +175,33 @@ def paused_in(array: DiagnosticArray, node_name: str) -> Optional[bool]:
 
 
 class Graph(NamedTuple):
-    """What the graph says of an echo that got no message: the node, the topic's publishers."""
+    """
+    What the graph says of an echo that got no message: the node, the topic's publishers.
+
+    ``paused``: whether the node's /diagnostics say it is paused; ``switched_on``: the value of
+    the echo's ``switch`` parameter on the node; None where not known.
+    """
 
     node: str
     node_found: bool
     publishers: int
     paused: Optional[bool] = None
+    switched_on: Optional[bool] = None
 
 
 def silence(echo: Echo, topic: str, timeout: float, graph: Graph) -> str:
     """
     Return why no message came on ``topic`` (``echo``'s, resolved) in ``timeout`` s.
 
-    Nothing publishes it: the node is not there (the usual reason), or it is and the topic is
-    off (``force`` without publish_force) or an input nobody sends. Something publishes it and
-    sent nothing: the node is paused, as its /diagnostics say, or its clock stands still.
+    The topic is switched off (``force`` with publish_force false, its publisher silent or
+    none). Nothing publishes it: the node is not there (the usual reason), or it is and nothing
+    publishes it (an input nobody sends). Something publishes it and sent nothing: the node is
+    paused, as its /diagnostics say, or its clock stands still.
     """
     head = f'no message on {topic} after {timeout:g} s: '
     node = graph.node
+    if graph.switched_on is False:
+        return head + f'{node} has {echo.switch} false: it publishes {topic} once it is true'
     if graph.publishers == 0:
         if echo.from_node and not graph.node_found:
             return head + (f'no node {node}: is the node running (same ROS_DOMAIN_ID and '
