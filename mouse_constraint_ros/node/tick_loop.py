@@ -41,7 +41,10 @@ from ..timing.loop_timer import LoopTimer
 from ..timing.publish_ticks import ticks_per_callback
 from ..timing.tick_budget import TickBudget
 from ..timing.tick_grid import (CATCH_UP_CAUSE, clock_change_text, clock_jump_text, drop_text,
-                                scheduled_origin, TickGrid)
+                                MAX_CLOCK_STEP_SECONDS, scheduled_origin, TickGrid)
+
+# A /clock reading this far past the latest tick is a jump, not missed ticks (``TickGrid.due``).
+MAX_CLOCK_STEP_NS = round(MAX_CLOCK_STEP_SECONDS * 1e9)
 
 
 class NodeClockTicks:
@@ -175,10 +178,10 @@ class NodeClockTicks:
         elif not grid.started:
             grid.restart(scheduled_origin(now, self._timer.time_until_next_call(),
                                           self._timer.timer_period_ns))
-        due = grid.due(now)
+        due = grid.due(now, MAX_CLOCK_STEP_NS if self._grid_sim_time else None)
         if due.restarted:
             record.clock_restarts += 1
-            node.get_logger().warning(clock_jump_text(now))
+            node.get_logger().warning(clock_jump_text(now, due.jump_ns))
         first, count = due.first, due.count
         if due.dropped:
             self._drop(due.dropped, CATCH_UP_CAUSE)
