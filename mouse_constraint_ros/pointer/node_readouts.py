@@ -18,7 +18,8 @@ What the view reads from the node: the parameters it draws with, and the panel's
 ``ViewParameters`` holds the node parameters the page needs: ``frame_id`` (of the points the
 view sends), ``box_size`` (the box drawn), ``anchor`` (the dragged point, in the body frame),
 ``frequency_hz`` (0: rigid mode, else soft), ``grab_margin`` (how far off the box a grab is
-taken) and, where the node has them, ``floor`` and ``floor_height``. ``with_values`` takes them
+taken) and, where the node has them, ``floor``, ``floor_height`` and ``publish_force`` (whether
+the felt force is on: its publisher stays when it is turned off). ``with_values`` takes them
 from a ``GetParameters`` answer or a ``/parameter_events`` message: a parameter it does not
 know, of another type or with a value it cannot draw (a non-finite or non-positive box edge) is
 passed over, never raised on.
@@ -55,6 +56,7 @@ class ViewParameters(NamedTuple):
     floor: bool = False
     floor_height: float = 0.0
     grab_margin: float = 0.01
+    publish_force: bool = False
 
     @property
     def mode(self) -> str:
@@ -91,7 +93,7 @@ def _parse(name: str, value: ParameterValue):
         number = value.double_value
         return number if math.isfinite(number) and (name == 'floor_height' or number >= 0.0) \
             else None
-    if name == 'floor' and kind == ParameterType.PARAMETER_BOOL:
+    if name in ('floor', 'publish_force') and kind == ParameterType.PARAMETER_BOOL:
         return value.bool_value
     return None
 

@@ -353,9 +353,9 @@ class MouseViewNode(Node):
         self._twist_raw, linear = _vector(self.twist_subscription.take() or self._twist_raw,
                                           TwistStamped, lambda m: m.twist.linear)
         speed = None if linear is None else math.sqrt(sum(c * c for c in linear))
-        # The last force shown goes with its publisher: publish_force off shows n/a again.
+        # The last force shown goes with publish_force: off shows n/a again.
         forces = self.force_subscription
-        held = self._force_raw if forces.subscription.get_publisher_count() else None
+        held = self._force_raw if self.follower.parameters.publish_force else None
         self._force_raw, force = _vector(forces.take() or held, WrenchStamped,
                                          lambda m: m.wrench.force)
         topic = self.pose_subscription.topic_name
