@@ -51,6 +51,7 @@ from ..pointer.node_follower import DISCOVERY_SECONDS, NodeFollower
 from ..pointer.node_readouts import force_text, number_text, Readouts, ViewParameters
 from ..pointer.push_throttle import PushThrottle
 from ..pointer.release_order import ReleaseOrder
+from ..pointer.service_calls import ServiceCalls
 from ..wire.interface import (DIAGNOSTICS_TOPIC, FORCE_TOPIC, GRAB_TOPIC, MARKERS_TOPIC,
                               MONITOR_DEPTH, NODE_NAME, PAUSE_SERVICE, POSE_TOPIC, RELEASE_SERVICE,
                               RESET_SERVICE, STEP_SERVICE, TARGET_QOS, TARGET_TOPIC, TWIST_TOPIC,
@@ -147,6 +148,7 @@ class MouseViewNode(Node):
                                      on_parameters=self._parameters_changed,
                                      discovery_seconds=discovery_seconds, clock=clock)
         self.target_node = self.follower.target_node
+        self.calls = ServiceCalls(clock=clock)  # each given up when it goes unanswered
         self._node_services = {name: self.create_client(kind, node_name(name)) for name, kind in (
             (PAUSE_SERVICE, SetBool), (STEP_SERVICE, Trigger), (RESET_SERVICE, Trigger),
             (RELEASE_SERVICE, Trigger))}
@@ -166,6 +168,7 @@ class MouseViewNode(Node):
         self._work.put(work)
 
     def _run_work(self) -> None:
+        self.calls.give_up_late()
         raw = self.pose_subscription.take()
         if raw is not None:
             self._on_pose(raw)
@@ -270,7 +273,7 @@ class MouseViewNode(Node):
         :param service: the service's name (private to the node).
         :param data: the request's ``data`` (SetBool).
         :param on_answer: called once the node answered, after the page shows it (also when
-            that fails).
+            that fails), or once the call was given up unanswered (``ServiceCalls``).
         :returns: whether the call went out (False: no such service).
         """
         client = self._node_services[service]
@@ -281,7 +284,6 @@ class MouseViewNode(Node):
         request = client.srv_type.Request()
         if data is not None:
             request.data = data
-        future = client.call_async(request)
 
         def answered(done) -> None:
             try:
@@ -291,7 +293,12 @@ class MouseViewNode(Node):
             finally:
                 if on_answer is not None:
                     on_answer()
-        future.add_done_callback(answered)
+
+        def given_up() -> None:
+            self.scene.show_reply(f'{name}: no answer in {self.calls.timeout:g} s')
+            if on_answer is not None:
+                on_answer()
+        self.calls.call(client, request, on_answer=answered, on_give_up=given_up)
         return True
 
     def release(self) -> None:

@@ -36,9 +36,9 @@ Force (``force``, with ``publish_force``): the force the pointer feels over the 
 in ``frame_id``, with the pose's stamp, one per pose: minus the joint's impulse summed over
 the tick's substeps, over dt (``messages.felt_force``), so that m (v' - v) = (-F + m g +
 F_wrench) dt holds for every tick without linear damping and floor contact (they change the
-momentum too, and are no force on the hand). Zero with no target held. Its torque is zero: the joint
-holds a point (``messages.fill_felt_wrench``). Its publisher is made when the force is first
-turned on and kept when it is turned off, silent.
+momentum too, and are no force on the hand). Zero with no target held. Its torque is zero: the
+joint holds a point (``messages.fill_felt_wrench``). Its publisher is made when the force is
+first turned on and kept when it is turned off, silent.
 """
 
 from typing import Any, Callable, Optional
