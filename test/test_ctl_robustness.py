@@ -13,7 +13,7 @@
 # limitations under the License.
 
 """
-``mouse_ctl`` against what a hostile client found: a slow answer, a silent topic, an early Ctrl-C.
+``mouse_ctl`` where things go wrong: a slow answer, a silent topic, an early Ctrl-C.
 
 A step slow to answer is served once; an echo that gets nothing says why (no node, a topic
 nothing publishes or switched off, a paused node); Ctrl-C while the command starts is exit 130
