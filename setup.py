@@ -54,7 +54,7 @@ setup(
             'mouse_target = mouse_constraint_ros.cli.target:main',
             'mouse_record = mouse_constraint_ros.cli.record:main',
             'mouse_wrench = mouse_constraint_ros.cli.wrench:main',
-            'mouse_ctl = mouse_constraint_ros.cli.ctl:main',
+            'mouse_ctl = mouse_constraint_ros.cli.console:ctl',
             'mouse_view = mouse_constraint_ros.view.command:main',
             'mouse_marker = mouse_constraint_ros.marker.command:main',
         ],

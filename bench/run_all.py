@@ -57,6 +57,7 @@ SUITE = [
     ('discovery', 'mouse_ctl release against the node, with and without its Fast DDS profile'),
     ('soak', '10 min simulated at 1 kHz, the core directly'),
     ('flood', 'target floods at the 1 kHz node: 5 000/s plain, unbounded, hostile'),
+    ('flood_rate', 'the 500 Hz node under a 5 000/s flood, run after run: the rate each held'),
     ('view_cost', 'mouse_view with one headless browser; the node with and without it'),
     ('recorder_cost', 'mouse_record per tick: raw reads, rows, CSV and MCAP'),
     # Last: the longest, and nothing else runs while it does.

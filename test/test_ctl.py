@@ -47,7 +47,7 @@ COMMAND = ([str(BIN / 'mouse_ctl')] if (BIN / 'mouse_ctl').is_file()
 def test_setup_installs_the_command_beside_the_others():
     """A console script of setup.py, which setup.cfg installs under lib/<package> for colcon."""
     source = (ROOT / 'setup.py').read_text()
-    assert "'mouse_ctl = mouse_constraint_ros.cli.ctl:main'," in source
+    assert "'mouse_ctl = mouse_constraint_ros.cli.console:ctl'," in source
     assert 'install_scripts=$base/lib/mouse_constraint_ros' in (ROOT / 'setup.cfg').read_text()
 
 

@@ -122,3 +122,24 @@ def test_the_start_line_names_the_coupling_in_newtons():
     line = describe(node_config(values(mass=MASS, coupling_stiffness=300.0,
                                        coupling_damping=3.0)))
     assert 'damping ratio 0.193649 (at the COM 300 N/m, 3 N s/m)' in line
+
+
+@pytest.mark.ros
+@pytest.mark.parametrize('frequency', [-1.0, math.nan, math.inf])
+def test_a_frequency_no_configuration_takes_is_refused_for_itself_at_run_time_as_at_start(
+        frequency):
+    """
+    frequency_hz -1, .nan or .inf with coupling_stiffness set: the run-time reason is start-up's.
+
+    At start-up the value is refused for its range before the coupling is looked at; a change at
+    run time, with the coupling set, says the same, not that both set the soft spring.
+    """
+    from mouse_constraint_ros.node.startup import StartupRefusal
+
+    with pytest.raises(StartupRefusal) as start:
+        SimulatedBody(coupling_stiffness=200.0, frequency_hz=frequency, **PLAIN)
+    assert 'frequency_hz must be' in str(start.value)
+    with SimulatedBody(coupling_stiffness=200.0, **PLAIN) as body:
+        with pytest.raises(ValueError) as change:
+            body.set_parameters(frequency_hz=frequency)
+    assert str(change.value) == str(start.value)

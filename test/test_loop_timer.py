@@ -19,21 +19,22 @@ The tick a spin loop runs itself: ``LoopTimer``'s schedule, ``spin_until``'s pac
 The schedule is an rclpy timer's (calls at start + k period, overrun periods skipped), read on
 a clock the test sets. A node served by its own loop (``loop_ticks``: ``NodeRun.serve`` with a
 pace, as the executable serves it) runs its ticks with no rclpy timer: a test of that wall-clock
-path, on system time; a tick it takes late waits behind the callbacks queued before it.
+path, on system time; a tick it takes late runs at once, before the callbacks queued
+meanwhile.
 """
 
 import time
 
+from geometry_msgs.msg import PointStamped
 import pytest
-import rclpy
 from rclpy.experimental import EventsExecutor
 from rclpy.parameter import Parameter
-from std_msgs.msg import Int32
 
 from mouse_constraint_ros.node.mouse_constraint_node import main, MouseConstraintNode
 from mouse_constraint_ros.node.ticker import Driver
 from mouse_constraint_ros.timing.loop_timer import LoopTimer
 from mouse_constraint_ros.timing.spin import NodeRun, spin_until, SpinEnd, StopRequest
+from mouse_constraint_ros.wire.messages import point_message
 
 MS = 1_000_000
 
@@ -57,16 +58,16 @@ def test_calls_fall_on_the_grid_of_the_start_and_overrun_periods_are_skipped():
     assert not timer.take() and timer.time_until_next_call() == 1
     clock.now += 1
     assert timer.take() and not timer.take()
-    assert timer.late_ns == 0 and timer.on_time()
+    assert timer.late_ns == 0
     assert timer.time_until_next_call() == 4 * MS
     clock.now += 4 * MS + 10 * MS  # the call at 1008 ms runs at 1018 ms
     assert timer.take() and not timer.take()
-    assert timer.late_ns == 10 * MS and not timer.on_time()
+    assert timer.late_ns == 10 * MS
     assert timer.time_until_next_call() == 2 * MS  # next on the grid: 1020 ms
-    clock.now += 2 * MS + 2 * MS - 1  # within half a period of 1020 ms: on time
-    assert timer.take() and timer.on_time()
-    clock.now += 4 * MS + 1  # half a period late
-    assert timer.take() and timer.late_ns == 2 * MS and not timer.on_time()
+    clock.now += 2 * MS + 2 * MS - 1  # 1020 ms, 2 ms - 1 ns late
+    assert timer.take() and timer.late_ns == 2 * MS - 1
+    clock.now += 4 * MS + 1  # 1024 ms, half a period late
+    assert timer.take() and timer.late_ns == 2 * MS
 
 
 @pytest.mark.parametrize('period', [0, -1])
@@ -136,45 +137,44 @@ def test_a_node_served_by_its_loop_ticks_at_its_rate_with_no_rclpy_timer(loop_no
     assert ticker.record.dropped_ticks == 0
 
 
-def test_a_late_tick_waits_behind_the_callbacks_queued_before_it(ros):
+def test_a_late_loop_call_runs_its_tick_before_the_messages_queued_meanwhile(ros):
     """
-    A tick the busy loop finds late takes its turn in the executor's queue, as a timer's would.
+    The spin loop's tick, late behind a burst of targets, runs at once: the tick comes first.
 
-    Messages queued before the tick came due are served before it: a flood delays the ticks
-    and does not starve the services (run at once, a late tick let one message through per
-    tick while the ticks overran).
+    The node as its executable serves it (``loop_ticks``, an EventsExecutor), 100 Hz: a burst
+    of 50 targets waits in the executor's queue when the loop's call comes 30 ms late. The
+    call runs its ticks then and there; the targets are taken after it. A call posted behind
+    them would wait for all of them, and under a flood for as many as keep coming: ticks later
+    than the catch-up bound are dropped.
     """
     node = MouseConstraintNode(context=ros.context, loop_ticks=True, parameter_overrides=[
-        Parameter('rate_hz', value=1000.0)])
-    probe = rclpy.create_node('queue_probe', context=ros.context)
-    ticks_seen = []
-    probe.create_subscription(Int32, 'queued', lambda _: ticks_seen.append(
-        node.ticker.record.ticks_run), 50)
-    publisher = probe.create_publisher(Int32, 'queued', 50)
+        Parameter('rate_hz', value=100.0), Parameter('marker_rate_hz', value=0.0),
+        Parameter('diagnostics_rate_hz', value=0.0)])
     executor = EventsExecutor(context=ros.context)
     executor.add_node(node)
-    executor.add_node(probe)
     try:
-        ticker = node.ticker
-        assert spin_until(executor, StopRequest(), deadline=time.monotonic() + 5.0,
-                          condition=lambda: publisher.get_subscription_count() == 1,
-                          pace=ticker.run_due) is SpinEnd.CONDITION
-        # Up to the end of a tick's call: none waits in the queue now.
-        ran = ticker.record.ticks_run
-        assert spin_until(executor, StopRequest(), deadline=time.monotonic() + 5.0,
-                          condition=lambda: ticker.record.ticks_run > ran,
-                          pace=ticker.run_due) is SpinEnd.CONDITION
-        for k in range(20):
-            publisher.publish(Int32(data=k))
-        time.sleep(0.05)  # the 20 messages wait in the queue; the next tick is due
-        before = ticker.record.ticks_run
-        assert spin_until(executor, StopRequest(), deadline=time.monotonic() + 5.0,
-                          condition=lambda: ticker.record.ticks_run > before,
-                          pace=ticker.run_due) is SpinEnd.CONDITION
-        assert ticks_seen == [before] * 20
+        target = ros.probe.create_publisher(PointStamped, '/target', 100)
+        record = node.ticker.record
+
+        def serve(condition) -> None:
+            deadline = time.monotonic() + 10.0
+            while not condition():
+                assert time.monotonic() < deadline
+                node.ticker.run_due()
+                executor.spin_once(timeout_sec=0.001)
+                ros.executor.spin_once(timeout_sec=0.0)
+
+        serve(lambda: record.ticks_run > 3 and target.get_subscription_count() > 0)
+        for k in range(50):
+            target.publish(point_message((0.01 * k, 0.0, 1.0), 'world', 0))
+        time.sleep(0.03)  # the burst delivered to the node's reader, the loop's call late
+        ran, refused = record.ticks_run, node.refusals[0]
+        node.ticker.run_due()
+        assert record.ticks_run > ran
+        serve(lambda: node.simulation.target == (0.49, 0.0, 1.0))
+        assert node.refusals[0] == refused
     finally:
         executor.shutdown()
-        probe.destroy_node()
         node.destroy_node()
 
 

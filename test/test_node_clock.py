@@ -111,6 +111,31 @@ def test_sim_time_driven_by_clock(ros):
     assert node.ticker.record.clock_restarts == 1
 
 
+def test_a_clock_jumping_forwards_restarts_the_grid_and_drops_nothing(ros, capfd):
+    """
+    use_sim_time, /clock at 100 Hz, then 60 s forwards in one message (a seek), then on.
+
+    A restart of the grid at the new time, counted and warned as one: no tick dropped, none
+    said to be missed, the stamps on the new grid from the jump on.
+    """
+    node = start_node(ros, rate_hz=100.0, use_sim_time=True)
+    poses = ros.collect(PoseStamped, 'pose')
+    clock = SimClock(ros, node)
+    start = 10 ** 12
+    for k in range(20):
+        clock.advance_to(start + k * 10_000_000)
+    jumped = start + 60 * 10 ** 9 + 3_000_000
+    for k in range(20):
+        clock.advance_to(jumped + k * 10_000_000)
+    record = node.ticker.record
+    assert (record.dropped_ticks, record.clock_restarts, record.ticks_run) == (0, 1, 40)
+    stamps = [stamp_of(m) for m in poses]
+    assert stamps[20:] == [jumped + k * 10_000_000 for k in range(20)]
+    err = capfd.readouterr().err
+    assert 'clock jumped forwards by 59.813000000 s: restarting the tick grid' in err, err
+    assert 'cannot keep' not in err
+
+
 def test_each_warning_reason_has_its_own_throttle(ros, capfd):
     """A foreign-frame target, then the clock jumps 0.5 s: 'cannot keep' is logged too."""
     node = start_node(ros, use_sim_time=True, rate_hz=100.0)

@@ -12,7 +12,13 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""A service call that got lost is sent again once a second; parameters read from another node."""
+"""
+A service call that got lost is sent again once a second; parameters read from another node.
+
+The tools' calls of the node's services (``ServiceCalls``): one that a node never answers is
+given up after its timeout, in the web view's, the RViz marker's and the node follower's
+clients alike, so that none keeps a pending request for each call.
+"""
 
 import time
 
@@ -21,8 +27,12 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 from std_srvs.srv import Trigger
 
+from mouse_constraint_ros.marker.node import MouseMarkerNode
+from mouse_constraint_ros.pointer.node_follower import ASK_AGAIN_SECONDS as ASK_PARAMETERS
+from mouse_constraint_ros.pointer.service_calls import GIVE_UP_SECONDS, ServiceCalls
 from mouse_constraint_ros.timing.spin import ASK_AGAIN_SECONDS, call_until_answered, StopRequest
 from mouse_constraint_ros.wire.remote_parameters import fetch_parameters
+from test_support.silent_node import FakeClock, silent_node
 
 
 def test_a_request_sent_before_the_server_came_is_sent_again(ros):
@@ -80,3 +90,50 @@ def test_fetch_parameters_gives_the_values_of_the_types_asked_for(ros):
         assert str(error) == '/holder has no bool parameter rate_hz'
     else:
         raise AssertionError('a double read as a bool')
+
+
+def test_a_call_unanswered_for_its_timeout_is_given_up(ros):
+    """Three releases to a node that never answers: pending until 5 s, then none, each said."""
+    clock, given_up = FakeClock(), []
+    client = ros.probe.create_client(Trigger, 'mouse_constraint/release')
+    calls = ServiceCalls(clock=clock)
+    with silent_node():
+        assert ros.spin_until(client.service_is_ready)
+        for number in range(3):
+            calls.call(client, Trigger.Request(), on_give_up=lambda n=number: given_up.append(n))
+            clock.now += 1.0
+        ros.spin_for(0.1)
+        assert calls.pending == 3 and len(client._pending_requests) == 3
+        clock.now += GIVE_UP_SECONDS - 3.0
+        assert calls.give_up_late() == 1 and given_up == [0]
+        clock.now += 2.0
+        assert calls.give_up_late() == 2 and given_up == [0, 1, 2]
+        assert calls.pending == 0 and client._pending_requests == {}
+
+
+def test_the_marker_keeps_no_request_for_an_unanswered_release(ros):
+    """
+    The RViz marker's releases to a node that never answers: each given up after its timeout.
+
+    Its work timer gives them up, and its node follower's questions for the parameters, asked
+    again every 2 s, leave one pending at a time.
+    """
+    clock = FakeClock()
+    marker = ros.add(MouseMarkerNode(context=ros.context, clock=clock))
+    with silent_node():
+        assert ros.spin_until(marker.release_client.service_is_ready)
+        for _ in range(4):
+            marker._release(clock.now)
+            clock.now += 1.0  # the release gate opens after 1 s unanswered
+        assert len(marker.release_client._pending_requests) == 4
+        clock.now += GIVE_UP_SECONDS
+        marker._work()
+        assert marker.release_client._pending_requests == {}
+        assert marker.calls.given_up == 4
+        follower = marker.follower
+        assert ros.spin_until(follower._get_parameters.service_is_ready)
+        for _ in range(5):
+            follower.look()
+            clock.now += ASK_PARAMETERS + 0.1
+        assert not follower.parameters_known
+        assert len(follower._get_parameters._pending_requests) == 1

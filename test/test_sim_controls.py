@@ -21,7 +21,7 @@ import sys
 import time
 
 from diagnostic_msgs.msg import DiagnosticArray
-from geometry_msgs.msg import PoseStamped
+from geometry_msgs.msg import PoseStamped, WrenchStamped
 import numpy as np
 import pytest
 from rcl_interfaces.msg import Parameter as ParameterMessage, ParameterType, ParameterValue
@@ -323,6 +323,68 @@ def test_a_reset_while_paused_publishes_the_state_it_leaves(simulated_body_facto
     assert (reset.pose.position.x, reset.pose.position.y, reset.pose.position.z) == (
         0.0, 0.0, 1.0)
     assert reset.header.stamp == fallen.message.header.stamp
+
+
+def test_a_reset_while_paused_publishes_no_second_force_of_the_stamp(simulated_body_factory):
+    """
+    With publish_force: the reset's state goes out at the paused tick's stamp, without a force.
+
+    The force of that stamp went out with its tick; a zero force of the same stamp after it
+    would tell a device that the tick's reaction was nothing.
+    """
+    body = simulated_body_factory(rate_hz=200.0, publish_force=True)
+    caller = body.add_node(Node('caller', context=body.context))
+    pause = caller.create_client(SetBool, '/mouse_constraint/pause')
+    poses, forces = [], []
+    caller.create_subscription(PoseStamped, 'pose', poses.append, 10)
+    caller.create_subscription(WrenchStamped, 'force', forces.append, 10)
+    body.step(40)
+    future = pause.call_async(SetBool.Request(data=True))
+    body.drain()
+    assert future.result().success and len(forces) == len(poses) == 40
+    weight = forces[-1].wrench.force.z
+    assert weight < -1.0
+    body.reset()
+    assert len(poses) == 41 and len(forces) == 40
+    assert forces[-1].wrench.force.z == weight
+    assert poses[-1].header.stamp == forces[-1].header.stamp
+
+
+def test_a_step_on_a_clock_that_stands_still_is_refused(ros):
+    """
+    use_sim_time, paused, /clock at 5 s: one step at 5 s; the next is refused until it moves.
+
+    A step is stamped with the node's clock: on a /clock that stands still a second step would
+    publish a second state of the same stamp.
+    """
+    node = start_node(ros, use_sim_time=True, rate_hz=100.0, marker_rate_hz=0.0,
+                      diagnostics_rate_hz=0.0)
+    poses = ros.collect(PoseStamped, 'pose')
+    clock = ros.probe.create_publisher(Clock, '/clock', 10)
+    assert ros.call(SetBool, '/mouse_constraint/pause', SetBool.Request(data=True)).success
+
+    def clock_at(seconds: int, nanoseconds: int = 0) -> None:
+        message = Clock()
+        message.clock.sec, message.clock.nanosec = seconds, nanoseconds
+        clock.publish(message)
+        assert ros.spin_until(
+            lambda: node.get_clock().now().nanoseconds == seconds * S + nanoseconds)
+
+    def step():
+        return ros.call(Trigger, '/mouse_constraint/step', Trigger.Request())
+
+    clock_at(5)
+    assert step().success
+    assert ros.spin_until(lambda: len(poses) == 1)
+    refused = step()
+    assert not refused.success and refused.message == (
+        "the node's clock stands at 5.000000000 s, the stamp of the latest tick: a step would "
+        'publish a second state of that stamp; step once the clock moves on')
+    clock_at(5, 10 * MS)
+    assert step().success
+    assert ros.spin_until(lambda: len(poses) == 2)
+    ros.spin_for(0.1)
+    assert [stamp_ns(pose.header.stamp) for pose in poses] == [5 * S, 5 * S + 10 * MS]
 
 
 def test_publish_clock_with_use_sim_time_is_refused(ros):

@@ -19,7 +19,8 @@ The node is started as its console script starts it (``setup.py``'s entry point)
 signal is sent once the process has taken the signals (its ``SigCgt`` in ``/proc`` holds
 SIGHUP, which Python alone does not catch), and at 0.1 and 0.3 s after: while it imports rclpy,
 initializes and creates the node. Python's defaults gave a KeyboardInterrupt traceback and exit
--2, and death by SIGTERM (-15) and SIGHUP (-1).
+-2, and death by SIGTERM (-15) and SIGHUP (-1). A second signal soon after the first, at a
+running node, ends it with exit 0 too: Python's exit puts back the defaults that died by it.
 """
 
 from pathlib import Path
@@ -72,3 +73,34 @@ def test_a_signal_during_start_up_exits_0_without_a_traceback(signum, delay):
     assert all(line.startswith('[INFO]') for line in err.splitlines()), err
     if delay == 0.0:  # it came while the node was being imported: it never started
         assert 'Hz x' not in err, err
+
+
+@pytest.mark.system
+@pytest.mark.parametrize('gap', [0.01, 0.06, 0.12])
+@pytest.mark.parametrize('signum', [signal.SIGINT, signal.SIGTERM])
+def test_a_second_signal_soon_after_the_first_still_exits_0(signum, gap):
+    """
+    Two signals ``gap`` s apart at a running node: exit 0, as after one.
+
+    The second comes while the node is torn down or while the interpreter exits after it, whose
+    default handlers would end the process with the signal (-2, -15).
+    """
+    process = subprocess.Popen(
+        [sys.executable, '-c', SCRIPT, '--ros-args', '-p', 'marker_rate_hz:=0.0', '-p',
+         'diagnostics_rate_hz:=0.0'], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        lines = []
+        while not any('Hz x' in line for line in lines):  # its start line: it serves
+            line = process.stderr.readline()
+            assert line, ''.join(lines)
+            lines.append(line)
+        process.send_signal(signum)
+        time.sleep(gap)
+        process.send_signal(signum)
+        status = process.wait(timeout=20.0)
+    finally:
+        if process.poll() is None:
+            process.kill()
+    err = ''.join(lines) + process.communicate()[1]
+    assert status == 0, err
+    assert 'Traceback' not in err, err

@@ -42,12 +42,14 @@ SENTINEL = (0.125, -0.25, 0.5)
 
 
 def node_verdict(body, frame: str, point) -> tuple:
-    """Return (taken, refusal keys) of the node for one target."""
+    """Return (taken, refusal keys) of the node for one target, by the tick after it."""
     body.node.simulation.target = SENTINEL
     try:
         body.target(point, frame_id=frame)
     except InputRefused as refused:
+        body.step()
         return body.node.simulation.target != SENTINEL, [refused.key]
+    body.step()
     return body.node.simulation.target != SENTINEL, []
 
 

@@ -61,6 +61,23 @@ def test_a_clock_going_backwards_restarts_the_grid():
     assert not grid.due(1_010_000_000).restarted
 
 
+def test_a_clock_jumping_forwards_past_max_jump_restarts_the_grid_without_drops():
+    """
+    Beyond ``max_jump`` past the latest tick: tick 0 at the reading, nothing dropped.
+
+    Within it the missed ticks are missed: caught up on to the bound, the rest dropped.
+    """
+    grid = TickGrid(100.0, 10)
+    grid.due(5_000_000_000)
+    grid.due(5_010_000_000)
+    due = grid.due(65_010_000_001, max_jump=1_000_000_000)
+    assert due.restarted and (due.first, due.count, due.dropped) == (0, 1, 0)
+    assert due.jump_ns == 60_000_000_001 and grid.origin == 65_010_000_001
+    due = grid.due(66_010_000_001, max_jump=1_000_000_000)  # 1 s: within it
+    assert not due.restarted and (due.first, due.count, due.dropped) == (91, 10, 90)
+    assert grid.due(80_000_000_000).count == 10  # no max_jump: never a jump forwards
+
+
 @pytest.mark.parametrize('rate', [1.0, 7.0, 1000.0, 2999.5])
 def test_the_nodes_grid_catches_up_on_its_bound_of_time(rate):
     grid = TickGrid.for_rate(rate)
@@ -94,5 +111,8 @@ def test_the_clock_and_drop_texts_say_what_happened_and_when():
     assert clock_change_text(False, 0).startswith('clock changed to system time')
     assert clock_jump_text(2_000_000_001) == (
         'clock jumped backwards: restarting the tick grid at 2.000000001 s without catching up')
+    assert clock_jump_text(2_000_000_001, 1_500_000_000) == (
+        'clock jumped forwards by 1.500000000 s: restarting the tick grid at 2.000000001 s; the '
+        'time skipped is no dropped tick')
     assert drop_text(1000.0, 3, 40, 'why') == (
         'cannot keep 1000 Hz: dropped 3 ticks (40 in all): why; simulated time falls behind')

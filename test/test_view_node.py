@@ -159,6 +159,34 @@ def test_a_grab_right_after_a_release_goes_once_the_node_answered_it(ros, server
     assert node.simulation.target is not None
 
 
+def test_an_unanswered_release_is_given_up_and_said_so(ros, server):
+    """
+    Releases to a node that never answers: each given up after its timeout, the page says so.
+
+    The node here publishes pose and offers ``~/release``, and is never spun; the view's work
+    timer gives its calls up, and leaves none pending in the release's client.
+    """
+    from mouse_constraint_ros.pointer.service_calls import GIVE_UP_SECONDS
+    from mouse_constraint_ros.wire.interface import RELEASE_SERVICE
+    from test_support.silent_node import FakeClock, silent_node
+
+    clock = FakeClock()
+    view = _view(ros, server, clock=clock)
+    client = view._node_services[RELEASE_SERVICE]
+    with silent_node():
+        assert ros.spin_until(client.service_is_ready)
+        for _ in range(3):
+            view.release()
+            view._run_work()
+            clock.now += 1.0  # the release's wait for its answer runs out
+        assert len(client._pending_requests) == 3
+        clock.now += GIVE_UP_SECONDS
+        view._run_work()
+        assert client._pending_requests == {}
+        assert view.scene.reply.content == (
+            f'/mouse_constraint/release: no answer in {GIVE_UP_SECONDS:g} s')
+
+
 def test_the_hint_says_how_to_drag_until_the_first_grab(ros, server):
     """One line in the panel says to press on the body; the first grab takes it away."""
     node = _node(ros)

@@ -24,6 +24,7 @@ import json
 import math
 import subprocess
 import time
+from typing import Dict, Optional, Sequence
 
 import numpy as np
 
@@ -41,7 +42,9 @@ from test_support.processes import run_delay_ns
 
 
 def run_flood(ros, seconds: float, rate: float = 20000.0, hostile_every: int = 0,
-              node_rate: float = 1000.0, messages: bool = False) -> dict:
+              node_rate: float = 1000.0, messages: bool = False,
+              node_prefix: Sequence[str] = (),
+              node_environment: Optional[Dict[str, str]] = None) -> dict:
     """
     Flood a node process with targets from a flooder process; return what was measured.
 
@@ -59,11 +62,15 @@ def run_flood(ros, seconds: float, rate: float = 20000.0, hostile_every: int = 0
     stamp) and how far it is from the last target after it; after the flood, when the last
     missing tick was due (``recovered_s``, from the flood's end; 0 when none was missing) and
     whether the node warned of the ticks it dropped (``drops_warned``).
+
+    ``node_prefix`` runs the node under a command (``NodeProcess``), ``node_environment`` is its
+    environment (None: this one's); ``bench.flood_rate`` runs another tree's node so.
     """
     from geometry_msgs.msg import TwistStamped
     node = NodeProcess('-p', f'rate_hz:={node_rate!r}', '-p', 'gravity:=[0.0, 0.0, 0.0]',
                        '-p', 'linear_damping:=2.0', '-p', 'angular_damping:=2.0',
-                       '-p', 'workspace_radius:=100.0')
+                       '-p', 'workspace_radius:=100.0', prefix=node_prefix,
+                       environment=node_environment)
     flooder = None
     try:
         poses = PoseRecorder(ros.probe)

@@ -19,7 +19,9 @@ The ``mouse_ctl`` command: the node's services and output from the venv's comman
 does what a user needs of them with the node, from the venv alone:
 
 - ``mouse_ctl pause`` / ``resume``: ``~/pause`` with true / false;
-- ``mouse_ctl step [N]``: ``~/step`` N times (default 1), while paused;
+- ``mouse_ctl step [N]``: ``~/step`` N times (default 1), while paused; each request is sent
+  once and its answer waited for (``--timeout``), never sent again: a slow answer is not a
+  second step;
 - ``mouse_ctl reset`` / ``release``: ``~/reset`` / ``~/release``;
 - ``mouse_ctl echo [pose|twist|force|wrench]``: a line per message (at most ``--print-rate`` a
   second of the node's clock), with the rate the messages come at; ``force`` is the force the
@@ -28,9 +30,12 @@ does what a user needs of them with the node, from the venv alone:
 
 A call prints the node's reply and exits 0; a reply that says the node could not (``step``
 while running, a ``reset`` it could not make) goes to stderr with exit status 1, as does no
-service or no message within ``--timeout``. The node is ``--node`` (default
+service or no message within ``--timeout``; an echo that got none says why, as the graph tells
+it (no node, a topic nothing publishes, a node paused). The node is ``--node`` (default
 ``mouse_constraint``) in this command's namespace: ``--ros-args -r __ns:=/robot`` reaches one
-in ``/robot``. Ctrl-C ends an echo with exit status 0, a call before its answer with 130.
+in ``/robot``. Ctrl-C ends an echo with exit status 0, a call before its answer with 130, and
+any command with 130 before it started (its imports, rclpy's start: ``console``, the console
+script).
 """
 
 import argparse
@@ -39,36 +44,49 @@ import sys
 import time
 from typing import Callable, List, NamedTuple, Optional
 
+from diagnostic_msgs.msg import DiagnosticArray
+from rcl_interfaces.msg import ParameterType
+from rcl_interfaces.srv import ListParameters
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.utilities import remove_ros_args
 from std_srvs.srv import SetBool, Trigger
 
 from .command_node import command_node, SHUTDOWN_STATUS
-from .echo import ECHOES, EchoPrinter
+from .console import INTERRUPTED_STATUS
+from .echo import ECHOES, EchoPrinter, Graph, paused_in, silence
 from .help_text import plain_text
-from ..timing.spin import call_until_answered, Interrupted, spin_until, StopRequest, wait_until
-from ..wire.interface import (NODE_NAME, PAUSE_SERVICE, RELEASE_SERVICE, RESET_SERVICE,
-                              STATE_QOS, STEP_SERVICE)
+from ..timing.spin import (call_once, call_until_answered, Interrupted, spin_until, StopRequest,
+                           wait_until)
+from ..wire.interface import (DIAGNOSTICS_TOPIC, MONITOR_DEPTH, NODE_NAME, node_name,
+                              PAUSE_SERVICE, RELEASE_SERVICE, RESET_SERVICE, STATE_QOS,
+                              STEP_SERVICE)
+from ..wire.remote_parameters import fetch_parameters
 
-# The exit status when a stop comes before a call's answer.
-INTERRUPTED_STATUS = 130
 # The most steps one command makes.
 MAX_STEPS = 1_000_000
+# The longest (s) an echo that got no message waits for the node to say whether it is on.
+SWITCH_TIMEOUT = 2.0
 
 
 class Action(NamedTuple):
-    """A call of one of the node's services: its type, its name (``~/...``) and request."""
+    """
+    A call of one of the node's services: its type, its name (``~/...``) and request.
+
+    ``once``: a request served twice does twice what was asked (a step), so it is sent once
+    and waited for, never sent again while it goes unanswered.
+    """
 
     service_type: type
     service: str
     request: Callable[[], object]
+    once: bool = False
 
 
 ACTIONS = {
     'pause': Action(SetBool, PAUSE_SERVICE, lambda: SetBool.Request(data=True)),
     'resume': Action(SetBool, PAUSE_SERVICE, lambda: SetBool.Request(data=False)),
-    'step': Action(Trigger, STEP_SERVICE, Trigger.Request),
+    'step': Action(Trigger, STEP_SERVICE, Trigger.Request, once=True),
     'reset': Action(Trigger, RESET_SERVICE, Trigger.Request),
     'release': Action(Trigger, RELEASE_SERVICE, Trigger.Request),
 }
@@ -161,6 +179,34 @@ def parse_arguments(argv: List[str]) -> argparse.Namespace:
     return options
 
 
+def node_answers(node: Node, executor, stop: StopRequest, options: argparse.Namespace) -> bool:
+    """
+    Return whether the node answered its ``list_parameters``, asked again while unanswered.
+
+    Made after the action's client: a node that answered has matched that client's endpoints
+    too (``timing.spin``), and a request sent once on it reaches the node.
+    """
+    client = node.create_client(ListParameters, f'{options.node}/list_parameters')
+    try:
+        return call_until_answered(client, ListParameters.Request(depth=1), executor, stop,
+                                   deadline=time.monotonic() + options.timeout) is not None
+    finally:
+        node.destroy_client(client)
+
+
+def switched_on(node: Node, executor, stop: StopRequest, options: argparse.Namespace,
+                target: str) -> Optional[bool]:
+    """Return the value of the echo's ``switch`` parameter on ``target``; None: not known."""
+    switch = ECHOES[options.what].switch
+    if switch is None:
+        return None
+    try:
+        return fetch_parameters(node, executor, stop, target_node=target, timeout=SWITCH_TIMEOUT,
+                                types={switch: ParameterType.PARAMETER_BOOL})[switch]
+    except RuntimeError:
+        return None
+
+
 def call(node: Node, executor, stop: StopRequest, options: argparse.Namespace) -> int:
     """Call the node's service ``options.command`` (``step``: N times); return the exit status."""
     client = create_client(node, options.command, options.node)
@@ -170,12 +216,19 @@ def call(node: Node, executor, stop: StopRequest, options: argparse.Namespace) -
         print(f'mouse_ctl: no service {name} after {options.timeout:g} s: is the '
               'node running (same ROS_DOMAIN_ID and namespace, --node)?', file=sys.stderr)
         return 1
+    action = ACTIONS[options.command]
+    if action.once and not node_answers(node, executor, stop, options):
+        print(f'mouse_ctl: {options.node} did not answer in {options.timeout:g} s',
+              file=sys.stderr)
+        return 1
+    send = call_once if action.once else call_until_answered
     for _ in range(getattr(options, 'ticks', 1)):
-        response = call_until_answered(client, ACTIONS[options.command].request(), executor,
-                                       stop, deadline=time.monotonic() + options.timeout)
+        response = send(client, action.request(), executor, stop,
+                        deadline=time.monotonic() + options.timeout)
         if response is None:
-            print(f'mouse_ctl: {name} did not answer in {options.timeout:g} s',
-                  file=sys.stderr)
+            print(f'mouse_ctl: {name} did not answer in {options.timeout:g} s'
+                  + (': the request was sent once, it may have been served' if action.once
+                     else ''), file=sys.stderr)
             return 1
         if not response.success:
             print(f'mouse_ctl: {options.command}: {response.message}', file=sys.stderr)
@@ -189,14 +242,30 @@ def echo(node: Node, executor, stop: StopRequest, options: argparse.Namespace) -
     printer = create_echo(node, options.what, lambda line: print(line, flush=True),
                           print_rate=options.print_rate)
     topic = printer.topic
+    target = options.node if options.node.startswith('/') else node_name(
+        node.get_namespace(), options.node)
+    # Whether the node is paused, as its /diagnostics said last while the echo waited.
+    paused: List[Optional[bool]] = [None]
+
+    def on_diagnostics(array: DiagnosticArray) -> None:
+        said = paused_in(array, target)
+        if said is not None:
+            paused[0] = said
+    diagnostics = node.create_subscription(DiagnosticArray, DIAGNOSTICS_TOPIC, on_diagnostics,
+                                           MONITOR_DEPTH)
     try:
         if not wait_until(executor, stop, lambda: printer.received > 0,
                           deadline=time.monotonic() + options.timeout):
-            print(f'mouse_ctl: no message on {topic} after {options.timeout:g} s: is the node '
-                  'running (same ROS_DOMAIN_ID and namespace)?', file=sys.stderr)
+            found = target in (node_name(namespace, name) for name, namespace in
+                               node.get_node_names_and_namespaces())
+            graph = Graph(target, found, node.count_publishers(topic), paused[0],
+                          switched_on(node, executor, stop, options, target) if found else None)
+            print('mouse_ctl: ' + silence(ECHOES[options.what], topic, options.timeout, graph),
+                  file=sys.stderr)
             return 1
     except Interrupted:
         return 0
+    node.destroy_subscription(diagnostics)
     count = options.count
     spin_until(executor, stop, condition=lambda: 0 < count <= printer.printed)
     if printer.unreadable:

@@ -70,6 +70,7 @@ from ..pointer.newest_message import NewestMessage
 from ..pointer.node_follower import DISCOVERY_SECONDS, NodeFollower
 from ..pointer.node_readouts import ViewParameters
 from ..pointer.release_order import ReleaseGate
+from ..pointer.service_calls import ServiceCalls
 from ..wire.interface import (GRAB_TOPIC, MARKER_FEEDBACK_TOPIC, MARKER_NODE_NAME, MARKER_QOS,
                               MARKER_SERVICE, MARKER_UPDATE_TOPIC, NODE_NAME, node_name,
                               POSE_TOPIC, RELEASE_SERVICE, TARGET_QOS, TARGET_TOPIC)
@@ -113,6 +114,7 @@ class MouseMarkerNode(Node):
         self.grab_publisher = self.create_publisher(PointStamped, GRAB_TOPIC, TARGET_QOS)
         self.target_publisher = self.create_publisher(PointStamped, TARGET_TOPIC, TARGET_QOS)
         self.release_client = self.create_client(Trigger, NODE_NAME + RELEASE_SERVICE[1:])
+        self.calls = ServiceCalls(clock=clock)  # each given up when it goes unanswered
         self.update_publisher = self.create_publisher(InteractiveMarkerUpdate,
                                                       MARKER_UPDATE_TOPIC, MARKER_QOS)
         self.feedback_subscription = self.create_subscription(
@@ -165,6 +167,7 @@ class MouseMarkerNode(Node):
 
     def _work(self) -> None:
         now = self._monotonic()
+        self.calls.give_up_late()
         raw = self.pose_subscription.take()
         if raw is not None:
             try:
@@ -266,8 +269,8 @@ class MouseMarkerNode(Node):
             return
         release = self.release_gate.released(now)
         # What waits goes at the next work (WORK_PERIOD), not from the future's callback.
-        self.release_client.call_async(Trigger.Request()).add_done_callback(
-            lambda _done: self.release_gate.answered(release))
+        self.calls.call(self.release_client, Trigger.Request(),
+                        on_answer=lambda _done: self.release_gate.answered(release))
 
     def destroy_node(self) -> None:
         """Stop the timers, then destroy the node."""

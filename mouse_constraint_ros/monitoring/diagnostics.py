@@ -57,6 +57,7 @@ from typing import List, NamedTuple, Optional, Sequence
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 
 from ..physics.algebra import Vector3
+from ..wire.interface import PAUSED_KEY
 from ..wire.messages import set_stamp
 
 OK, WARN, ERROR = DiagnosticStatus.OK, DiagnosticStatus.WARN, DiagnosticStatus.ERROR
@@ -331,7 +332,7 @@ def simulator_status(name: str, hardware_id: str, *, pacing: Pacing, force: Vect
     values = [
         KeyValue(key='clock', value='published (/clock)' if pacing.publish_clock
                  else "the node's clock"),
-        KeyValue(key='paused', value='true' if pacing.paused else 'false'),
+        KeyValue(key=PAUSED_KEY, value='true' if pacing.paused else 'false'),
         KeyValue(key='simulated time (s)', value=_value(pacing.simulated_time, 12)),
         KeyValue(key='real time factor', value=_value(pacing.real_time_factor)),
         KeyValue(key='achieved real time factor', value=_value(pacing.achieved_factor, 4)),

@@ -19,35 +19,26 @@ Importing the node (rclpy, numpy, the message packages) and ``rclpy.init`` take 
 a second before ``main`` installs its ``StopRequest``; until then Python's defaults answer
 SIGINT with a KeyboardInterrupt traceback and SIGTERM and SIGHUP with death by the signal,
 where the node promises exit 0. Here, before anything of the node is imported, each of them
-ends the process at once with exit status 0: no node exists before ``StopRequest`` takes the
-signals over, so there is nothing to close. ``StopRequest`` puts these handlers back when the
-spin ends, so a second signal during the node's teardown ends it at once, with 0 too.
+ends the process at once with exit status 0 (``timing.early_signals``): no node exists before
+``StopRequest`` takes the signals over, so there is nothing to close. ``StopRequest`` puts these
+handlers back when the spin ends, so a second signal during the node's teardown ends it at once,
+with 0 too. Once the node is torn down (destroyed, its context shut down), they are ignored
+while the interpreter exits, where Python's defaults would end a clean stop with -2 or -15.
 Standard library only: this module must load in no time.
 """
 
-import os
-import signal
 import sys
 
-STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
-
-
-def exit_at_once(_signum: int, _frame) -> None:
-    """End the process with status 0, its output flushed."""
-    for stream in (sys.stdout, sys.stderr):
-        try:
-            stream.flush()
-        except (OSError, ValueError):
-            pass
-    os._exit(0)
+from ..timing import early_signals
 
 
 def main() -> int:
     """Take the stop signals, then import and run the node's ``main``; return its status."""
-    for signum in STOP_SIGNALS:
-        signal.signal(signum, exit_at_once)
+    early_signals.take_early(0)
     from .mouse_constraint_node import main as node_main
-    return node_main()
+    status = node_main()
+    early_signals.ignore()
+    return status
 
 
 if __name__ == '__main__':

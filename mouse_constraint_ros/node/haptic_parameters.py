@@ -49,11 +49,16 @@ def soft_mode(values: Mapping[str, Any]) -> Tuple[float, float]:
 
     A coupling stiffness replaces frequency_hz (both set is refused: which one holds would be
     a guess); a coupling damping needs a stiffness (a damper alone to the target is no soft
-    mode of the joint), and replaces damping_ratio.
+    mode of the joint), and replaces damping_ratio. frequency_hz and damping_ratio are checked
+    against their own ranges first, in the joint's words: a value no configuration takes (-1,
+    .nan, .inf) is refused for what it is, as at start-up, whatever the coupling is.
     """
+    frequency = scalar('frequency_hz', values['frequency_hz'], at_least=0.0,
+                       at_most=MAX_FREQUENCY_HZ)
+    ratio = scalar('damping_ratio', values['damping_ratio'], at_least=0.0,
+                   at_most=MAX_DAMPING_RATIO)
     stiffness = scalar('coupling_stiffness', values['coupling_stiffness'], at_least=0.0)
     damping = scalar('coupling_damping', values['coupling_damping'], at_least=0.0)
-    frequency, ratio = values['frequency_hz'], values['damping_ratio']
     if stiffness == 0.0:
         if damping > 0.0:
             raise ValueError(

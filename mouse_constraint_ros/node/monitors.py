@@ -37,7 +37,8 @@ from ..monitoring.diagnostics import (constraint_status, diagnostic_array, INITI
 from ..monitoring.markers import BODY_COLOR, marker_array, reference_force, wrench_reference
 from ..physics import MouseSimulation
 from ..physics.settings import force_bound
-from ..wire.interface import DIAGNOSTICS_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH
+from ..wire.interface import (DIAGNOSTICS_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH,
+                              SIMULATOR_STATUS_SUFFIX)
 from ..wire.messages import felt_force
 from ..wire.state_publishers import StatePublishers
 
@@ -182,7 +183,7 @@ class Monitors:
                               thresholds=thresholds,
                               floor_contacts=(simulation.contact_count
                                               if config.settings.floor.enabled else None)),
-            self._simulator_status(f'{name}: simulator', hardware_id, now),
+            self._simulator_status(name + SIMULATOR_STATUS_SUFFIX, hardware_id, now),
         ]))
 
     def _simulator_status(self, name: str, hardware_id: str, now: int):

@@ -17,10 +17,11 @@ What the node's services answer: ``~/pause``, ``~/step``, ``~/reset`` and ``~/re
 
 Each reply says what happened, or why nothing did, in one line a user reads in
 ``ros2 service call``'s output (and the browser view's panel). ``~/step`` is refused while the
-physics runs (a step between timer ticks would be a tick off the grid) and while a simulated
-clock has not started (there is no time to stamp it with). Times are the simulated time, the
-seconds the body has been stepped since start, to the microsecond: the node's clock may read
-seconds since 1970, which say nothing at a glance. Plain Python only.
+physics runs (a step between timer ticks would be a tick off the grid), while a simulated
+clock has not started (there is no time to stamp it with) and while the node's clock still reads
+the latest tick's stamp (a /clock that stands still: the step would repeat the stamp). Times
+are the simulated time, the seconds the body has been stepped since start, to the microsecond:
+the node's clock may read seconds since 1970, which say nothing at a glance. Plain Python only.
 """
 
 from typing import Optional, Sequence
@@ -42,18 +43,25 @@ def pause_reply(pause: bool, paused: bool, simulated_s: float) -> str:
     return f'{"paused at" if pause else "running from"} {simulated(simulated_s)}'
 
 
-def step_refusal(paused: bool, waiting_for: Optional[str]) -> Optional[str]:
+def step_refusal(paused: bool, waiting_for: Optional[str],
+                 stands_at: Optional[int] = None) -> Optional[str]:
     """
     Return why ``~/step`` cannot run now, or None when it can.
 
     :param paused: whether the physics is paused.
     :param waiting_for: what the node's clock waits for (``'/clock on <topic>'``), or None.
+    :param stands_at: the node's time (ns) when its clock still reads the latest tick's stamp
+        (a /clock that stands still), or None.
     """
     if not paused:
         return ('running: ~/step advances a paused simulation by one tick; pause it first '
                 '(~/pause with data: true)')
     if waiting_for is not None:
         return f'waiting for {waiting_for}: no time to stamp a step with'
+    if stands_at is not None:
+        return (f"the node's clock stands at {stands_at * 1e-9:.9f} s, the stamp of the latest "
+                'tick: a step would publish a second state of that stamp; step once the clock '
+                'moves on')
     return None
 
 

@@ -69,7 +69,8 @@ class SimulatorControls:
     def on_step(self, _request: Trigger.Request, response: Trigger.Response):
         """While paused: run exactly one tick and publish it; refused while running."""
         ticker = self._ticker
-        refusal = step_refusal(ticker.paused, ticker.waiting_for_clock())
+        refusal = step_refusal(ticker.paused, ticker.waiting_for_clock(),
+                               ticker.stands_still())
         if refusal is not None:
             response.success = False
             response.message = refusal

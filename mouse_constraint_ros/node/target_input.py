@@ -24,11 +24,16 @@ the same gate, then ``grab`` says where on the box it lands; the node's own ``an
 parameter is set to that point (``set_anchor``, validated as any parameter change) and the
 point becomes the target, untimed.
 
+A target the gate takes is taken at once when it is the first since the latest tick; the
+ones after it wait for the next tick, which takes the newest of them (``OnePerTick``, ``tick``):
+a flood of targets costs the node one stream fit a tick, not one a target. A grab, a release,
+a reset or a new configuration takes the target that waits first, in the order they came.
+
 A user target older than ``target_timeout`` is let go at the first tick after (``expire``).
 Every refusal goes to the node's ``RefusalLog``: a throttled warning, counted.
 """
 
-from typing import Callable, Optional
+from typing import Callable, NamedTuple, Optional
 
 from geometry_msgs.msg import PointStamped, PoseStamped
 
@@ -36,6 +41,7 @@ from .parameters import NodeConfig
 from .tick_record import TickRecord
 from ..inputs.grab import grab
 from ..inputs.input_timeouts import input_age, target_release_text, timed_out
+from ..inputs.one_per_tick import OnePerTick
 from ..inputs.target_gate import apart, Refusal, TargetGate
 from ..inputs.target_stamps import TargetTiming
 from ..inputs.throttle import RefusalLog
@@ -43,6 +49,14 @@ from ..physics import MouseSimulation
 from ..physics.algebra import Vector3
 from ..physics.target_stream import STREAM_GAP
 from ..wire.messages import point_from_message, point_from_pose, stamp_nanoseconds
+
+
+class Arrival(NamedTuple):
+    """A target the gate took: its point, its header stamp and the node's time it came at (ns)."""
+
+    point: Vector3
+    stamp_ns: int
+    now_ns: int
 
 
 class TargetInput:
@@ -69,6 +83,8 @@ class TargetInput:
         self._refuse = refuse
         self._log = log
         self._timing = TargetTiming(STREAM_GAP)
+        # Targets taken: the first after a tick at once, the newest of the rest at the next.
+        self._arrivals: OnePerTick[Arrival] = OnePerTick()
         # Whether the target is one a user gave (not the held initial anchor), and when (ns).
         self.user_target = False
         self.last_target_ns = 0
@@ -77,6 +93,7 @@ class TargetInput:
 
     def configure(self, config: NodeConfig) -> None:
         """Take a new configuration: the gate, the grab's box and margin, the timeout."""
+        self._flush()
         self._config = config
         gate = getattr(self, '_gate', None)
         if gate is None or (gate.frame_id, gate.workspace_radius) != (
@@ -91,6 +108,7 @@ class TargetInput:
 
     def hold_initial_anchor(self) -> None:
         """Hold the anchor where it starts, or free the body, as configured; no user target."""
+        self._flush()
         config = self._config
         self.user_target = False
         self._simulation.target = (config.initial_anchor() if config.hold_initial_anchor
@@ -98,6 +116,7 @@ class TargetInput:
 
     def release(self) -> bool:
         """Let go of the target: the body flies free; return whether there was one."""
+        self._flush()
         had_target = self._simulation.target is not None
         self._simulation.target = None
         self.user_target = False
@@ -115,30 +134,53 @@ class TargetInput:
 
     def restart_age(self, now_ns: int) -> None:
         """Count the user target's age from ``now_ns`` (the node's time changed base)."""
+        self._flush()
         if self.user_target:
             self.last_target_ns = now_ns
 
     def on_target(self, message: PointStamped) -> None:
         """Take a target: timed by its stamp where usable, else by its arrival."""
-        self._take(message, point_from_message(message))
+        self._offer(message, point_from_message(message))
 
     def on_target_pose(self, message: PoseStamped) -> None:
         """Take the position of a pose as a target, as ``on_target`` takes a point."""
-        self._take(message, point_from_pose(message))
+        self._offer(message, point_from_pose(message))
 
-    def _take(self, message, point: Vector3) -> None:
-        """Take ``point``, the target of ``message``: its header's frame and stamp."""
+    def tick(self) -> None:
+        """Take the newest target that waited for this tick, if one did (``OnePerTick``)."""
+        arrival = self._arrivals.tick()
+        if arrival is not None:
+            self._take(arrival)
+
+    @property
+    def held_over(self) -> int:
+        """Return how many targets a newer one replaced before a tick took them."""
+        return self._arrivals.held_over
+
+    def _offer(self, message, point: Vector3) -> None:
+        """Offer ``point``, the target of ``message``: refused, taken, or held for the tick."""
         refusal = self._gate.refusal(message.header.frame_id, point)
         if refusal is not None:
             self._refuse(refusal, f'ignoring target {refusal.reason}')
             return
-        record, now = self._record, self._now_ns()
-        self._timing.take(self._simulation, point,
-                          stamp_ns=stamp_nanoseconds(message.header.stamp), now_ns=now,
-                          tick_stamp_ns=record.stamp_ns, tick_s=record.dt,
-                          ticked=record.ticks_run > 0)
+        arrival = self._arrivals.offer(
+            Arrival(point, stamp_nanoseconds(message.header.stamp), self._now_ns()))
+        if arrival is not None:
+            self._take(arrival)
+
+    def _flush(self) -> None:
+        arrival = self._arrivals.flush()
+        if arrival is not None:
+            self._take(arrival)
+
+    def _take(self, arrival: 'Arrival') -> None:
+        """Take a target as it came: timed by its stamp where usable, else by its arrival."""
+        record = self._record
+        self._timing.take(self._simulation, arrival.point, stamp_ns=arrival.stamp_ns,
+                          now_ns=arrival.now_ns, tick_stamp_ns=record.stamp_ns,
+                          tick_s=record.dt, ticked=record.ticks_run > 0)
         self.user_target = True
-        self.last_target_ns = now
+        self.last_target_ns = arrival.now_ns
 
     def on_grab(self, message: PointStamped) -> None:
         """Make a point on the body the anchor and the target; ignore (and say) any other."""
@@ -158,6 +200,7 @@ class TargetInput:
                       'its shape')
             self._refuse(Refusal('grab off body', reason), f'ignoring grab {reason}')
             return
+        self._flush()  # a target that came before the grab goes before it
         failure = self._set_anchor(landed.anchor)
         if failure is not None:
             self._refuse(Refusal('grab anchor', f'{point}: {failure}'),

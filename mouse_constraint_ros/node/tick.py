@@ -15,10 +15,11 @@
 """
 One tick of the node, and the record of the ticks run: the object its three drivers share.
 
-A tick at stamp t applies the input that arrived (a target older than ``target_timeout`` is let
-go, the wrench scheduled up to t is put in effect or expires), steps the physics by one dt,
-publishes ``/clock`` when the node is the clock, and pose, twist, TF and odometry on the ticks
-that publish (``PublishTicks``), all stamped t. Three drivers call ``Tick.run``: the node's
+A tick at stamp t applies the input that arrived (the newest target that waited for the tick
+is taken, a target older than ``target_timeout`` is let go, the wrench scheduled up to t is put
+in effect or expires), steps the physics by one dt, publishes ``/clock`` when the node is the
+clock, and pose, twist, TF and odometry on the ticks that publish (``PublishTicks``), all
+stamped t. Three drivers call ``Tick.run``: the node's
 timer on its own clock (``tick_loop.NodeClockTicks``), the simulated clock's pacer
 (``clock_ticks.ClockTicks``), and a caller that steps the node itself (``Ticker.step``, which
 ``mouse_constraint_ros.testing`` drives in lockstep); ``ticker.Ticker`` says which runs.
@@ -79,6 +80,7 @@ class Tick:
             single step: ``~/step``, or a caller stepping the node).
         """
         record = self._record
+        self._target.tick()
         self._target.expire(stamp)
         self._wrench.apply(stamp)
         state = self._simulation.step(record.dt)
@@ -93,5 +95,11 @@ class Tick:
             self._state_publishers.publish(stamp, state)
 
     def publish_state(self) -> None:
-        """Publish the state as it stands, stamped with the latest tick (after a reset)."""
-        self._state_publishers.publish(self._record.stamp_ns, self._simulation.state)
+        """
+        Publish the state as it stands, stamped with the latest tick (after a reset); no force.
+
+        The force of that stamp went out with its tick, the tick's reaction; no tick ran since,
+        so there is no other force of that stamp to send (a reset's is zero).
+        """
+        self._state_publishers.publish(self._record.stamp_ns, self._simulation.state,
+                                       force=False)

@@ -23,14 +23,13 @@ clock and ``clock_ticks.ClockTicks`` drives instead.
 
 The timer is an rclpy timer, or, for a node served by its own spin loop (``loop_ticks``, as the
 executable serves it) on system time, a ``LoopTimer`` whose calls that loop makes
-(``run_due``): the same schedule without the executor's timer thread. A call the loop takes
-late goes to the back of the executor's queue, where an rclpy timer's would go, so what was
-queued before it runs first. On simulated time (use_sim_time) the timer is rclpy's, which
-/clock drives; a loop timer's call that finds the clock switched to simulated time hands over
-to one.
+(``run_due``): the same schedule without the executor's timer thread. The loop makes a due
+call before it takes the next message, on time or late: the tick comes first, whatever waits
+in the executor's queue (a flood of targets), which is taken after it, between ticks. On
+simulated time (use_sim_time) the timer is rclpy's, which /clock drives; a loop timer's call
+that finds the clock switched to simulated time hands over to one.
 """
 
-from functools import partial
 from typing import Callable, Optional
 
 from rclpy.node import Node
@@ -41,7 +40,10 @@ from ..timing.loop_timer import LoopTimer
 from ..timing.publish_ticks import ticks_per_callback
 from ..timing.tick_budget import TickBudget
 from ..timing.tick_grid import (CATCH_UP_CAUSE, clock_change_text, clock_jump_text, drop_text,
-                                scheduled_origin, TickGrid)
+                                MAX_CLOCK_STEP_SECONDS, scheduled_origin, TickGrid)
+
+# A /clock reading this far past the latest tick is a jump, not missed ticks (``TickGrid.due``).
+MAX_CLOCK_STEP_NS = round(MAX_CLOCK_STEP_SECONDS * 1e9)
 
 
 class NodeClockTicks:
@@ -66,8 +68,6 @@ class NodeClockTicks:
         self._budget = TickBudget()
         self._tick: Optional[Tick] = None
         self._timer = None
-        # The loop timer whose call waits in the executor's queue, if one does.
-        self._posted: Optional[LoopTimer] = None
         self.grid: Optional[TickGrid] = None
         # The node's clock, read through its handle: ``Clock.now`` builds a ``Time`` per call,
         # five times the cost of the reading itself, on the path of every tick.
@@ -100,35 +100,31 @@ class NodeClockTicks:
         """
         Make the loop timer's call if it is due; return the time (s) until the next one.
 
-        A call on time (``LoopTimer.on_time``) finds the loop idle, waiting for it, and runs at
-        once. A late one finds it busy and goes to the back of the executor's queue
-        (``create_task``), the place an rclpy timer's call takes: what came before it runs
-        first, so a flood of messages that overloads the node delays its ticks and does not
-        starve its services. One call waits there at a time; the periods it overruns are
-        skipped. None when no loop timer runs (stopped, or an rclpy timer makes the calls).
+        The call runs at once, late or not: the loop asks before each message it takes, so a
+        due tick never waits behind the messages queued meanwhile. Were a late call posted to
+        the back of the executor's queue (where an rclpy timer's call goes), a flood that the
+        node takes more slowly than it comes would keep every later call late behind it, past
+        the catch-up bound, and the ticks would be dropped. The services do not starve: the
+        ticks of one call take at most ``TickBudget``'s share of the time, and the queue's
+        messages and requests run between calls. The periods a late call overran are skipped.
+        None when no loop timer runs (stopped, or an rclpy timer makes the calls).
         """
         timer = self._timer
         if type(timer) is not LoopTimer:
             return None
-        if self._posted is None and timer.take():
-            if timer.on_time():
-                self._on_loop_call(timer)
-                if timer is not self._timer:
-                    return None  # handed over to an rclpy timer on /clock
-            else:
-                self._posted = timer
-                self._node.executor.create_task(partial(self._on_loop_call, timer))
+        if timer.take():
+            self._on_timer()
+            if self._clock.ros_time_is_active:
+                # use_sim_time came on: /clock drives the calls from now on, through rclpy.
+                self.retime(self._ticker.rate_hz, self._ticker.publish_rate_hz)
+                return None
+            if timer is not self._timer:
+                return None  # retimed or stopped by the call
         return timer.time_until_next_call() * 1e-9
 
-    def _on_loop_call(self, timer: LoopTimer) -> None:
-        if self._posted is timer:
-            self._posted = None
-        if timer is not self._timer:
-            return  # retimed or stopped since it was posted
-        self._on_timer()
-        if self._clock.ros_time_is_active:
-            # use_sim_time came on: /clock drives the calls from now on, through rclpy.
-            self.retime(self._ticker.rate_hz, self._ticker.publish_rate_hz)
+    def now_ns(self) -> int:
+        """Return the node's clock's reading (ns)."""
+        return self._clock_now().nanoseconds
 
     def stop(self) -> None:
         """Destroy the timer: no tick runs until ``start``."""
@@ -154,7 +150,6 @@ class NodeClockTicks:
         if self._timer is not None and type(self._timer) is not LoopTimer:
             self._node.destroy_timer(self._timer)
         self._timer = None
-        self._posted = None
 
     def _on_timer(self) -> None:
         if self._ticker.paused:
@@ -171,10 +166,10 @@ class NodeClockTicks:
         elif not grid.started:
             grid.restart(scheduled_origin(now, self._timer.time_until_next_call(),
                                           self._timer.timer_period_ns))
-        due = grid.due(now)
+        due = grid.due(now, MAX_CLOCK_STEP_NS if self._grid_sim_time else None)
         if due.restarted:
             record.clock_restarts += 1
-            node.get_logger().warning(clock_jump_text(now))
+            node.get_logger().warning(clock_jump_text(now, due.jump_ns))
         first, count = due.first, due.count
         if due.dropped:
             self._drop(due.dropped, CATCH_UP_CAUSE)

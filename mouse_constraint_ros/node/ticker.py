@@ -126,6 +126,19 @@ class Ticker:
             return None
         return self._node_clock.waiting_for_clock()
 
+    def stands_still(self) -> Optional[int]:
+        """
+        Return the node's time (ns) while its clock reads the latest tick's stamp, else None.
+
+        A single step (``step_once``) is stamped with the node's clock: one that stands still
+        (use_sim_time, a /clock that stopped) would stamp a second state with the stamp of the
+        tick before it. None when the node is the clock: its step moves the clock on.
+        """
+        if self.is_clock or self.record.ticks_run == 0:
+            return None
+        now = self._node_clock.now_ns()
+        return now if now == self.record.stamp_ns else None
+
     @property
     def timer(self):
         """Return the timer that runs the ticks now, or None (a caller steps the node)."""
@@ -208,7 +221,7 @@ class Ticker:
         if self.is_clock:
             self._simulated.step(on_grid=False)
         else:
-            self._tick.run(self._node.get_clock().now().nanoseconds)
+            self._tick.run(self._node_clock.now_ns())
 
     def step(self) -> bool:
         """
@@ -225,7 +238,7 @@ class Ticker:
         return True
 
     def publish_state(self) -> None:
-        """Publish the state as it stands, stamped with the latest tick (after a reset)."""
+        """Publish the state as it stands, stamped with the latest tick (a reset); no force."""
         self._tick.publish_state()
 
     def stop(self) -> None:

@@ -33,6 +33,7 @@ from rclpy.node import Node
 from rclpy.qos import qos_profile_parameter_events
 
 from .node_readouts import ViewParameters
+from .service_calls import ServiceCalls
 from ..wire.interface import NODE_NAME, node_name
 
 # The parameters a client draws with.
@@ -70,6 +71,7 @@ class NodeFollower:
         self.parameters_known = False  # answered by the node since it came
         self._asked_at: Optional[float] = None  # when the question in flight went
         self._get_parameters = node.create_client(GetParameters, f'{NODE_NAME}/get_parameters')
+        self._calls = ServiceCalls(timeout=ASK_AGAIN_SECONDS, clock=clock)
         node.create_subscription(ParameterEvent, '/parameter_events', self._on_event,
                                  qos_profile_parameter_events)
 
@@ -88,8 +90,9 @@ class NodeFollower:
         elif (not self.parameters_known and self._get_parameters.service_is_ready()
               and (self._asked_at is None or now - self._asked_at > ASK_AGAIN_SECONDS)):
             self._asked_at = now
-            self._get_parameters.call_async(
-                GetParameters.Request(names=PARAMETER_NAMES)).add_done_callback(self._answered)
+            # The question before, unanswered, is given up: one at a time is pending.
+            self._calls.call(self._get_parameters, GetParameters.Request(names=PARAMETER_NAMES),
+                             on_answer=self._answered)
         self.present = present
 
     def _answered(self, done) -> None:

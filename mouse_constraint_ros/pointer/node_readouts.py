@@ -19,8 +19,9 @@ What the view reads from the node: the parameters it draws with, and the panel's
 view sends), the body's shape (``robot_description``, ``body_link`` and ``density``: a URDF
 link, else the box of ``box_size``; ``body_shape`` makes it), ``anchor`` (the dragged point, in
 the body's frame: the link frame of a URDF), ``frequency_hz`` (0: rigid mode, else soft),
-``grab_margin`` (how far off the body a grab is taken) and, where the node has them, ``floor``
-and ``floor_height``. ``with_values`` takes them from a ``GetParameters`` answer or a
+``grab_margin`` (how far off the body a grab is taken) and, where the node has them, ``floor``,
+``floor_height`` and ``publish_force`` (whether the felt force is on: its publisher stays when
+it is turned off). ``with_values`` takes them from a ``GetParameters`` answer or a
 ``/parameter_events`` message: a parameter it does not know, of another type or with a value it
 cannot draw (a non-finite or non-positive box edge, a negative density) is passed over, never
 raised on.
@@ -37,13 +38,14 @@ from diagnostic_msgs.msg import DiagnosticArray
 from rcl_interfaces.msg import ParameterType, ParameterValue
 
 from ..physics.algebra import Vector3
+from ..wire.interface import PAUSED_KEY, SIMULATOR_STATUS_SUFFIX
 
 # The node's statuses are named '<fully qualified node name><suffix>' (see the diagnostics
-# module); the keys are the ones its builders write.
-RATE_SUFFIX, CONSTRAINT_SUFFIX, SIMULATOR_SUFFIX = ': rate', ': constraint', ': simulator'
+# module; the simulator's suffix and its paused key are the interface's); the keys are the ones
+# its builders write.
+RATE_SUFFIX, CONSTRAINT_SUFFIX = ': rate', ': constraint'
 ACHIEVED_RATE_KEY = 'achieved rate (Hz)'
 ANCHOR_ERROR_KEY = 'anchor error (m)'
-PAUSED_KEY = 'paused'
 
 
 class ViewParameters(NamedTuple):
@@ -59,6 +61,7 @@ class ViewParameters(NamedTuple):
     robot_description: str = ''
     body_link: str = ''
     density: float = 0.0
+    publish_force: bool = False
 
     @property
     def mode(self) -> str:
@@ -96,7 +99,7 @@ def _parse(name: str, value: ParameterValue):
         number = value.double_value
         return number if math.isfinite(number) and (name == 'floor_height' or number >= 0.0) \
             else None
-    if name == 'floor' and kind == ParameterType.PARAMETER_BOOL:
+    if name in ('floor', 'publish_force') and kind == ParameterType.PARAMETER_BOOL:
         return value.bool_value
     return None
 
@@ -130,7 +133,7 @@ class Readouts(NamedTuple):
                 readouts = readouts._replace(rate_hz=_number(values[ACHIEVED_RATE_KEY]))
             elif status.name == node_name + CONSTRAINT_SUFFIX and ANCHOR_ERROR_KEY in values:
                 readouts = readouts._replace(anchor_error=_number(values[ANCHOR_ERROR_KEY]))
-            elif status.name == node_name + SIMULATOR_SUFFIX and PAUSED_KEY in values:
+            elif status.name == node_name + SIMULATOR_STATUS_SUFFIX and PAUSED_KEY in values:
                 readouts = readouts._replace(paused=values[PAUSED_KEY] == 'true')
         return readouts
 

@@ -16,15 +16,15 @@
 """
 A periodic call on the steady clock that the spin loop makes itself, not the executor.
 
-An rclpy timer under the EventsExecutor costs a thread of its own: it waits for the timer, then
-posts the call to the executor's queue, which wakes the spinning thread. At 1 kHz that thread alone
-takes a good share of a bare timer node's CPU (``python -m bench.node_cost`` reads it per thread,
-docs/benchmarks.md). ``LoopTimer`` keeps the timer's schedule instead, and the spin loop that
-serves the node (``spin.spin_until`` with a ``pace``) waits in ``spin_once`` only until the next
-call is due, then makes the call in the same thread: one thread, one wake per call. A call the loop
-takes late (``on_time``: it was busy, not waiting) belongs behind what queued up meanwhile; its
-caller posts it to the back of the executor's queue, the place an rclpy timer's call takes
-(``tick_loop.NodeClockTicks``).
+An rclpy timer under the EventsExecutor costs a thread of its own: it waits for the timer,
+then posts the call to the executor's queue, which wakes the spinning thread. At 1 kHz that
+thread alone takes a good share of a bare timer node's CPU (``python -m bench.node_cost`` reads
+it per thread, docs/benchmarks.md). ``LoopTimer`` keeps the timer's schedule instead, and the
+spin loop that serves the node (``spin.spin_until`` with a ``pace``) waits in ``spin_once`` only
+until the next call is due, then makes the call in the same thread: one thread, one wake per
+call. A call the loop takes late (it was busy, not
+waiting) is made at once too, before the next message the loop takes
+(``tick_loop.NodeClockTicks``): the tick comes first.
 
 Its schedule is an rclpy timer's: calls at ``start + k * period``; a call that runs late is
 still made once, and the periods it overran are skipped, not caught up (the caller's grid
@@ -73,13 +73,3 @@ class LoopTimer:
         self._next += period * (late // period + 1)
         self.late_ns = late
         return True
-
-    def on_time(self) -> bool:
-        """
-        Return whether the call taken last came within half a period of its time.
-
-        A spin loop that takes the call so was waiting for it, idle: a wake from a wait is late
-        by the timer slack and the scheduler's latency (some 0.1 ms), while a loop kept busy
-        past the call's time takes it anywhere in the period.
-        """
-        return 2 * self.late_ns < self.timer_period_ns

@@ -28,7 +28,13 @@ a stop is an ``Interrupted`` and a deadline False. ``call_until_answered`` waits
 service's answer and sends the request again each ``ASK_AGAIN_SECONDS`` it goes unanswered: a
 client sees a service in another process as ready once it has matched the server's endpoints,
 which may not yet have matched the client's, and a request sent then is lost (the service stays
-silent however long the client waits).
+silent however long the client waits). That is for a request that may be served twice: an
+unanswered request may also be one the server is still serving. A request that must be served
+once (``~/step``) goes with ``call_once``, sent once and waited for until its deadline, after
+``call_until_answered`` had the server's node answer an idempotent request from a client made
+later (``mouse_ctl``: the node's ``list_parameters``): a participant announces its endpoints in
+order, on reliable discovery streams, so a node that answered the later client has matched the
+earlier one, and the request sent once is not lost.
 
 ``NodeRun`` is the ending of ``main`` in the executables that serve a node until stopped
 (``mouse_constraint``, ``mouse_view``, ``mouse_marker``): the node spun so, then destroyed and
@@ -182,6 +188,26 @@ def call_until_answered(client: Client, request, executor: Executor, stop: StopR
         client.remove_pending_request(future)
         if time.monotonic() >= deadline:
             return None
+
+
+def call_once(client: Client, request, executor: Executor, stop: StopRequest, *,
+              deadline: float) -> Optional[object]:
+    """
+    Return the service's response to ``request``, sent once however long it goes unanswered.
+
+    For a request that must not be served twice: an answer that is slow to come is waited for,
+    never asked again. Unanswered by ``deadline`` (``time.monotonic()``), its pending entry is
+    removed from ``client``, so that a late answer is dropped.
+
+    :returns: the response, or None when none came by ``deadline``.
+    :raises Interrupted: when ``stop`` is requested meanwhile.
+    """
+    future = client.call_async(request)
+    try:
+        return future.result() if wait_until(executor, stop, future.done,
+                                             deadline=deadline) else None
+    finally:
+        client.remove_pending_request(future)
 
 
 class NodeRun:

@@ -20,7 +20,10 @@ fraction of nanoseconds, so stamps never drift however long the node runs. When 
 late it is told to run every missed tick (catch-up), up to a bound; beyond the bound the missed
 ticks are dropped, so simulated time falls behind the clock instead of the node falling further
 behind. A clock that jumps backwards (a /clock replay restarting) restarts the grid at the new
-time rather than waiting for the old one to come back.
+time rather than waiting for the old one to come back. On a clock that can also jump forwards
+(simulated time: a seek in a replay, a simulator that skips), the caller names how far a
+reading may lie past the latest tick before it is a jump (``due``'s ``max_jump``): beyond it
+the grid restarts there too, and the time skipped is no tick the node dropped.
 
 The node keeps one grid on its clock (``for_rate``, catching up on at most
 ``MAX_CATCH_UP_SECONDS``); the first timer call puts t0 where the timer scheduled it
@@ -41,15 +44,24 @@ NANOSECONDS_PER_SECOND = 1_000_000_000
 MAX_CATCH_UP_SECONDS = 0.1
 # Why ticks beyond the catch-up bound were dropped.
 CATCH_UP_CAUSE = f'more than the {MAX_CATCH_UP_SECONDS:g} s catch-up bound was missed'
+# On simulated time, a reading this far (s) past the latest tick is a jump of the clock (a seek,
+# a skip), not ticks missed: the grid restarts at it. Missed ticks within it are dropped.
+MAX_CLOCK_STEP_SECONDS = 1.0
 
 
 class DueTicks(NamedTuple):
-    """The ticks to run now: ``first`` to ``first + count - 1``, after ``dropped`` skipped ones."""
+    """
+    The ticks to run now: ``first`` to ``first + count - 1``, after ``dropped`` skipped ones.
+
+    ``restarted``: the clock jumped and the grid restarts at the reading, ``jump_ns`` (< 0:
+    backwards) from the latest tick's stamp.
+    """
 
     first: int
     count: int
     dropped: int
     restarted: bool
+    jump_ns: int = 0
 
 
 class TickGrid:
@@ -93,19 +105,28 @@ class TickGrid:
         self._origin = now
         self._next = 0
 
-    def due(self, now: int) -> DueTicks:
-        """Return the ticks due at clock reading ``now`` (ns) and mark them as run."""
-        restarted = self._origin is not None and now < self.stamp(max(0, self._next - 1))
+    def due(self, now: int, max_jump: Optional[int] = None) -> DueTicks:
+        """
+        Return the ticks due at clock reading ``now`` (ns) and mark them as run.
+
+        :param max_jump: how far (ns) ``now`` may lie past the latest tick's stamp; beyond it
+            the clock jumped forwards and the grid restarts at ``now``. None: never.
+        """
+        jump, restarted = 0, False
+        if self._origin is not None:
+            jump = now - self.stamp(max(0, self._next - 1))
+            restarted = jump < 0 or (max_jump is not None and jump > max_jump)
         if self._origin is None or restarted:
             self.restart(now)
         last_due = (now - self._origin) * self._denominator // self._numerator
         count = last_due - self._next + 1
+        jump = jump if restarted else 0
         if count <= 0:
-            return DueTicks(self._next, 0, 0, restarted)
+            return DueTicks(self._next, 0, 0, restarted, jump)
         dropped = max(0, count - self.max_catch_up)
         first = self._next + dropped
         self._next = last_due + 1
-        return DueTicks(first, count - dropped, dropped, restarted)
+        return DueTicks(first, count - dropped, dropped, restarted, jump)
 
 
 def scheduled_origin(now: int, until_next: Optional[int], period: int) -> int:
@@ -130,10 +151,17 @@ def clock_change_text(sim_time: bool, now: int) -> str:
             f'tick grid at {now * 1e-9:.9f} s without catching up')
 
 
-def clock_jump_text(now: int) -> str:
-    """Return what the node warns when its clock went backwards and the grid restarts."""
-    return f'clock jumped backwards: restarting the tick grid at {now * 1e-9:.9f} s without ' \
-        'catching up'
+def clock_jump_text(now: int, jump_ns: int = -1) -> str:
+    """
+    Return what the node warns when its clock jumped and the grid restarts at ``now``.
+
+    :param jump_ns: the jump from the latest tick's stamp (< 0: backwards).
+    """
+    if jump_ns < 0:
+        return f'clock jumped backwards: restarting the tick grid at {now * 1e-9:.9f} s ' \
+            'without catching up'
+    return (f'clock jumped forwards by {jump_ns * 1e-9:.9f} s: restarting the tick grid at '
+            f'{now * 1e-9:.9f} s; the time skipped is no dropped tick')
 
 
 def drop_text(rate_hz: float, count: int, total: int, cause: str) -> str:

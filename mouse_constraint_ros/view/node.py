@@ -52,6 +52,7 @@ from ..pointer.node_follower import DISCOVERY_SECONDS, NodeFollower
 from ..pointer.node_readouts import Readouts, ViewParameters
 from ..pointer.push_throttle import PushThrottle
 from ..pointer.release_order import ReleaseOrder
+from ..pointer.service_calls import ServiceCalls
 from ..wire.interface import (DIAGNOSTICS_TOPIC, GRAB_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH,
                               PAUSE_SERVICE, POSE_TOPIC, RELEASE_SERVICE, RESET_SERVICE,
                               STEP_SERVICE, TARGET_QOS, TARGET_TOPIC, VIEW_NODE_NAME)
@@ -121,8 +122,9 @@ class MouseViewNode(Node):
                                      on_parameters=self._parameters_changed,
                                      discovery_seconds=discovery_seconds, clock=clock)
         self.target_node = self.follower.target_node
+        self.calls = ServiceCalls(clock=clock)  # each given up when it goes unanswered
         self.node_services = NodeServices(self, self.target_node,
-                                          lambda text: self.scene.show_reply(text))
+                                          lambda text: self.scene.show_reply(text), self.calls)
         self.scene = scene_factory(self.parameters)
         self._bind_scene()
         # On the steady clock: the page stays live while a simulated clock stands still.
@@ -139,6 +141,7 @@ class MouseViewNode(Node):
         self._work.put(work)
 
     def _run_work(self) -> None:
+        self.calls.give_up_late()
         raw = self.pose_subscription.take()
         if raw is not None:
             self._on_pose(raw)
@@ -295,7 +298,8 @@ class MouseViewNode(Node):
             self.readouts = Readouts()
 
     def _update_panel(self) -> None:
-        speed, force, readouts = self.readings.speed(), self.readings.force(), self.readouts
+        speed, readouts = self.readings.speed(), self.readouts
+        force = self.readings.force(self.follower.parameters.publish_force)
         self.scene.show_text(
             status=status_text(self.target_node, self.pose_subscription.topic_name,
                                self.follower.present),

@@ -32,6 +32,7 @@ from std_srvs.srv import SetBool, Trigger
 from ..physics.algebra import Vector3
 from ..pointer.newest_message import NewestMessage
 from ..pointer.node_readouts import force_text, number_text, Readouts
+from ..pointer.service_calls import ServiceCalls
 from ..wire.interface import (FORCE_TOPIC, NODE_NAME, PAUSE_SERVICE, RELEASE_SERVICE,
                               RESET_SERVICE, STEP_SERVICE, TWIST_TOPIC)
 
@@ -64,11 +65,13 @@ class NodeServices:
     :param node: the view's node, which makes the clients (and whose executor runs them).
     :param target_node: the node's full name, as the answers name it.
     :param show_reply: shows a line on the page (the scene's ``show_reply``).
+    :param calls: where the calls wait for their answers, each given up when unanswered.
     """
 
-    def __init__(self, node: Node, target_node: str, show_reply: Callable[[str], None]) -> None:
+    def __init__(self, node: Node, target_node: str, show_reply: Callable[[str], None],
+                 calls: ServiceCalls) -> None:
         """Create a client for each of the node's services."""
-        self.target_node, self._show_reply = target_node, show_reply
+        self.target_node, self._show_reply, self.calls = target_node, show_reply, calls
         self.clients: Dict[str, object] = {
             name: node.create_client(kind, node_name(name)) for name, kind in (
                 (PAUSE_SERVICE, SetBool), (STEP_SERVICE, Trigger), (RESET_SERVICE, Trigger),
@@ -82,7 +85,7 @@ class NodeServices:
         :param service: the service's name (private to the node).
         :param data: the request's ``data`` (SetBool).
         :param on_answer: called once the node answered, after the page shows it (also when
-            that fails).
+            that fails), or once the call was given up unanswered (``ServiceCalls``).
         :returns: whether the call went out (False: no such service).
         """
         client = self.clients[service]
@@ -93,7 +96,6 @@ class NodeServices:
         request = client.srv_type.Request()
         if data is not None:
             request.data = data
-        future = client.call_async(request)
 
         def answered(done) -> None:
             try:
@@ -103,7 +105,12 @@ class NodeServices:
             finally:
                 if on_answer is not None:
                     on_answer()
-        future.add_done_callback(answered)
+
+        def given_up() -> None:
+            self._show_reply(f'{name}: no answer in {self.calls.timeout:g} s')
+            if on_answer is not None:
+                on_answer()
+        self.calls.call(client, request, on_answer=answered, on_give_up=given_up)
         return True
 
 
@@ -128,10 +135,14 @@ class PanelReadings:
                                           lambda m: m.twist.linear)
         return None if linear is None else math.sqrt(sum(c * c for c in linear))
 
-    def force(self) -> Optional[Vector3]:
-        """Return the newest force felt (N), or None while no publisher or no good message."""
-        # The last force shown goes with its publisher: publish_force off shows n/a again.
-        held = self._force_raw if self.forces.subscription.get_publisher_count() else None
+    def force(self, publish_force: bool) -> Optional[Vector3]:
+        """
+        Return the newest force felt (N), or None while it is off or no good message came.
+
+        :param publish_force: the node's parameter: the last force shown goes with it (off
+            shows n/a again), not with its publisher, which stays when it is turned off.
+        """
+        held = self._force_raw if publish_force else None
         self._force_raw, force = _vector(self.forces.take() or held, WrenchStamped,
                                          lambda m: m.wrench.force)
         return force

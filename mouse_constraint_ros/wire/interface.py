@@ -35,6 +35,10 @@ POSE_TOPIC = 'pose'
 TWIST_TOPIC = 'twist'
 MARKERS_TOPIC = '~/markers'
 DIAGNOSTICS_TOPIC = '/diagnostics'
+# The node's /diagnostics statuses are named '<fully qualified node name><suffix>'; the
+# simulator's says under PAUSED_KEY whether the node is paused ('true' or 'false').
+SIMULATOR_STATUS_SUFFIX = ': simulator'
+PAUSED_KEY = 'paused'
 
 RESET_SERVICE = '~/reset'
 RELEASE_SERVICE = '~/release'

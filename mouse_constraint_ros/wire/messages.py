@@ -62,8 +62,9 @@ def felt_force(tick_impulse: Tuple[Vector3, float]) -> Vector3:
     ``tick_impulse`` is ``MouseSimulation.tick_impulse``: the impulse the joint gave the body
     over the tick, summed over the substeps, and the tick's dt. Its reaction, divided by dt,
     is the mean force on whatever holds the target: m (v' - v) = (-F + m g + F_wrench) dt
-    for the tick, exactly. Zero with no target held (nothing holds the body) and before the
-    first tick.
+    for the tick, exactly, without linear damping and floor contact (their impulses change the
+    momentum too). Zero with no target held (nothing holds the body) and before the first
+    tick.
     """
     (x, y, z), dt = tick_impulse
     if dt <= 0.0:

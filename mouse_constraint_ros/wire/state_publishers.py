@@ -35,8 +35,10 @@ Odometry (``odom``): nav_msgs/Odometry with the pose in ``frame_id`` and the twi
 Force (``force``, with ``publish_force``): the force the pointer feels over the tick, in N
 in ``frame_id``, with the pose's stamp, one per pose: minus the joint's impulse summed over
 the tick's substeps, over dt (``messages.felt_force``), so that m (v' - v) = (-F + m g +
-F_wrench) dt holds for every tick. Zero with no target held. Its torque is zero: the joint
-holds a point (``messages.fill_felt_wrench``).
+F_wrench) dt holds for every tick without linear damping and floor contact (they change the
+momentum too, and are no force on the hand). Zero with no target held. Its torque is zero: the
+joint holds a point (``messages.fill_felt_wrench``). Its publisher is made when the force is
+first turned on and kept when it is turned off, silent.
 """
 
 from typing import Any, Callable, Optional
@@ -126,12 +128,13 @@ class StatePublishers:
         self._force_layout.frame_id = frame_id
         self._raw_force = self._force_layout.precompiled
         self._force.header.frame_id = frame_id
-        if publish_force and self._simulation is not None and self.force_publisher is None:
+        # Made at the first on and kept when turned off: a reader that matched it keeps it, and
+        # the forces after the next on reach it from the first (a new publisher's would go
+        # nowhere until the reader's participant had discovered it).
+        self._publish_force = publish_force and self._simulation is not None
+        if self._publish_force and self.force_publisher is None:
             self.force_publisher = self._node.create_publisher(WrenchStamped, FORCE_TOPIC,
                                                                FORCE_QOS)
-        elif not publish_force and self.force_publisher is not None:
-            self._node.destroy_publisher(self.force_publisher)
-            self.force_publisher = None
         self._pose_layout.frame_id = frame_id
         self._twist_layout.frame_id = frame_id
         self._odometry_layout.configure(frame_id=frame_id, child_frame_id=body_frame_id)
@@ -164,8 +167,13 @@ class StatePublishers:
         """Whether ``publish`` sends the transform."""
         return self._send_transform is not None
 
-    def publish(self, stamp_ns: int, state: BodyState) -> None:
-        """Publish the pose, twist and, where on, the transform, odometry and force."""
+    def publish(self, stamp_ns: int, state: BodyState, *, force: bool = True) -> None:
+        """
+        Publish the pose, twist and, where on, the transform, odometry and force.
+
+        :param force: False: no force, whatever ``publish_force`` says (a state published out
+            of a tick has no reaction of its own to send).
+        """
         if self._to_link is not None:
             state = self._to_link(state)
         if self._raw_pose:
@@ -195,7 +203,7 @@ class StatePublishers:
                 set_stamp(self._odometry.header.stamp, stamp_ns)
                 fill_odometry(self._odometry, state)
                 self.odometry_publisher.publish(self._odometry)
-        if self.force_publisher is not None:
+        if force and self._publish_force:
             impulse = self._simulation.tick_impulse
             if self._raw_force:
                 self.force_publisher.publish(self._force_layout.pack(
