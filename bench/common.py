@@ -215,6 +215,9 @@ def section_markdown(section: dict) -> str:
         lines.append('')
     if 'elapsed_s' in section:
         lines += [f'_Section run time: {section["elapsed_s"]:.0f} s._', '']
+    if 'measured' in section:
+        measured = section['measured']
+        lines += [f'_Measured on {measured["date"]} (commit {measured["commit"]})._', '']
     return '\n'.join(lines)
 
 

@@ -27,6 +27,7 @@ and their rows are skipped when they are not installed.
 
 import argparse
 import importlib
+import json
 from pathlib import Path
 import sys
 import time
@@ -65,12 +66,37 @@ SUITE = [
 ]
 
 
+def kept_sections(path: Path, fresh: dict) -> dict:
+    """
+    Return the sections of the results.json at ``path`` with ``fresh`` ones in their place.
+
+    In SUITE's order; a kept section without its own date takes the date and commit of the run
+    that wrote the file.
+    """
+    try:
+        previous = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return fresh
+    when = {'date': previous.get('machine', {}).get('date', '?'),
+            'commit': previous.get('machine', {}).get('commit', '?')}
+    merged = {}
+    for name, _ in SUITE:
+        if name in fresh:
+            merged[name] = fresh[name]
+        elif name in previous.get('sections', {}):
+            merged[name] = dict(previous['sections'][name])
+            merged[name].setdefault('measured', when)
+    return merged
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
     parser.add_argument('--quick', action='store_true',
                         help='fewer repeats and cases: a smoke test of the suite, not results')
     parser.add_argument('--only', default='',
-                        help='comma-separated module names to run (default: all)')
+                        help='comma-separated module names to run (default: all); the other '
+                             'sections of the existing results.json are kept, each with the '
+                             'date and commit it was measured at')
     parser.add_argument('--output-dir', type=Path, default=Path(__file__).resolve().parent,
                         help='where to write results.md and results.json (default: bench/)')
     args = parser.parse_args(argv)
@@ -84,6 +110,7 @@ def main(argv=None) -> int:
     print(f'machine: {machine["cpu"]}, {machine["cores"]} cores, Python {machine["python"]}, '
           f'numpy {machine["numpy"]}, peers {machine["peers"]}', flush=True)
     sections = {}
+    measured = {'date': machine['date'], 'commit': machine['commit']}
     for name, description in SUITE:
         if only and name not in only:
             continue
@@ -94,7 +121,10 @@ def main(argv=None) -> int:
         except Exception as error:  # One failed benchmark must not lose the others.
             traceback.print_exc()
             sections[name] = {'error': f'{type(error).__name__}: {error}'}
+        sections[name]['measured'] = measured
         print(f'{name}: done in {time.perf_counter() - began:.0f} s', flush=True)
+    if only:
+        sections = kept_sections(args.output_dir / 'results.json', sections)
     results = {'machine': machine, 'quick': args.quick,
                'elapsed_s': time.perf_counter() - start, 'sections': sections}
     common.write_results(results, args.output_dir)
