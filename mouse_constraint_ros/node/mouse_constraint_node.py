@@ -66,8 +66,8 @@ from ..timing.guarded_time_source import guard_time_source
 from ..timing.spin import NodeRun
 from ..wire.interface import (DESCRIPTION_QOS, DESCRIPTION_TOPIC, GRAB_TOPIC, NODE_NAME,
                               PAUSE_SERVICE, RELEASE_SERVICE, RESET_SERVICE, SERVICE_EVENT_QOS,
-                              STEP_SERVICE, TARGET_POSE_TOPIC, TARGET_QOS, TARGET_TOPIC,
-                              WRENCH_QOS, WRENCH_TOPIC)
+                              STEP_SERVICE, TARGET_POSE_QOS, TARGET_POSE_TOPIC, TARGET_QOS,
+                              TARGET_TOPIC, WRENCH_QOS, WRENCH_TOPIC)
 from ..wire.state_publishers import (BroadcasterFactory, DEFAULT_BROADCASTER, StatePublishers,
                                      TF_UNAVAILABLE)
 
@@ -193,7 +193,7 @@ class MouseConstraintNode(Node):
         """Create the subscriptions and services, each calling its part."""
         self.create_subscription(PointStamped, TARGET_TOPIC, self._target.on_target, TARGET_QOS)
         self.create_subscription(PoseStamped, TARGET_POSE_TOPIC, self._target.on_target_pose,
-                                 TARGET_QOS)
+                                 TARGET_POSE_QOS)
         self.create_subscription(PointStamped, GRAB_TOPIC, self._target.on_grab, TARGET_QOS)
         self.create_subscription(WrenchStamped, WRENCH_TOPIC, self._wrench.on_wrench,
                                  WRENCH_QOS)

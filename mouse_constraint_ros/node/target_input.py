@@ -24,9 +24,16 @@ the same gate, then ``grab`` says where on the box it lands; the node's own ``an
 parameter is set to that point (``set_anchor``, validated as any parameter change) and the
 point becomes the target, untimed.
 
+A pose on ``target_pose`` is a device's: in ``device_frame_id`` (empty: ``frame_id``), mapped
+into ``frame_id`` (``device_scale``, ``device_pose``) before the gate's finite and workspace
+checks. Once a pose came, the device is silent while no valid pose came for ``device_timeout``
+(``device_silent``): the force it is sent is then zero.
+
 A user target older than ``target_timeout`` is let go at the first tick after (``expire``).
 Every refusal goes to the node's ``RefusalLog``: a throttled warning, counted.
 """
+
+import math
 
 from typing import Callable, Optional
 
@@ -72,6 +79,9 @@ class TargetInput:
         # Whether the target is one a user gave (not the held initial anchor), and when (ns).
         self.user_target = False
         self.last_target_ns = 0
+        # Whether a pose came on target_pose, and when the last valid one came (ns).
+        self.device_heard = False
+        self.last_device_ns = 0
         self.configure(config)
         self.hold_initial_anchor()
 
@@ -82,6 +92,9 @@ class TargetInput:
         if gate is None or (gate.frame_id, gate.workspace_radius) != (
                 config.frame_id, config.workspace_radius):
             self._gate = TargetGate(config.frame_id, config.workspace_radius)
+        # The device's frame (and finite coordinates) first; the workspace once mapped.
+        self._device_gate = TargetGate(config.device.pose_frame(config.frame_id), math.inf)
+        self._device = config.device
         self._timeout = config.target_timeout
 
     @property
@@ -123,15 +136,29 @@ class TargetInput:
         self._take(message, point_from_message(message))
 
     def on_target_pose(self, message: PoseStamped) -> None:
-        """Take the position of a pose as a target, as ``on_target`` takes a point."""
-        self._take(message, point_from_pose(message))
+        """Take a device pose's position, mapped into ``frame_id``, as a target."""
+        now = self._now_ns()
+        if not self.device_heard:
+            self.device_heard, self.last_device_ns = True, now
+        point = point_from_pose(message)
+        refusal = self._device_gate.refusal(message.header.frame_id, point)
+        if refusal is not None:
+            self._refuse(refusal, f'ignoring target pose {refusal.reason}')
+            return
+        if self._take(message, self._device.mapping.to_world(point), ''):
+            self.last_device_ns = now
 
-    def _take(self, message, point: Vector3) -> None:
-        """Take ``point``, the target of ``message``: its header's frame and stamp."""
-        refusal = self._gate.refusal(message.header.frame_id, point)
+    def device_silent(self, now_ns: int) -> bool:
+        """Return whether a device was heard and no valid pose came for ``device_timeout``."""
+        return self.device_heard and timed_out(self.last_device_ns, now_ns,
+                                               self._device.timeout)
+
+    def _take(self, message, point: Vector3, frame: Optional[str] = None) -> bool:
+        """Take ``point``, the target of ``message`` (its frame unless ``frame``, its stamp)."""
+        refusal = self._gate.refusal(message.header.frame_id if frame is None else frame, point)
         if refusal is not None:
             self._refuse(refusal, f'ignoring target {refusal.reason}')
-            return
+            return False
         record, now = self._record, self._now_ns()
         self._timing.take(self._simulation, point,
                           stamp_ns=stamp_nanoseconds(message.header.stamp), now_ns=now,
@@ -139,6 +166,7 @@ class TargetInput:
                           ticked=record.ticks_run > 0)
         self.user_target = True
         self.last_target_ns = now
+        return True
 
     def on_grab(self, message: PointStamped) -> None:
         """Make a point on the body the anchor and the target; ignore (and say) any other."""

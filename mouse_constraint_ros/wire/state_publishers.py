@@ -36,7 +36,10 @@ Force (``force``, with ``publish_force``): the force the pointer feels over the 
 in ``frame_id``, with the pose's stamp, one per pose: minus the joint's impulse summed over
 the tick's substeps, over dt (``messages.felt_force``), so that m (v' - v) = (-F + m g +
 F_wrench) dt holds for every tick. Zero with no target held. Its torque is zero: the joint
-holds a point (``messages.fill_felt_wrench``).
+holds a point (``messages.fill_felt_wrench``). It goes to the device through the device's map
+(``physics.device_map``: f R^T F, in ``force_frame_id``), as a WrenchStamped on ``force``, a
+Float64MultiArray on ``force_array`` or both (``force_output``), each from the same tick; it is
+zero while ``force_muted`` (the device's poses stopped).
 """
 
 from typing import Any, Callable, Optional
@@ -44,14 +47,19 @@ from typing import Any, Callable, Optional
 from geometry_msgs.msg import PoseStamped, TransformStamped, TwistStamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
+from std_msgs.msg import Float64MultiArray
 
 from .cdr.geometry import PoseStampedLayout, TwistStampedLayout, WrenchStampedLayout
 from .cdr.odometry import OdometryLayout
-from .interface import FORCE_QOS, FORCE_TOPIC, ODOM_TOPIC, POSE_TOPIC, STATE_QOS, TWIST_TOPIC
-from .messages import (body_frame_twist, felt_force, fill_felt_wrench, fill_odometry, fill_pose,
-                       fill_transform, fill_twist, set_stamp)
+from .interface import (FORCE_ARRAY_TOPIC, FORCE_QOS, FORCE_TOPIC, ODOM_TOPIC, POSE_TOPIC,
+                        STATE_QOS, TWIST_TOPIC)
+from .messages import (body_frame_twist, felt_force, fill_force_array, fill_force_wrench,
+                       fill_odometry, fill_pose, fill_transform, fill_twist, set_stamp)
 from ..physics import BodyState, MouseSimulation
 from ..physics.body_frame import BodyFrame
+from ..physics.device_map import DeviceMap
+
+ZERO = (0.0, 0.0, 0.0)
 
 BroadcasterFactory = Callable[[Node], Any]
 
@@ -81,13 +89,17 @@ class StatePublishers:
     :param publish_odometry: whether odometry is published.
     :param simulation: the body whose ``tick_impulse`` the force is made of; None: no force.
     :param publish_force: whether the force is published (with a simulation).
+    :param force_output: 'wrench', 'array' or 'both': the force's messages.
+    :param force_frame_id: the frame of the force sent (the device's); '' = ``frame_id``.
+    :param device_map: the force's map back to the device.
     """
 
     def __init__(self, node: Node, *, broadcaster_factory: Optional[BroadcasterFactory],
                  unavailable: Optional[str], frame_id: str, body_frame_id: str,
                  publish_tf: bool, publish_odometry: bool,
                  simulation: Optional[MouseSimulation] = None,
-                 publish_force: bool = False, body_frame: BodyFrame = BodyFrame()) -> None:
+                 publish_force: bool = False, body_frame: BodyFrame = BodyFrame(),
+                 **device: Any) -> None:
         """Create the pose and twist publishers and apply the rest with ``configure``."""
         self._node = node
         self._factory = broadcaster_factory
@@ -95,7 +107,10 @@ class StatePublishers:
         self.pose_publisher = node.create_publisher(PoseStamped, POSE_TOPIC, STATE_QOS)
         self.twist_publisher = node.create_publisher(TwistStamped, TWIST_TOPIC, STATE_QOS)
         self.odometry_publisher = None
-        self.force_publisher = None
+        self.force_publisher = self.force_array_publisher = None
+        self._force_array = Float64MultiArray()
+        # Set by the tick: while true the force sent is zero (the device's poses stopped).
+        self.force_muted = False
         self._simulation = simulation
         self._force_layout = WrenchStampedLayout(frame_id)
         self._force = WrenchStamped()
@@ -110,11 +125,12 @@ class StatePublishers:
         self.tf_status = ''
         self.configure(frame_id=frame_id, body_frame_id=body_frame_id, publish_tf=publish_tf,
                        publish_odometry=publish_odometry, publish_force=publish_force,
-                       body_frame=body_frame)
+                       body_frame=body_frame, **device)
 
     def configure(self, *, frame_id: str, body_frame_id: str, publish_tf: bool,
                   publish_odometry: bool, publish_force: bool = False,
-                  body_frame: BodyFrame = BodyFrame()) -> None:
+                  body_frame: BodyFrame = BodyFrame(), force_output: str = 'wrench',
+                  force_frame_id: str = '', device_map: DeviceMap = DeviceMap()) -> None:
         """
         Apply new frames and switches; layouts compile again only if a frame changed.
 
@@ -123,9 +139,17 @@ class StatePublishers:
             origin.
         """
         self._to_link = None if body_frame.at_com else body_frame.link_state
-        self._force_layout.frame_id = frame_id
+        self._to_device = None if device_map == DeviceMap() else device_map.to_device
+        self._force_layout.frame_id = self._force.header.frame_id = force_frame_id or frame_id
         self._raw_force = self._force_layout.precompiled
-        self._force.header.frame_id = frame_id
+        array = publish_force and force_output != 'wrench' and self._simulation is not None
+        if array and self.force_array_publisher is None:
+            self.force_array_publisher = self._node.create_publisher(
+                Float64MultiArray, FORCE_ARRAY_TOPIC, FORCE_QOS)
+        elif not array and self.force_array_publisher is not None:
+            self._node.destroy_publisher(self.force_array_publisher)
+            self.force_array_publisher = None
+        publish_force = publish_force and force_output != 'array'
         if publish_force and self._simulation is not None and self.force_publisher is None:
             self.force_publisher = self._node.create_publisher(WrenchStamped, FORCE_TOPIC,
                                                                FORCE_QOS)
@@ -195,12 +219,24 @@ class StatePublishers:
                 set_stamp(self._odometry.header.stamp, stamp_ns)
                 fill_odometry(self._odometry, state)
                 self.odometry_publisher.publish(self._odometry)
+        if self.force_publisher is not None or self.force_array_publisher is not None:
+            self._publish_force(stamp_ns)
+
+    def _publish_force(self, stamp_ns: int) -> None:
+        """Publish the force of the tick, mapped to the device, on each of its topics."""
+        if self.force_muted:
+            force = ZERO
+        else:
+            force = felt_force(self._simulation.tick_impulse)
+            if self._to_device is not None:
+                force = self._to_device(force)
         if self.force_publisher is not None:
-            impulse = self._simulation.tick_impulse
             if self._raw_force:
-                self.force_publisher.publish(self._force_layout.pack(
-                    stamp_ns, felt_force(impulse), (0.0, 0.0, 0.0)))
+                self.force_publisher.publish(self._force_layout.pack(stamp_ns, force, ZERO))
             else:
                 set_stamp(self._force.header.stamp, stamp_ns)
-                fill_felt_wrench(self._force, impulse)
+                fill_force_wrench(self._force, force)
                 self.force_publisher.publish(self._force)
+        if self.force_array_publisher is not None:
+            fill_force_array(self._force_array, force)
+            self.force_array_publisher.publish(self._force_array)
