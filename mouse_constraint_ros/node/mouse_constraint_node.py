@@ -51,8 +51,9 @@ from .parameter_changes import declare, publishing
 from .parameters import node_config, NodeConfig, PARAMETERS
 from .simulator_controls import SimulatorControls
 # CLOCK_LOOP and StartupRefusal: importable from the node, where its refusals come from.
-from .startup import (CLOCK_LOOP, clock_loop, describe, rcl_reason,  # noqa: F401
-                      requested_logger_name, StartupRefusal, unknown_parameter_warnings)
+from .startup import (CLOCK_LOOP, clock_loop, describe, hold_here,  # noqa: F401
+                      rcl_reason, requested_logger_name, StartupRefusal,
+                      unknown_parameter_warnings)
 from .target_input import TargetInput
 from .tick import Tick
 from .tick_record import TickRecord
@@ -148,6 +149,8 @@ class MouseConstraintNode(Node):
         self._wire()
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.get_logger().info(describe(config))
+        if config.publish_force:
+            self.get_logger().info(hold_here(config))
         if not self._state_publishers.tf_on:
             self.get_logger().info(f'TF {self._state_publishers.tf_status}')
 
@@ -179,7 +182,7 @@ class MouseConstraintNode(Node):
             hold_initial_anchor=lambda: self._config.hold_initial_anchor)
         self._monitors = Monitors(node=self, ticker=ticker, simulation=simulation,
                                   target=self._target, wrench=self._wrench,
-                                  state_publishers=self._state_publishers)
+                                  state_publishers=self._state_publishers, refusals=refusals)
         self._monitors.configure(config)
         self._description = self.create_publisher(String, DESCRIPTION_TOPIC, DESCRIPTION_QOS)
         self._publish_description(self.get_parameter('robot_description').value)

@@ -148,6 +148,10 @@ class TargetInput:
         if self._take(message, self._device.mapping.to_world(point), ''):
             self.last_device_ns = now
 
+    def device_age(self, now_ns: int) -> Optional[float]:
+        """Return how long ago (s) the last valid pose came (or the first pose), None unheard."""
+        return input_age(self.last_device_ns, now_ns) if self.device_heard else None
+
     def device_silent(self, now_ns: int) -> bool:
         """Return whether a device was heard and no valid pose came for ``device_timeout``."""
         return self.device_heard and timed_out(self.last_device_ns, now_ns,

@@ -74,6 +74,14 @@ class DeviceMap(NamedTuple):
         ox, oy, oz = self.offset
         return (ox + s * x, oy + s * y, oz + s * z)
 
+    def from_world(self, point: Vector3) -> Vector3:
+        """Return the device point of the world point ``point``: R^T (p - offset) / s."""
+        s = self.scale
+        ox, oy, oz = self.offset
+        x, y, z = multiply_transposed((point[0] - ox, point[1] - oy, point[2] - oz),
+                                      self.matrix)
+        return (x / s, y / s, z / s)
+
     def to_device(self, force: Vector3) -> Vector3:
         """Return the force the device renders for the world force ``force``."""
         f = self.force_scale
