@@ -121,6 +121,9 @@ def test_the_inputs_status_counts_by_reason_and_warns_while_refusals_come_or_the
     assert quiet.level == b'\x00'
     assert quiet.message == 'no input refused since the last report'
     assert {v.key: v.value for v in quiet.values}['device'] == 'valid pose 0.010 s ago'
+    assert values['device ticks (early, late)'] == 'off: tick_source clock'
+    clocked = input_status('/n: inputs', '/n', report._replace(device_ticks=(1000, 3, 2)))
+    assert {v.key: v.value for v in clocked.values}['device ticks (early, late)'] == '1000 (3, 2)'
 
 
 def test_the_start_says_where_to_hold_the_device_in_both_frames():

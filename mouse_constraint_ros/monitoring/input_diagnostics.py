@@ -18,7 +18,8 @@ The inputs status of /diagnostics: what the node refused and why, and whether a 
 A device whose poses are all refused (another frame, not finite, outside the workspace) moves
 nothing, and before ``device_timeout`` it would still feel the held body's force; this status
 says so to whoever reads /diagnostics (``mouse_ctl echo inputs``): how many inputs were refused,
-by reason, the last one's line, and the device's state. It is WARN while inputs are being
+by reason, the last one's line, the device's state and, when it clocks the ticks, how many it
+ran and how many came early or late. It is WARN while inputs are being
 refused (some since the last report) or the device is silent (its force is then zero).
 """
 
@@ -42,6 +43,8 @@ class InputReport(NamedTuple):
     device_age: Optional[float]
     device_silent: bool
     device_timeout: float
+    # With tick_source target_pose: the ticks the device's poses ran, early and late ones.
+    device_ticks: Optional[tuple] = None
 
 
 def device_state(report: InputReport) -> str:
@@ -73,6 +76,8 @@ def input_status(name: str, hardware_id: str, report: InputReport) -> Diagnostic
         KeyValue(key='last refusal', value=report.last_line or 'none'),
         KeyValue(key='device', value=device_state(report)),
         KeyValue(key='device timeout (s)', value=f'{report.device_timeout:g}'),
+        KeyValue(key='device ticks (early, late)', value='off: tick_source clock'
+                 if report.device_ticks is None else '{} ({}, {})'.format(*report.device_ticks)),
     ]
     return DiagnosticStatus(level=WARN if problems else OK, name=name, hardware_id=hardware_id,
                             message='; '.join(problems) if problems else (

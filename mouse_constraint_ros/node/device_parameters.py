@@ -20,7 +20,8 @@ turns their values into a ``DeviceConfig`` or raises ValueError naming the param
 ``target_pose`` is in ``device_frame_id`` (empty: ``frame_id``) and is mapped into ``frame_id``
 by ``physics.device_map.DeviceMap``; the force goes back through the same map, on ``force``
 (WrenchStamped, in the device's frame), on ``force_array`` (Float64MultiArray: fx, fy, fz), or
-both. No ROS here.
+both. ``tick_source`` says whether the device's poses run the ticks (``timing.device_clock``).
+No ROS here.
 """
 
 from typing import Any, Mapping, NamedTuple
@@ -31,6 +32,8 @@ from ..physics.validation import scalar, shown
 
 # What ``force_output`` takes: which of the force's two messages go out with publish_force.
 FORCE_OUTPUTS = ('wrench', 'array', 'both')
+# What ``tick_source`` takes: the node's own clock, or the device's poses.
+TICK_SOURCES = ('clock', 'target_pose')
 IDENTITY_POSE = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]
 
 # (name, default, description, bounds), as ``parameters.ParameterSpec`` takes them.
@@ -51,9 +54,14 @@ DEVICE_PARAMETERS = (
     ('device_force_scale', 1.0,
      'Force scale f back to the device: f_device = f R^T F. The handle feels a coupling k as '
      's f k; f = s keeps the power.', SCALE_RANGE),
+    ('tick_source', 'clock',
+     "What runs the ticks: clock (the node's own) or target_pose (each valid device pose runs "
+     "one tick at once, its force right after; the node's own clock again after "
+     'device_timeout without one).', None),
     ('device_timeout', 0.1,
      'Once a pose came on target_pose: the force is zero while no valid pose came for this '
-     'long (s), so a device never renders a stale force; 0 = never.', (0.0, FINITE_MAX)),
+     'long (s), so a device never renders a stale force; with tick_source target_pose, the '
+     "node's own ticks run again after it. 0 = never.", (0.0, FINITE_MAX)),
 )
 
 
@@ -64,6 +72,7 @@ class DeviceConfig(NamedTuple):
     mapping: DeviceMap = DeviceMap()
     force_output: str = 'wrench'
     timeout: float = 0.1
+    tick_source: str = 'clock'
 
     def pose_frame(self, world_frame: str) -> str:
         """Return the frame the node takes poses on ``target_pose`` in."""
@@ -82,4 +91,8 @@ def device_from(values: Mapping[str, Any]) -> DeviceConfig:
     mapping = device_map(values['device_scale'], values['device_pose'],
                          values['device_force_scale'])
     timeout = scalar('device_timeout', values['device_timeout'], at_least=0.0)
-    return DeviceConfig(frame, mapping, output, timeout)
+    source = values['tick_source']
+    if source not in TICK_SOURCES:
+        raise ValueError(f'tick_source must be one of {", ".join(TICK_SOURCES)}, got '
+                         f'{shown(source)}')
+    return DeviceConfig(frame, mapping, output, timeout, source)

@@ -180,13 +180,14 @@ class Monitors:
         ]))
 
     def _input_status(self, name: str, hardware_id: str, now: int):
-        refusals, target = self._refusals, self._target
+        refusals, target, clock = self._refusals, self._target, self._ticker.device_clock
         new, self._reported_refusals = (refusals.count - self._reported_refusals,
                                         refusals.count)
         return input_status(name, hardware_id, InputReport(
             refused=refusals.count, by_key=dict(refusals.by_key), last_line=refusals.last_line,
             new_refusals=new, device_age=target.device_age(now),
-            device_silent=target.device_silent(now), device_timeout=self._config.device.timeout))
+            device_silent=target.device_silent(now), device_timeout=self._config.device.timeout,
+            device_ticks=(clock.ticks, clock.early, clock.late) if clock.on else None))
 
     def _simulator_status(self, name: str, hardware_id: str, now: int):
         config, ticker = self._config, self._ticker

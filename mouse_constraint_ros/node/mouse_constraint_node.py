@@ -171,7 +171,8 @@ class MouseConstraintNode(Node):
         log = self.get_logger().info
         self._target = TargetInput(simulation=simulation, config=config, record=record,
                                    now_ns=ticker.now_ns, set_anchor=self._anchor.set_to,
-                                   refuse=refusals, log=log)
+                                   refuse=refusals, log=log, device_pose=ticker.device_tick,
+                                   device_clock=ticker.device_clock)
         self._wrench = WrenchInput(simulation=simulation, config=config, now_ns=ticker.now_ns,
                                    refuse=refusals, log=log)
         ticker.start(Tick(simulation=simulation, target=self._target, wrench=self._wrench,

@@ -49,6 +49,7 @@ from ..inputs.throttle import RefusalLog
 from ..physics import MouseSimulation
 from ..physics.algebra import Vector3
 from ..physics.target_stream import STREAM_GAP
+from ..timing.device_clock import DeviceClock
 from ..wire.messages import point_from_message, point_from_pose, stamp_nanoseconds
 
 
@@ -63,11 +64,17 @@ class TargetInput:
     :param set_anchor: sets the node's ``anchor`` parameter; returns None or why it could not.
     :param refuse: counts and warns about a refused target or grab.
     :param log: logs a line at INFO.
+    :param device_pose: called after each valid pose on ``target_pose`` is taken (the ticker's
+        ``device_tick``: the tick it runs when the device clocks the ticks).
+    :param device_clock: the ticker's device clock: while on, it says whether the device is
+        silent.
     """
 
     def __init__(self, *, simulation: MouseSimulation, config: NodeConfig, record: TickRecord,
                  now_ns: Callable[[], int], set_anchor: Callable[[Vector3], Optional[str]],
-                 refuse: RefusalLog, log: Callable[[str], None]) -> None:
+                 refuse: RefusalLog, log: Callable[[str], None],
+                 device_pose: Callable[[], None] = lambda: None,
+                 device_clock: Optional[DeviceClock] = None) -> None:
         """Hold the initial anchor when configured to; no user target yet."""
         self._simulation = simulation
         self._record = record
@@ -75,6 +82,8 @@ class TargetInput:
         self._set_anchor = set_anchor
         self._refuse = refuse
         self._log = log
+        self._device_pose = device_pose
+        self._device_clock = device_clock
         self._timing = TargetTiming(STREAM_GAP)
         # Whether the target is one a user gave (not the held initial anchor), and when (ns).
         self.user_target = False
@@ -147,13 +156,21 @@ class TargetInput:
             return
         if self._take(message, self._device.mapping.to_world(point), ''):
             self.last_device_ns = now
+            self._device_pose()
 
     def device_age(self, now_ns: int) -> Optional[float]:
         """Return how long ago (s) the last valid pose came (or the first pose), None unheard."""
         return input_age(self.last_device_ns, now_ns) if self.device_heard else None
 
     def device_silent(self, now_ns: int) -> bool:
-        """Return whether a device was heard and no valid pose came for ``device_timeout``."""
+        """
+        Return whether a device was heard and no valid pose came for ``device_timeout``.
+
+        When the device clocks the ticks, its silence is the node's own ticks held back since
+        its last pose (``DeviceClock.silent``): the node's time stands still without ticks.
+        """
+        if self._device_clock is not None and self._device_clock.on:
+            return self._device_clock.silent
         return self.device_heard and timed_out(self.last_device_ns, now_ns,
                                                self._device.timeout)
 
