@@ -14,6 +14,7 @@
 
 """Ticks the device clocks: one tick per pose at once, its force right after, through ROS."""
 
+import copy
 from pathlib import Path
 
 from geometry_msgs.msg import PoseStamped
@@ -24,10 +25,13 @@ import yaml
 
 from mouse_constraint_ros.node.parameters import DEFAULTS, node_config
 from mouse_constraint_ros.physics import MouseSimulation
+from mouse_constraint_ros.physics.coupling_stability import Device, largest_stable_stiffness
 from mouse_constraint_ros.testing import SimulatedBody
 from mouse_constraint_ros.timing.device_clock import DeviceClock
 from mouse_constraint_ros.wire.interface import TARGET_POSE_TOPIC, TARGET_QOS
 from mouse_constraint_ros.wire.messages import felt_force, set_stamp
+from test_support.haptic_device import (DeviceNode, HAND, loop, LOOP_BODY, ORIGIN, PERIOD,
+                                        TRIAL_TICKS, WINDOW)
 from test_support.haptic_listener import StateListener
 
 PRESET = {**yaml.safe_load((Path(__file__).resolve().parent.parent / 'config' / 'haptic.yaml')
@@ -142,3 +146,58 @@ def test_a_device_that_stops_hands_the_ticks_back_to_the_node_s_clock_after_the_
         assert len(listener.forces) == 250
         assert not np.any([force for _, force in listener.forces[50:]])
         np.testing.assert_allclose(body.node.simulation.target, START, rtol=0, atol=1e-15)
+
+
+class HeldPoses:
+    """Stands in for a device node's pose publisher: keeps each pose until ``send``."""
+
+    def __init__(self, publisher) -> None:
+        """Hold nothing yet."""
+        self._publisher = publisher
+        self._message = None
+
+    def publish(self, message: PoseStamped) -> None:
+        """Keep a copy of ``message``."""
+        self._message = copy.deepcopy(message)
+
+    def send(self) -> None:
+        """Publish the pose kept."""
+        self._publisher.publish(self._message)
+
+
+def device_loop_forces(stiffness: float, tick_source: str):
+    """Return the simulated device's forces over a trial, the node ticking on ``tick_source``."""
+    device = Device(0.045, 0.05, **HAND)
+    with SimulatedBody(coupling_stiffness=stiffness, coupling_damping=0.5,
+                       tick_source=tick_source, **LOOP_BODY) as body:
+        node = body.add_node(DeviceNode(context=body.context, device=device, period=PERIOD,
+                                        origin=ORIGIN, reference=lambda _: 0.01))
+        if tick_source == 'clock':
+            body.step(TRIAL_TICKS)
+        else:
+            held = node._publisher = HeldPoses(node._publisher)
+            body.step(1)  # the first tick, before any pose: the node's own
+            for _ in range(TRIAL_TICKS - 1):
+                held.send()
+                body.step(0)
+            assert body.node.ticker.device_clock.ticks == TRIAL_TICKS - 1
+        return np.array(node.forces)
+
+
+@pytest.mark.ros
+@pytest.mark.parametrize('share', [0.8, 1.2])
+def test_the_device_clocked_loop_is_the_lockstep_loop_the_stability_analysis_has(share):
+    """
+    A device whose every pose runs a tick feels the forces of the lockstep loop, bit for bit.
+
+    That is the loop of the stability analysis with d = 0: stable at 0.8 of its predicted
+    largest stable stiffness, unstable at 1.2.
+    """
+    bound = largest_stable_stiffness(**loop(Device(0.045, 0.05, **HAND), 0.5, 0))
+    stiffness = share * bound
+    clocked = device_loop_forces(stiffness, 'target_pose')
+    assert len(clocked) == TRIAL_TICKS
+    np.testing.assert_array_equal(clocked, device_loop_forces(stiffness, 'clock'))
+    change = np.abs(np.diff(clocked, 2))
+    growth = change[-WINDOW:].max() / change[-2 * WINDOW:-WINDOW].max()
+    assert (growth < 1.0) == (share < 1.0)
