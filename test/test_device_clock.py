@@ -201,3 +201,24 @@ def test_the_device_clocked_loop_is_the_lockstep_loop_the_stability_analysis_has
     change = np.abs(np.diff(clocked, 2))
     growth = change[-WINDOW:].max() / change[-2 * WINDOW:-WINDOW].max()
     assert (growth < 1.0) == (share < 1.0)
+
+
+@pytest.mark.ros
+def test_a_device_clocking_in_the_wrong_frame_runs_no_tick_and_feels_nothing_after_the_timeout():
+    """Every pose refused: the node's own ticks run, the held weight until 0.1 s, then zero."""
+    with SimulatedBody(**PRESET) as body:
+        listener = body.add_node(StateListener(context=body.context))
+        device = Node('device', context=body.context, start_parameter_services=False)
+        publisher = device.create_publisher(PoseStamped, TARGET_POSE_TOPIC, TARGET_QOS)
+        body.add_node(device)
+        message = PoseStamped()
+        message.header.frame_id = 'geotouch'
+        message.pose.position.z = float(START[2])
+        for _ in range(300):
+            publisher.publish(message)
+            body.step()
+        assert body.node.ticker.device_clock.ticks == 0
+        assert body.node.refusals[0] == 300
+    norms = np.linalg.norm([force for _, force in listener.forces], axis=1)
+    assert len(norms) == 300
+    assert np.all(norms[:100] > 0.9 * PRESET['mass'] * G) and np.all(norms[101:] == 0.0)

@@ -34,7 +34,6 @@ Every refusal goes to the node's ``RefusalLog``: a throttled warning, counted.
 """
 
 import math
-
 from typing import Callable, Optional
 
 from geometry_msgs.msg import PointStamped, PoseStamped
@@ -166,11 +165,13 @@ class TargetInput:
         """
         Return whether a device was heard and no valid pose came for ``device_timeout``.
 
-        When the device clocks the ticks, its silence is the node's own ticks held back since
-        its last pose (``DeviceClock.silent``): the node's time stands still without ticks.
+        Once the device's poses clock the ticks, its silence is counted in the node's own ticks
+        held back since its last pose (``DeviceClock.silent``): on a simulated clock the node's
+        time stands still without ticks. Before (every pose refused), in the node's time.
         """
-        if self._device_clock is not None and self._device_clock.on:
-            return self._device_clock.silent
+        clock = self._device_clock
+        if clock is not None and clock.heard:
+            return clock.silent
         return self.device_heard and timed_out(self.last_device_ns, now_ns,
                                                self._device.timeout)
 

@@ -72,6 +72,11 @@ class DeviceClock:
         self.ticks += 1
 
     @property
+    def heard(self) -> bool:
+        """Return whether the device clocks the ticks and one of its poses ran a tick."""
+        return self.on and self._silence_ns != NEVER
+
+    @property
     def silent(self) -> bool:
         """Return whether the device clocks the ticks, was heard, and is silent past timeout."""
         silence = self._silence_ns
