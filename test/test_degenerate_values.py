@@ -362,6 +362,13 @@ INVALID = {
     'publish_force': 'yes',
     'coupling_stiffness': -1.0,
     'coupling_damping': math.inf,
+    'force_output': 'wrenches',
+    'device_frame_id': 3,
+    'device_scale': 0.0,
+    'device_pose': [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    'device_force_scale': math.nan,
+    'device_timeout': -1.0,
+    'tick_source': 'device',
 }
 
 

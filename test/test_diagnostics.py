@@ -228,9 +228,10 @@ def test_namespaced_nodes_have_unique_status_names(ros):
     def names():
         return {status.name for array in arrays for status in array.status}
 
-    assert ros.spin_until(lambda: len(names()) >= 6, timeout=10.0), names()
+    assert ros.spin_until(lambda: len(names()) >= 8, timeout=10.0), names()
     assert names() == {f'/{ns}/mouse_constraint: {kind}'
-                       for ns in ('left', 'right') for kind in ('rate', 'constraint', 'simulator')}
+                       for ns in ('left', 'right')
+                       for kind in ('rate', 'constraint', 'simulator', 'inputs')}
 
 
 def test_the_weight_bound_counts_as_the_force_bound(ros):

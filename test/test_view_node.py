@@ -172,7 +172,7 @@ def test_an_unanswered_release_is_given_up_and_said_so(ros, server):
 
     clock = FakeClock()
     view = _view(ros, server, clock=clock)
-    client = view._node_services[RELEASE_SERVICE]
+    client = view.node_services.clients[RELEASE_SERVICE]
     with silent_node():
         assert ros.spin_until(client.service_is_ready)
         for _ in range(3):

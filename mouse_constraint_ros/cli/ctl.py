@@ -23,9 +23,11 @@ does what a user needs of them with the node, from the venv alone:
   once and its answer waited for (``--timeout``), never sent again: a slow answer is not a
   second step;
 - ``mouse_ctl reset`` / ``release``: ``~/reset`` / ``~/release``;
-- ``mouse_ctl echo [pose|twist|force|wrench]``: a line per message (at most ``--print-rate`` a
-  second of the node's clock), with the rate the messages come at; ``force`` is the force the
-  pointer feels (with ``publish_force``), ``wrench`` the pushes on the node's ``wrench`` input.
+- ``mouse_ctl echo [pose|twist|force|wrench|inputs]``: a line per message (at most
+  ``--print-rate`` a second of the node's clock), with the rate the messages come at; ``force``
+  is the force the pointer feels (with ``publish_force``), ``wrench`` the pushes on the node's
+  ``wrench`` input, ``inputs`` the node's inputs status on /diagnostics (the inputs it refused,
+  by reason, the last one's line, and whether a device on ``target_pose`` is heard or silent).
   Until Ctrl-C, or ``--count`` lines.
 
 A call prints the node's reply and exits 0; a reply that says the node could not (``step``
@@ -55,6 +57,7 @@ from std_srvs.srv import SetBool, Trigger
 from .command_node import command_node, SHUTDOWN_STATUS
 from .console import INTERRUPTED_STATUS
 from .echo import ECHOES, EchoPrinter, Graph, paused_in, silence
+from .echo_inputs import InputsPrinter
 from .help_text import plain_text
 from ..timing.spin import (call_once, call_until_answered, Interrupted, spin_until, StopRequest,
                            wait_until)
@@ -102,9 +105,19 @@ def create_client(node: Node, action: str, target_node: str = NODE_NAME):
     return node.create_client(ACTIONS[action].service_type, service_name(target_node, action))
 
 
-def create_echo(node: Node, what: str, write: Callable[[str], None], *,
-                print_rate: float) -> EchoPrinter:
-    """Return the printer of ``what`` (``ECHOES``), its raw subscription made on ``node``."""
+def create_echo(node: Node, what: str, write: Callable[[str], None], *, print_rate: float,
+                target_node: str = NODE_NAME) -> EchoPrinter:
+    """
+    Return the printer of ``what`` (``ECHOES``), its raw subscription made on ``node``.
+
+    ``inputs`` prints the inputs status of ``target_node`` (in ``node``'s namespace) from
+    /diagnostics, a line per report.
+    """
+    if what == 'inputs':
+        inputs = InputsPrinter(node_name(node.get_namespace(), target_node), write)
+        inputs.topic = node.create_subscription(DiagnosticArray, DIAGNOSTICS_TOPIC, inputs.take,
+                                                STATE_QOS).topic_name
+        return inputs
     echo = ECHOES[what]
     printer = EchoPrinter(echo, write, print_rate=print_rate)
     printer.topic = node.create_subscription(echo.message_type, echo.topic, printer.take,
@@ -159,9 +172,10 @@ def build_parser() -> argparse.ArgumentParser:
                         help='drop the target: the body flies free (~/release)')
     echo = commands.add_parser('echo', parents=[common],
                                help='print pose, twist, force or wrench with their rate')
-    echo.add_argument('what', nargs='?', choices=sorted(ECHOES), default='pose',
+    echo.add_argument('what', nargs='?', choices=sorted([*ECHOES, 'inputs']), default='pose',
                       help='what to print (default: %(default)s; force: the force the pointer '
-                           'feels, with publish_force; wrench: the wrench input)')
+                           'feels, with publish_force; wrench: the wrench input; inputs: the '
+                           "inputs refused and the device's state, from /diagnostics)")
     echo.add_argument('--count', type=int, default=0,
                       help='lines to print before exiting (default: 0, until Ctrl-C)')
     echo.add_argument('--print-rate', type=_positive('--print-rate', True), default=10.0,
@@ -240,7 +254,7 @@ def call(node: Node, executor, stop: StopRequest, options: argparse.Namespace) -
 def echo(node: Node, executor, stop: StopRequest, options: argparse.Namespace) -> int:
     """Print the messages until Ctrl-C or ``--count`` lines; return the exit status."""
     printer = create_echo(node, options.what, lambda line: print(line, flush=True),
-                          print_rate=options.print_rate)
+                          print_rate=options.print_rate, target_node=options.node)
     topic = printer.topic
     target = options.node if options.node.startswith('/') else node_name(
         node.get_namespace(), options.node)

@@ -21,9 +21,10 @@ warning of a reason, then holds back the others of that reason for ``period`` se
 how many it held back in the next line it logs. The message is a callable, built only when it
 is logged. Pure Python: it takes the log function and the clock, so it runs without rclpy.
 
-``RefusalLog`` warns about each refused input through a throttle and keeps the count and the
-last refusal, for a caller in the same process that wants to know why an input changed nothing
-(``mouse_constraint_ros.testing`` raises with it).
+``RefusalLog`` warns about each refused input through a throttle and keeps the count, the count
+of each reason's key and the last refusal with its line, for a caller in the same process that
+wants to know why an input changed nothing (``mouse_constraint_ros.testing`` raises with it) and
+for /diagnostics, which says it to whoever sends the input.
 
 Throttled here rather than by rclpy's ``throttle_duration_sec``, which inspects the caller's
 frame on every call (some 100 us: a flood of bad targets then cost the node its rate) and
@@ -88,9 +89,12 @@ class RefusalLog:
         self._warn = warn
         self.count = 0
         self.last: Optional[Refusal] = None
+        self.last_line = ''
+        self.by_key: Dict[str, int] = {}
 
     def __call__(self, refusal: Refusal, line: str) -> None:
         """Count ``refusal`` and warn ``line`` (throttled under ``refusal.key``)."""
         self.count += 1
-        self.last = refusal
+        self.last, self.last_line = refusal, line
+        self.by_key[refusal.key] = self.by_key.get(refusal.key, 0) + 1
         self._warn(refusal.key, lambda: line)

@@ -30,10 +30,12 @@ from .parameters import NodeConfig
 from .target_input import TargetInput
 from .ticker import Ticker
 from .wrench_input import WrenchInput
+from ..inputs.throttle import RefusalLog
 from ..monitoring.body_markers import drawn_pieces
 from ..monitoring.diagnostics import (constraint_status, diagnostic_array, INITIAL_ANCHOR,
                                       NO_TARGET, Pacing, publishing_values, rate_status,
                                       simulator_status, Thresholds, TickWindow, USER_TARGET)
+from ..monitoring.input_diagnostics import input_status, InputReport
 from ..monitoring.markers import BODY_COLOR, marker_array, reference_force, wrench_reference
 from ..physics import MouseSimulation
 from ..physics.settings import force_bound
@@ -53,11 +55,12 @@ class Monitors:
     :param target: the target input (kind and age of the target).
     :param wrench: the wrench input (the applied wrench's age).
     :param state_publishers: what is published (TF status, odometry topic).
+    :param refusals: the inputs refused so far, for the inputs status.
     """
 
     def __init__(self, *, node: Node, ticker: Ticker, simulation: MouseSimulation,
-                 target: TargetInput, wrench: WrenchInput,
-                 state_publishers: StatePublishers) -> None:
+                 target: TargetInput, wrench: WrenchInput, state_publishers: StatePublishers,
+                 refusals: RefusalLog) -> None:
         """Create the publishers; the timers start with the first configuration."""
         self._node = node
         self._ticker = ticker
@@ -66,6 +69,8 @@ class Monitors:
         self._target = target
         self._wrench = wrench
         self._state_publishers = state_publishers
+        self._refusals = refusals
+        self._reported_refusals = 0
         self._marker_publisher = node.create_publisher(MarkerArray, MARKERS_TOPIC, MONITOR_DEPTH)
         self._diagnostics_publisher = node.create_publisher(
             DiagnosticArray, DIAGNOSTICS_TOPIC, MONITOR_DEPTH)
@@ -184,7 +189,18 @@ class Monitors:
                               floor_contacts=(simulation.contact_count
                                               if config.settings.floor.enabled else None)),
             self._simulator_status(name + SIMULATOR_STATUS_SUFFIX, hardware_id, now),
+            self._input_status(f'{name}: inputs', hardware_id, now),
         ]))
+
+    def _input_status(self, name: str, hardware_id: str, now: int):
+        refusals, target, clock = self._refusals, self._target, self._ticker.device_clock
+        new, self._reported_refusals = (refusals.count - self._reported_refusals,
+                                        refusals.count)
+        return input_status(name, hardware_id, InputReport(
+            refused=refusals.count, by_key=dict(refusals.by_key), last_line=refusals.last_line,
+            new_refusals=new, device_age=target.device_age(now),
+            device_silent=target.device_silent(now), device_timeout=self._config.device.timeout,
+            device_ticks=(clock.ticks, clock.early, clock.late) if clock.on else None))
 
     def _simulator_status(self, name: str, hardware_id: str, now: int):
         config, ticker = self._config, self._ticker

@@ -51,8 +51,9 @@ from .parameter_changes import declare, publishing
 from .parameters import node_config, NodeConfig, PARAMETERS
 from .simulator_controls import SimulatorControls
 # CLOCK_LOOP and StartupRefusal: importable from the node, where its refusals come from.
-from .startup import (CLOCK_LOOP, clock_loop, describe, rcl_reason,  # noqa: F401
-                      requested_logger_name, StartupRefusal, unknown_parameter_warnings)
+from .startup import (CLOCK_LOOP, clock_loop, describe, hold_here,  # noqa: F401
+                      rcl_reason, requested_logger_name, StartupRefusal,
+                      unknown_parameter_warnings)
 from .target_input import TargetInput
 from .tick import Tick
 from .tick_record import TickRecord
@@ -66,8 +67,8 @@ from ..timing.guarded_time_source import guard_time_source
 from ..timing.spin import NodeRun
 from ..wire.interface import (DESCRIPTION_QOS, DESCRIPTION_TOPIC, GRAB_TOPIC, NODE_NAME,
                               PAUSE_SERVICE, RELEASE_SERVICE, RESET_SERVICE, SERVICE_EVENT_QOS,
-                              STEP_SERVICE, TARGET_POSE_TOPIC, TARGET_QOS, TARGET_TOPIC,
-                              WRENCH_QOS, WRENCH_TOPIC)
+                              STEP_SERVICE, TARGET_POSE_QOS, TARGET_POSE_TOPIC, TARGET_QOS,
+                              TARGET_TOPIC, WRENCH_QOS, WRENCH_TOPIC)
 from ..wire.state_publishers import (BroadcasterFactory, DEFAULT_BROADCASTER, StatePublishers,
                                      TF_UNAVAILABLE)
 
@@ -148,6 +149,8 @@ class MouseConstraintNode(Node):
         self._wire()
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.get_logger().info(describe(config))
+        if config.publish_force:
+            self.get_logger().info(hold_here(config))
         if not self._state_publishers.tf_on:
             self.get_logger().info(f'TF {self._state_publishers.tf_status}')
 
@@ -168,7 +171,8 @@ class MouseConstraintNode(Node):
         log = self.get_logger().info
         self._target = TargetInput(simulation=simulation, config=config, record=record,
                                    now_ns=ticker.now_ns, set_anchor=self._anchor.set_to,
-                                   refuse=refusals, log=log)
+                                   refuse=refusals, log=log, device_pose=ticker.device_tick,
+                                   device_clock=ticker.device_clock)
         self._wrench = WrenchInput(simulation=simulation, config=config, now_ns=ticker.now_ns,
                                    refuse=refusals, log=log)
         ticker.start(Tick(simulation=simulation, target=self._target, wrench=self._wrench,
@@ -179,7 +183,7 @@ class MouseConstraintNode(Node):
             hold_initial_anchor=lambda: self._config.hold_initial_anchor)
         self._monitors = Monitors(node=self, ticker=ticker, simulation=simulation,
                                   target=self._target, wrench=self._wrench,
-                                  state_publishers=self._state_publishers)
+                                  state_publishers=self._state_publishers, refusals=refusals)
         self._monitors.configure(config)
         self._description = self.create_publisher(String, DESCRIPTION_TOPIC, DESCRIPTION_QOS)
         self._publish_description(self.get_parameter('robot_description').value)
@@ -193,7 +197,7 @@ class MouseConstraintNode(Node):
         """Create the subscriptions and services, each calling its part."""
         self.create_subscription(PointStamped, TARGET_TOPIC, self._target.on_target, TARGET_QOS)
         self.create_subscription(PoseStamped, TARGET_POSE_TOPIC, self._target.on_target_pose,
-                                 TARGET_QOS)
+                                 TARGET_POSE_QOS)
         self.create_subscription(PointStamped, GRAB_TOPIC, self._target.on_grab, TARGET_QOS)
         self.create_subscription(WrenchStamped, WRENCH_TOPIC, self._wrench.on_wrench,
                                  WRENCH_QOS)

@@ -105,4 +105,6 @@ def publishing(config: NodeConfig) -> dict:
     """Return what the state publishers are configured with."""
     return {'frame_id': config.frame_id, 'body_frame_id': config.body_frame_id,
             'publish_tf': config.publish_tf, 'publish_odometry': config.publish_odometry,
-            'publish_force': config.publish_force, 'body_frame': config.body_frame}
+            'publish_force': config.publish_force, 'body_frame': config.body_frame,
+            'force_output': config.device.force_output, 'force_frame_id': config.device.frame_id,
+            'device_map': config.device.mapping}

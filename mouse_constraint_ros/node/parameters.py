@@ -28,6 +28,7 @@ import math
 from typing import Any, Mapping, NamedTuple, Optional, Tuple
 
 from .body_parameters import body_from, BODY_PARAMETERS, BodyFrame
+from .device_parameters import device_from, DEVICE_PARAMETERS, DeviceConfig
 from .floor_parameters import floor_from, FLOOR_PARAMETERS
 from .frame_parameters import frames_from
 from .haptic_parameters import HAPTIC_PARAMETERS, soft_mode
@@ -187,7 +188,7 @@ PARAMETERS = (
                   'Estimate the velocity of a stream of targets (a drag) from their stamps or '
                   'arrival times and let the joint follow it, so a drag does not lag.'),
 ) + tuple(ParameterSpec(*spec) for spec in
-          BODY_PARAMETERS + FLOOR_PARAMETERS + HAPTIC_PARAMETERS)
+          BODY_PARAMETERS + FLOOR_PARAMETERS + HAPTIC_PARAMETERS + DEVICE_PARAMETERS)
 
 DEFAULTS = {p.name: p.default for p in PARAMETERS}
 
@@ -220,6 +221,7 @@ class NodeConfig(NamedTuple):
     max_wrench_torque: float = 100.0
     geometry: BodyGeometry = BodyGeometry.box((0.4, 0.2, 0.1))
     body_frame: BodyFrame = BodyFrame()
+    device: DeviceConfig = DeviceConfig()
 
     @property
     def anchor(self) -> Vector3:
@@ -301,6 +303,7 @@ def _configuration_from(values: Mapping[str, Any]) -> NodeConfig:
         **_simulator_controls(values),
         geometry=geometry,
         body_frame=frame,
+        device=device_from(values),
     )
 
 

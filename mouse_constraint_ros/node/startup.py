@@ -213,6 +213,22 @@ def describe(config: NodeConfig) -> str:
                 if c.publish_clock else ''))
 
 
+def hold_here(config: NodeConfig) -> str:
+    """
+    Return where a device is to be held at the start: the anchor's world point, and the device's.
+
+    A device held elsewhere pulls the anchor to it at the coupling's force, up to the bound.
+    Both points are shown to a tenth of a millimetre (of a device unit).
+    """
+    anchor = config.initial_anchor()
+    device = config.device
+    at = ', '.join(f'{round(c, 4) + 0.0:g}' for c in anchor)
+    held = ', '.join(f'{round(c, 4) + 0.0:g}' for c in device.mapping.from_world(anchor))
+    return (f'the anchor starts at ({at}) m in {config.frame_id!r}: hold the device there, at '
+            f'({held}) in {device.pose_frame(config.frame_id)!r}, before its poses come on '
+            'target_pose')
+
+
 def _body(config: NodeConfig) -> str:
     """Return the URDF link's part of ``describe``: its name and COM, or nothing for the box."""
     if config.body_frame.at_com:

@@ -20,7 +20,7 @@ A target is taken when ``TargetGate`` takes it (frame, finite, workspace); it co
 device's driver publishes its handle; the orientation is not used), the two alike. ``TargetTiming``
 times it by its header stamp where that is usable and the node has ticked (mapped onto the
 core's time through the latest tick of the ``TickRecord``), else by its arrival. A grab takes
-the same gate, then ``grab`` says where on the box it lands; the node's own ``anchor``
+the same gate, then ``grab`` says where on the body it lands; the node's own ``anchor``
 parameter is set to that point (``set_anchor``, validated as any parameter change) and the
 point becomes the target, untimed.
 
@@ -29,10 +29,16 @@ ones after it wait for the next tick, which takes the newest of them (``OnePerTi
 a flood of targets costs the node one stream fit a tick, not one a target. A grab, a release,
 a reset or a new configuration takes the target that waits first, in the order they came.
 
+A pose on ``target_pose`` is a device's: in ``device_frame_id`` (empty: ``frame_id``), mapped
+into ``frame_id`` (``device_scale``, ``device_pose``) before the gate's finite and workspace
+checks. Once a pose came, the device is silent while no valid pose came for ``device_timeout``
+(``device_silent``): the force it is sent is then zero.
+
 A user target older than ``target_timeout`` is let go at the first tick after (``expire``).
 Every refusal goes to the node's ``RefusalLog``: a throttled warning, counted.
 """
 
+import math
 from typing import Callable, NamedTuple, Optional
 
 from geometry_msgs.msg import PointStamped, PoseStamped
@@ -48,6 +54,7 @@ from ..inputs.throttle import RefusalLog
 from ..physics import MouseSimulation
 from ..physics.algebra import Vector3
 from ..physics.target_stream import STREAM_GAP
+from ..timing.device_clock import DeviceClock
 from ..wire.messages import point_from_message, point_from_pose, stamp_nanoseconds
 
 
@@ -70,11 +77,17 @@ class TargetInput:
     :param set_anchor: sets the node's ``anchor`` parameter; returns None or why it could not.
     :param refuse: counts and warns about a refused target or grab.
     :param log: logs a line at INFO.
+    :param device_pose: called after each valid pose on ``target_pose`` is taken (the ticker's
+        ``device_tick``: the tick it runs when the device clocks the ticks).
+    :param device_clock: the ticker's device clock: while on, it says whether the device is
+        silent.
     """
 
     def __init__(self, *, simulation: MouseSimulation, config: NodeConfig, record: TickRecord,
                  now_ns: Callable[[], int], set_anchor: Callable[[Vector3], Optional[str]],
-                 refuse: RefusalLog, log: Callable[[str], None]) -> None:
+                 refuse: RefusalLog, log: Callable[[str], None],
+                 device_pose: Callable[[], None] = lambda: None,
+                 device_clock: Optional[DeviceClock] = None) -> None:
         """Hold the initial anchor when configured to; no user target yet."""
         self._simulation = simulation
         self._record = record
@@ -82,12 +95,17 @@ class TargetInput:
         self._set_anchor = set_anchor
         self._refuse = refuse
         self._log = log
+        self._device_pose = device_pose
+        self._device_clock = device_clock
         self._timing = TargetTiming(STREAM_GAP)
         # Targets taken: the first after a tick at once, the newest of the rest at the next.
         self._arrivals: OnePerTick[Arrival] = OnePerTick()
         # Whether the target is one a user gave (not the held initial anchor), and when (ns).
         self.user_target = False
         self.last_target_ns = 0
+        # Whether a pose came on target_pose, and when the last valid one came (ns).
+        self.device_heard = False
+        self.last_device_ns = 0
         self.configure(config)
         self.hold_initial_anchor()
 
@@ -99,6 +117,9 @@ class TargetInput:
         if gate is None or (gate.frame_id, gate.workspace_radius) != (
                 config.frame_id, config.workspace_radius):
             self._gate = TargetGate(config.frame_id, config.workspace_radius)
+        # The device's frame (and finite coordinates) first; the workspace once mapped.
+        self._device_gate = TargetGate(config.device.pose_frame(config.frame_id), math.inf)
+        self._device = config.device
         self._timeout = config.target_timeout
 
     @property
@@ -143,8 +164,36 @@ class TargetInput:
         self._offer(message, point_from_message(message))
 
     def on_target_pose(self, message: PoseStamped) -> None:
-        """Take the position of a pose as a target, as ``on_target`` takes a point."""
-        self._offer(message, point_from_pose(message))
+        """Take a device pose's position, mapped into ``frame_id``, as a target."""
+        now = self._now_ns()
+        if not self.device_heard:
+            self.device_heard, self.last_device_ns = True, now
+        point = point_from_pose(message)
+        refusal = self._device_gate.refusal(message.header.frame_id, point)
+        if refusal is not None:
+            self._refuse(refusal, f'ignoring target pose {refusal.reason}')
+            return
+        if self._offer(message, self._device.mapping.to_world(point), ''):
+            self.last_device_ns = now
+            self._device_pose()
+
+    def device_age(self, now_ns: int) -> Optional[float]:
+        """Return how long ago (s) the last valid pose came (or the first pose), None unheard."""
+        return input_age(self.last_device_ns, now_ns) if self.device_heard else None
+
+    def device_silent(self, now_ns: int) -> bool:
+        """
+        Return whether a device was heard and no valid pose came for ``device_timeout``.
+
+        Once the device's poses clock the ticks, its silence is counted in the node's own ticks
+        held back since its last pose (``DeviceClock.silent``): on a simulated clock the node's
+        time stands still without ticks. Before (every pose refused), in the node's time.
+        """
+        clock = self._device_clock
+        if clock is not None and clock.heard:
+            return clock.silent
+        return self.device_heard and timed_out(self.last_device_ns, now_ns,
+                                               self._device.timeout)
 
     def tick(self) -> None:
         """Take the newest target that waited for this tick, if one did (``OnePerTick``)."""
@@ -157,16 +206,22 @@ class TargetInput:
         """Return how many targets a newer one replaced before a tick took them."""
         return self._arrivals.held_over
 
-    def _offer(self, message, point: Vector3) -> None:
-        """Offer ``point``, the target of ``message``: refused, taken, or held for the tick."""
-        refusal = self._gate.refusal(message.header.frame_id, point)
+    def _offer(self, message, point: Vector3, frame: Optional[str] = None) -> bool:
+        """
+        Offer ``point``, the target of ``message``: refused, taken, or held for the tick.
+
+        :param frame: the frame it is in, when not the message's (a mapped device pose's).
+        :returns: whether it was taken or held (not refused).
+        """
+        refusal = self._gate.refusal(message.header.frame_id if frame is None else frame, point)
         if refusal is not None:
             self._refuse(refusal, f'ignoring target {refusal.reason}')
-            return
+            return False
         arrival = self._arrivals.offer(
             Arrival(point, stamp_nanoseconds(message.header.stamp), self._now_ns()))
         if arrival is not None:
             self._take(arrival)
+        return True
 
     def _flush(self) -> None:
         arrival = self._arrivals.flush()

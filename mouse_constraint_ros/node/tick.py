@@ -92,7 +92,9 @@ class Tick:
         record.ticks_run += 1
         publish_ticks = self._publish_ticks
         if tick is None or publish_ticks.every_tick or publish_ticks.due(tick):
-            self._state_publishers.publish(stamp, state)
+            publishers = self._state_publishers
+            publishers.force_muted = self._target.device_silent(stamp)
+            publishers.publish(stamp, state)
 
     def publish_state(self) -> None:
         """

@@ -21,6 +21,12 @@ steady-clock timer (``clock_ticks.ClockTicks``, ``publish_clock``), or a caller 
 node (``stepped``; ``mouse_constraint_ros.testing`` does, in lockstep). With the last two the
 node is the clock: it publishes ``/clock`` and its stamps are the simulated time.
 
+With ``tick_source: target_pose`` the device clocks the ticks (``timing.device_clock``): each
+valid pose runs one tick at once (``device_tick``: a tick of the simulated clock when the node
+is the clock, else one stamped with the node's time), and the driver's own ticks are held back
+while poses come, and run again after ``device_timeout`` without one. A paced simulated clock
+(``publish_clock`` without a caller) keeps its own ticks: it paces simulated time itself.
+
 ``Ticker`` answers every question about time the node's parts ask: what time it is, whether
 the node is the clock, whether a clock it waits for has come, whether it is paused; and it
 carries out every change of time: pause, resume, one step, a new rate, real-time factor, publish
@@ -41,6 +47,7 @@ from .parameters import NodeConfig
 from .tick import Tick
 from .tick_loop import NodeClockTicks
 from .tick_record import TickRecord
+from ..timing.device_clock import DeviceClock
 
 # Period (s, steady clock) of the check that a clock the node waits for has started.
 CLOCK_WATCH_PERIOD = 1.0
@@ -82,6 +89,7 @@ class Ticker:
         self._stepped = stepped
         self._warn = warn
         self._tick: Optional[Tick] = None
+        self.device_clock = DeviceClock()
         self._node_clock = NodeClockTicks(node, self, record, warn=warn, loop=loop)
         self._simulated = ClockTicks(node, self, rate_hz=config.rate_hz,
                                      real_time_factor=config.real_time_factor)
@@ -232,10 +240,21 @@ class Ticker:
         if self.driver is not Driver.CALLER:
             raise RuntimeError('step() runs the ticks of a node made with stepped=True; this '
                                'one runs them on a timer of its own')
-        if self.paused:
+        if self.paused or not self.device_clock.own_tick():
             return False
         self._simulated.step()
         return True
+
+    def device_tick(self) -> None:
+        """Run one tick now for a device pose just taken, when the device clocks the ticks."""
+        clock = self.device_clock
+        if not clock.on or self.paused or self._tick is None:
+            return
+        clock.take(time.monotonic_ns())
+        if self.is_clock:
+            self._simulated.step(on_grid=False)
+        else:
+            self._tick.run(self._node.get_clock().now().nanoseconds)
 
     def publish_state(self) -> None:
         """Publish the state as it stands, stamped with the latest tick (a reset); no force."""
@@ -248,6 +267,9 @@ class Ticker:
 
     def _apply_rates(self, config: NodeConfig) -> None:
         self._tick.configure(rate_hz=config.rate_hz, publish_rate_hz=config.publish_rate_hz)
+        paced = config.publish_clock and not self._stepped
+        self.device_clock.configure(on=config.device.tick_source == 'target_pose' and not paced,
+                                    rate_hz=config.rate_hz, timeout=config.device.timeout)
 
     def _start_driver(self) -> None:
         config = self._config
@@ -258,7 +280,8 @@ class Ticker:
         else:
             self.driver = Driver.NODE_CLOCK
             self._simulated.stop()
-            self._node_clock.start(self._tick, config.rate_hz, config.publish_rate_hz)
+            self._node_clock.start(_OwnTicks(self._tick, self.device_clock), config.rate_hz,
+                                   config.publish_rate_hz)
 
     def _watch_clock(self) -> None:
         waiting = self.waiting_for_clock()
@@ -266,3 +289,17 @@ class Ticker:
             self._warn('clock', lambda: (
                 f'waiting for {waiting}: use_sim_time is true and no clock message has come; '
                 'no tick runs until one does'))
+
+
+class _OwnTicks:
+    """The node clock's ticks, each run unless the device clocks the ticks now."""
+
+    def __init__(self, tick: Tick, device_clock: DeviceClock) -> None:
+        """Run ``tick`` when ``device_clock`` lets the node's own tick run."""
+        self._tick = tick
+        self._own_tick = device_clock.own_tick
+
+    def run(self, stamp: int, tick: Optional[int] = None) -> None:
+        """Run the tick ``stamp`` unless the device holds it back."""
+        if self._own_tick():
+            self._tick.run(stamp, tick)

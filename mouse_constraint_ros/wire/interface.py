@@ -64,9 +64,16 @@ CLOCK_TOPIC = '/clock'
 # remapped to it.
 FORCE_TOPIC = 'force'
 FORCE_QOS = STATE_QOS
+# The force as std_msgs/Float64MultiArray [fx, fy, fz] (``force_output``), for a ros2_control
+# forward command controller's ``commands``: as ``force``, from the same tick.
+FORCE_ARRAY_TOPIC = 'force_array'
 # A target as a pose (PoseStamped: its position), as haptic device drivers publish their
-# handle; QoS as ``target``.
+# handle. BEST_EFFORT, depth 1: drivers publish with sensor QoS (BEST_EFFORT) or RELIABLE, and a
+# BEST_EFFORT reader matches both, where a RELIABLE one leaves a BEST_EFFORT writer unmatched.
+# Only the newest pose matters, and the next one comes a tick later.
 TARGET_POSE_TOPIC = 'target_pose'
+TARGET_POSE_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
+                             reliability=ReliabilityPolicy.BEST_EFFORT)
 WRENCH_TOPIC = 'wrench'
 PAUSE_SERVICE = '~/pause'
 STEP_SERVICE = '~/step'

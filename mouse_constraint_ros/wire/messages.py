@@ -25,6 +25,7 @@ from builtin_interfaces.msg import Time
 from geometry_msgs.msg import (Point, PointStamped, PoseStamped, TransformStamped, TwistStamped,
                                WrenchStamped)
 from nav_msgs.msg import Odometry
+from std_msgs.msg import Float64MultiArray
 
 from ..physics import BodyState
 from ..physics.algebra import multiply_transposed, rotation_matrix, Vector3
@@ -81,8 +82,24 @@ def fill_felt_wrench(message: WrenchStamped, tick_impulse: Tuple[Vector3, float]
     it. The angular friction (``angular_friction``), a torque that stops the body's spin while
     a target is held, is not a force at the anchor and is not part of the reaction sent.
     """
-    fill_point(message.wrench.force, felt_force(tick_impulse))
+    fill_force_wrench(message, felt_force(tick_impulse))
+
+
+def fill_force_wrench(message: WrenchStamped, force: Vector3) -> None:
+    """Write ``force`` (N) and a zero torque (the joint holds a point) into ``message``."""
+    fill_point(message.wrench.force, force)
     fill_point(message.wrench.torque, (0.0, 0.0, 0.0))
+
+
+def fill_force_array(message: Float64MultiArray, force: Vector3) -> None:
+    """
+    Write ``force`` (N) as ``data`` = [fx, fy, fz] into ``message``, its layout left empty.
+
+    A ros2_control forward command controller takes such an array on its ``commands`` topic,
+    one value per joint in the order of its ``joints``: for a device whose three joints are
+    its x, y and z axes (forcedimension_ros2's fd_x, fd_y, fd_z), the force itself.
+    """
+    message.data = force
 
 
 def point_from_message(message: PointStamped) -> Vector3:

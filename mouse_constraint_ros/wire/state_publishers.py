@@ -37,8 +37,11 @@ in ``frame_id``, with the pose's stamp, one per pose: minus the joint's impulse 
 the tick's substeps, over dt (``messages.felt_force``), so that m (v' - v) = (-F + m g +
 F_wrench) dt holds for every tick without linear damping and floor contact (they change the
 momentum too, and are no force on the hand). Zero with no target held. Its torque is zero: the
-joint holds a point (``messages.fill_felt_wrench``). Its publisher is made when the force is
-first turned on and kept when it is turned off, silent.
+joint holds a point (``messages.fill_felt_wrench``). It goes to the device through the device's
+map (``physics.device_map``: f R^T F, in ``force_frame_id``), as a WrenchStamped on ``force``,
+a Float64MultiArray on ``force_array`` or both (``force_output``), each from the same tick; it
+is zero while ``force_muted`` (the device's poses stopped). Its publishers are made when the
+force is first turned on and kept when it is turned off, silent.
 """
 
 from typing import Any, Callable, Optional
@@ -46,14 +49,19 @@ from typing import Any, Callable, Optional
 from geometry_msgs.msg import PoseStamped, TransformStamped, TwistStamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
+from std_msgs.msg import Float64MultiArray
 
 from .cdr.geometry import PoseStampedLayout, TwistStampedLayout, WrenchStampedLayout
 from .cdr.odometry import OdometryLayout
-from .interface import FORCE_QOS, FORCE_TOPIC, ODOM_TOPIC, POSE_TOPIC, STATE_QOS, TWIST_TOPIC
-from .messages import (body_frame_twist, felt_force, fill_felt_wrench, fill_odometry, fill_pose,
-                       fill_transform, fill_twist, set_stamp)
+from .interface import (FORCE_ARRAY_TOPIC, FORCE_QOS, FORCE_TOPIC, ODOM_TOPIC, POSE_TOPIC,
+                        STATE_QOS, TWIST_TOPIC)
+from .messages import (body_frame_twist, felt_force, fill_force_array, fill_force_wrench,
+                       fill_odometry, fill_pose, fill_transform, fill_twist, set_stamp)
 from ..physics import BodyState, MouseSimulation
 from ..physics.body_frame import BodyFrame
+from ..physics.device_map import DeviceMap
+
+ZERO = (0.0, 0.0, 0.0)
 
 BroadcasterFactory = Callable[[Node], Any]
 
@@ -83,13 +91,17 @@ class StatePublishers:
     :param publish_odometry: whether odometry is published.
     :param simulation: the body whose ``tick_impulse`` the force is made of; None: no force.
     :param publish_force: whether the force is published (with a simulation).
+    :param force_output: 'wrench', 'array' or 'both': the force's messages.
+    :param force_frame_id: the frame of the force sent (the device's); '' = ``frame_id``.
+    :param device_map: the force's map back to the device.
     """
 
     def __init__(self, node: Node, *, broadcaster_factory: Optional[BroadcasterFactory],
                  unavailable: Optional[str], frame_id: str, body_frame_id: str,
                  publish_tf: bool, publish_odometry: bool,
                  simulation: Optional[MouseSimulation] = None,
-                 publish_force: bool = False, body_frame: BodyFrame = BodyFrame()) -> None:
+                 publish_force: bool = False, body_frame: BodyFrame = BodyFrame(),
+                 **device: Any) -> None:
         """Create the pose and twist publishers and apply the rest with ``configure``."""
         self._node = node
         self._factory = broadcaster_factory
@@ -97,7 +109,10 @@ class StatePublishers:
         self.pose_publisher = node.create_publisher(PoseStamped, POSE_TOPIC, STATE_QOS)
         self.twist_publisher = node.create_publisher(TwistStamped, TWIST_TOPIC, STATE_QOS)
         self.odometry_publisher = None
-        self.force_publisher = None
+        self.force_publisher = self.force_array_publisher = None
+        self._force_array = Float64MultiArray()
+        # Set by the tick: while true the force sent is zero (the device's poses stopped).
+        self.force_muted = False
         self._simulation = simulation
         self._force_layout = WrenchStampedLayout(frame_id)
         self._force = WrenchStamped()
@@ -112,11 +127,12 @@ class StatePublishers:
         self.tf_status = ''
         self.configure(frame_id=frame_id, body_frame_id=body_frame_id, publish_tf=publish_tf,
                        publish_odometry=publish_odometry, publish_force=publish_force,
-                       body_frame=body_frame)
+                       body_frame=body_frame, **device)
 
     def configure(self, *, frame_id: str, body_frame_id: str, publish_tf: bool,
                   publish_odometry: bool, publish_force: bool = False,
-                  body_frame: BodyFrame = BodyFrame()) -> None:
+                  body_frame: BodyFrame = BodyFrame(), force_output: str = 'wrench',
+                  force_frame_id: str = '', device_map: DeviceMap = DeviceMap()) -> None:
         """
         Apply new frames and switches; layouts compile again only if a frame changed.
 
@@ -125,14 +141,19 @@ class StatePublishers:
             origin.
         """
         self._to_link = None if body_frame.at_com else body_frame.link_state
-        self._force_layout.frame_id = frame_id
+        self._to_device = None if device_map == DeviceMap() else device_map.to_device
+        self._force_layout.frame_id = self._force.header.frame_id = force_frame_id or frame_id
         self._raw_force = self._force_layout.precompiled
-        self._force.header.frame_id = frame_id
-        # Made at the first on and kept when turned off: a reader that matched it keeps it, and
+        # Made at the first on and kept when turned off: a reader that matched one keeps it, and
         # the forces after the next on reach it from the first (a new publisher's would go
         # nowhere until the reader's participant had discovered it).
-        self._publish_force = publish_force and self._simulation is not None
-        if self._publish_force and self.force_publisher is None:
+        on = publish_force and self._simulation is not None
+        self._send_array = on and force_output != 'wrench'
+        self._send_wrench = on and force_output != 'array'
+        if self._send_array and self.force_array_publisher is None:
+            self.force_array_publisher = self._node.create_publisher(
+                Float64MultiArray, FORCE_ARRAY_TOPIC, FORCE_QOS)
+        if self._send_wrench and self.force_publisher is None:
             self.force_publisher = self._node.create_publisher(WrenchStamped, FORCE_TOPIC,
                                                                FORCE_QOS)
         self._pose_layout.frame_id = frame_id
@@ -203,12 +224,24 @@ class StatePublishers:
                 set_stamp(self._odometry.header.stamp, stamp_ns)
                 fill_odometry(self._odometry, state)
                 self.odometry_publisher.publish(self._odometry)
-        if force and self._publish_force:
-            impulse = self._simulation.tick_impulse
+        if force and (self._send_wrench or self._send_array):
+            self._publish_force(stamp_ns)
+
+    def _publish_force(self, stamp_ns: int) -> None:
+        """Publish the force of the tick, mapped to the device, on each of its topics."""
+        if self.force_muted:
+            force = ZERO
+        else:
+            force = felt_force(self._simulation.tick_impulse)
+            if self._to_device is not None:
+                force = self._to_device(force)
+        if self._send_wrench:
             if self._raw_force:
-                self.force_publisher.publish(self._force_layout.pack(
-                    stamp_ns, felt_force(impulse), (0.0, 0.0, 0.0)))
+                self.force_publisher.publish(self._force_layout.pack(stamp_ns, force, ZERO))
             else:
                 set_stamp(self._force.header.stamp, stamp_ns)
-                fill_felt_wrench(self._force, impulse)
+                fill_force_wrench(self._force, force)
                 self.force_publisher.publish(self._force)
+        if self._send_array:
+            fill_force_array(self._force_array, force)
+            self.force_array_publisher.publish(self._force_array)

@@ -1,0 +1,224 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""Ticks the device clocks: one tick per pose at once, its force right after, through ROS."""
+
+import copy
+from pathlib import Path
+
+from geometry_msgs.msg import PoseStamped
+import numpy as np
+import pytest
+from rclpy.node import Node
+import yaml
+
+from mouse_constraint_ros.node.parameters import DEFAULTS, node_config
+from mouse_constraint_ros.physics import MouseSimulation
+from mouse_constraint_ros.physics.coupling_stability import Device, largest_stable_stiffness
+from mouse_constraint_ros.testing import SimulatedBody
+from mouse_constraint_ros.timing.device_clock import DeviceClock
+from mouse_constraint_ros.wire.interface import TARGET_POSE_TOPIC, TARGET_QOS
+from mouse_constraint_ros.wire.messages import felt_force, set_stamp
+from test_support.haptic_device import (DeviceNode, HAND, loop, LOOP_BODY, ORIGIN, PERIOD,
+                                        TRIAL_TICKS, WINDOW)
+from test_support.haptic_listener import StateListener
+
+PRESET = {**yaml.safe_load((Path(__file__).resolve().parent.parent / 'config' / 'haptic.yaml')
+                           .read_text())['/**']['ros__parameters'], 'tick_source': 'target_pose'}
+G = 9.80665
+T = 0.001
+START = np.array([0.0, 0.0, float(np.linalg.norm(PRESET['anchor']))])
+
+
+def test_the_device_clock_holds_the_own_ticks_back_for_the_timeout_and_classes_its_ticks():
+    clock = DeviceClock()
+    clock.configure(on=True, rate_hz=1000.0, timeout=0.005)
+    assert clock.own_tick() and not clock.silent  # before the first pose
+    clock.take(0)
+    clock.take(1_000_000)
+    clock.take(1_400_000)  # 0.4 dt: early
+    clock.take(3_000_000)  # 1.6 dt: late
+    assert (clock.ticks, clock.early, clock.late) == (4, 1, 1)
+    held = [clock.own_tick() for _ in range(8)]
+    assert held == [False] * 6 + [True] * 2 and clock.silent  # more than 5 ms: 6 held
+    clock.take(4_000_000)
+    assert not clock.own_tick() and not clock.silent
+    clock.configure(on=False, rate_hz=1000.0, timeout=0.005)
+    assert clock.own_tick() and not clock.silent
+
+
+class Hand(Node):
+    """A device sending the hand's pose when asked: lifted at ``acceleration`` from ``START``."""
+
+    def __init__(self, *, context, acceleration) -> None:
+        """Publish on target_pose."""
+        super().__init__('hand', context=context, start_parameter_services=False)
+        self.acceleration = np.array(acceleration)
+        self.publisher = self.create_publisher(PoseStamped, TARGET_POSE_TOPIC, TARGET_QOS)
+        self.sent = []
+
+    def send(self, time: float) -> np.ndarray:
+        """Send where the hand is at ``time`` (s); return it."""
+        point = START + 0.5 * self.acceleration * time * time
+        message = PoseStamped()
+        set_stamp(message.header.stamp, round(time * 1e9))
+        p = message.pose.position
+        p.x, p.y, p.z = point
+        message.pose.orientation.w = 1.0
+        self.publisher.publish(message)
+        self.sent.append(point)
+        return point
+
+
+def replayed_forces(points) -> np.ndarray:
+    """Return the felt force of each tick of the preset's body with ``points`` as its targets."""
+    config = node_config({**DEFAULTS, **PRESET})
+    simulation = MouseSimulation(config.settings, config.initial_state)
+    forces = []
+    for point in points:
+        simulation.target = tuple(point)
+        simulation.step(T)
+        forces.append(felt_force(simulation.tick_impulse))
+    return np.array(forces)
+
+
+@pytest.mark.ros
+@pytest.mark.parametrize('acceleration', [(0.0, 0.0, 3.0), (0.0, 0.0, -4.0)])
+def test_each_pose_runs_one_tick_and_gets_its_force_m_g_minus_a_on_every_tick(acceleration):
+    """
+    1000 poses, each answered by exactly one force, of the tick that pose ran (no tick between).
+
+    The forces are those of the body stepped with each pose as the target of its own tick, to
+    1e-9 N (d = 0: the loop the stability analysis has); from 0.5 s on, each within 1 % of
+    m (g - a). The harness only drains: no tick runs but the poses'.
+    """
+    with SimulatedBody(**PRESET) as body:
+        listener = body.add_node(StateListener(context=body.context))
+        hand = body.add_node(Hand(context=body.context, acceleration=acceleration))
+        body.step(0)
+        stamps = []
+        for tick in range(1000):
+            hand.send(tick * T)
+            body.step(0)
+            stamps.append(round(body.time * 1e9))
+            assert len(listener.forces) == tick + 1
+        assert body.node.ticker.device_clock.ticks == 1000
+    assert [stamp for stamp, _ in listener.forces] == stamps
+    assert np.all(np.diff(stamps) == round(T * 1e9))
+    forces = np.array([force for _, force in listener.forces])
+    np.testing.assert_allclose(forces, replayed_forces(hand.sent), rtol=0.0, atol=1e-9)
+    expected = PRESET['mass'] * (np.array([0.0, 0.0, -G]) - acceleration)
+    late = forces[500:]
+    assert np.all(np.abs(late - expected).max(axis=1) <= 0.01 * PRESET['mass'] * G)
+
+
+@pytest.mark.ros
+def test_a_device_that_stops_hands_the_ticks_back_to_the_node_s_clock_after_the_timeout():
+    """
+    Without poses, the node's own clock runs the ticks again after device_timeout.
+
+    The harness's steps (the node's own clock) are held back while poses come, each counting
+    dt of silence; 101 of them after the last pose (more than device_timeout 0.1 s, the one
+    in that pose's step included) run no tick, then the node's ticks hold the last target,
+    each with a zero force (the device is silent).
+    """
+    with SimulatedBody(**PRESET) as body:
+        listener = body.add_node(StateListener(context=body.context))
+        hand = body.add_node(Hand(context=body.context, acceleration=(0.0, 0.0, 0.0)))
+        for tick in range(50):
+            hand.send(tick * T)
+            body.step()
+        assert len(listener.forces) == 50 and body.time == pytest.approx(0.050)
+        body.step(100)
+        assert len(listener.forces) == 50
+        body.step(200)
+        assert len(listener.forces) == 250
+        assert not np.any([force for _, force in listener.forces[50:]])
+        np.testing.assert_allclose(body.node.simulation.target, START, rtol=0, atol=1e-15)
+
+
+class HeldPoses:
+    """Stands in for a device node's pose publisher: keeps each pose until ``send``."""
+
+    def __init__(self, publisher) -> None:
+        """Hold nothing yet."""
+        self._publisher = publisher
+        self._message = None
+
+    def publish(self, message: PoseStamped) -> None:
+        """Keep a copy of ``message``."""
+        self._message = copy.deepcopy(message)
+
+    def send(self) -> None:
+        """Publish the pose kept."""
+        self._publisher.publish(self._message)
+
+
+def device_loop_forces(stiffness: float, tick_source: str):
+    """Return the simulated device's forces over a trial, the node ticking on ``tick_source``."""
+    device = Device(0.045, 0.05, **HAND)
+    with SimulatedBody(coupling_stiffness=stiffness, coupling_damping=0.5,
+                       tick_source=tick_source, **LOOP_BODY) as body:
+        node = body.add_node(DeviceNode(context=body.context, device=device, period=PERIOD,
+                                        origin=ORIGIN, reference=lambda _: 0.01))
+        if tick_source == 'clock':
+            body.step(TRIAL_TICKS)
+        else:
+            held = node._publisher = HeldPoses(node._publisher)
+            body.step(1)  # the first tick, before any pose: the node's own
+            for _ in range(TRIAL_TICKS - 1):
+                held.send()
+                body.step(0)
+            assert body.node.ticker.device_clock.ticks == TRIAL_TICKS - 1
+        return np.array(node.forces)
+
+
+@pytest.mark.ros
+@pytest.mark.parametrize('share', [0.8, 1.2])
+def test_the_device_clocked_loop_is_the_lockstep_loop_the_stability_analysis_has(share):
+    """
+    A device whose every pose runs a tick feels the forces of the lockstep loop, bit for bit.
+
+    That is the loop of the stability analysis with d = 0: stable at 0.8 of its predicted
+    largest stable stiffness, unstable at 1.2.
+    """
+    bound = largest_stable_stiffness(**loop(Device(0.045, 0.05, **HAND), 0.5, 0))
+    stiffness = share * bound
+    clocked = device_loop_forces(stiffness, 'target_pose')
+    assert len(clocked) == TRIAL_TICKS
+    np.testing.assert_array_equal(clocked, device_loop_forces(stiffness, 'clock'))
+    change = np.abs(np.diff(clocked, 2))
+    growth = change[-WINDOW:].max() / change[-2 * WINDOW:-WINDOW].max()
+    assert (growth < 1.0) == (share < 1.0)
+
+
+@pytest.mark.ros
+def test_a_device_clocking_in_the_wrong_frame_runs_no_tick_and_feels_nothing_after_the_timeout():
+    """Every pose refused: the node's own ticks run, the held weight until 0.1 s, then zero."""
+    with SimulatedBody(**PRESET) as body:
+        listener = body.add_node(StateListener(context=body.context))
+        device = Node('device', context=body.context, start_parameter_services=False)
+        publisher = device.create_publisher(PoseStamped, TARGET_POSE_TOPIC, TARGET_QOS)
+        body.add_node(device)
+        message = PoseStamped()
+        message.header.frame_id = 'geotouch'
+        message.pose.position.z = float(START[2])
+        for _ in range(300):
+            publisher.publish(message)
+            body.step()
+        assert body.node.ticker.device_clock.ticks == 0
+        assert body.node.refusals[0] == 300
+    norms = np.linalg.norm([force for _, force in listener.forces], axis=1)
+    assert len(norms) == 300
+    assert np.all(norms[:100] > 0.9 * PRESET['mass'] * G) and np.all(norms[101:] == 0.0)
