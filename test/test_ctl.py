@@ -35,7 +35,7 @@ from rclpy.parameter import Parameter
 from mouse_constraint_ros.cli import ctl
 from mouse_constraint_ros.cli.echo import ECHOES, EchoPrinter, RateMeter, vector
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
-from mouse_constraint_ros.timing.spin import StopRequest
+from test_support.ctl_calls import run_call
 
 ROOT = Path(__file__).resolve().parent.parent
 BIN = Path(sys.executable).parent
@@ -66,22 +66,6 @@ def client_node(simulated_body):
     node = Node('mouse_ctl', context=simulated_body.context, start_parameter_services=False)
     node.clients_by_action = {action: ctl.create_client(node, action) for action in ctl.ACTIONS}
     return simulated_body.add_node(node)
-
-
-def options(command: str, **values):
-    """Return the parsed options of ``mouse_ctl COMMAND``, with ``values`` set."""
-    parsed = ctl.parse_arguments([command])
-    for name, value in values.items():
-        setattr(parsed, name, value)
-    return parsed
-
-
-def run_call(body, caller, command: str, capsys, **values):
-    """Run the command's ``call`` on the body's executor; return (status, stdout, stderr)."""
-    with StopRequest() as stop:
-        status = ctl.call(caller, body.executor, stop, options(command, **values))
-    out, err = capsys.readouterr()
-    return status, out, err
 
 
 def test_pause_step_resume_in_lockstep(simulated_body, client_node, capsys):

@@ -36,27 +36,12 @@ from std_srvs.srv import Trigger
 from mouse_constraint_ros.cli import ctl
 from mouse_constraint_ros.cli.echo import ECHOES, Graph, silence
 from mouse_constraint_ros.timing.spin import StopRequest
+from test_support.ctl_calls import options, run_call
 
 BIN = Path(sys.executable).parent
 # The installed script where the venv has it, else the module it runs.
 COMMAND = ([str(BIN / 'mouse_ctl')] if (BIN / 'mouse_ctl').is_file()
            else [sys.executable, '-m', 'mouse_constraint_ros.cli.console'])
-
-
-def options(command: str, **values):
-    """Return the parsed options of ``mouse_ctl COMMAND``, with ``values`` set."""
-    parsed = ctl.parse_arguments([command])
-    for name, value in values.items():
-        setattr(parsed, name, value)
-    return parsed
-
-
-def run_call(body, caller, command: str, capsys, **values):
-    """Run the command's ``call`` on the body's executor; return (status, stdout, stderr)."""
-    with StopRequest() as stop:
-        status = ctl.call(caller, body.executor, stop, options(command, **values))
-    out, err = capsys.readouterr()
-    return status, out, err
 
 
 @pytest.fixture

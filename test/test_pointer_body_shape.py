@@ -24,8 +24,9 @@ from scipy.spatial.transform import Rotation
 import trimesh
 
 from mouse_constraint_ros.description import body_model, BodyGeometry
+from mouse_constraint_ros.description.body_geometry import lone_box
 from mouse_constraint_ros.node.body_parameters import GEOMETRY_PARAMETERS
-from mouse_constraint_ros.pointer.body_shape import BodyShape, lone_box, ray_body_hit
+from mouse_constraint_ros.pointer.body_shape import BodyShape, ray_body_hit
 from mouse_constraint_ros.pointer.geometry import local_point, Pose, ray_box_hit, world_point
 from mouse_constraint_ros.pointer.gestures import Gestures, GRAB, RELEASE
 from mouse_constraint_ros.pointer.node_follower import PARAMETER_NAMES

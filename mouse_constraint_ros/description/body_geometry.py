@@ -187,16 +187,19 @@ class BodyGeometry:
     @cached_property
     def extents(self) -> Tuple[float, float, float]:
         """Return the edges (m) of the link-frame box about the collision pieces' bounds."""
-        if len(self.collisions) == 1 and self.collisions[0].kind == 'box' \
-                and not (self.collisions[0].transform - np.eye(4)).any():
-            return self.collisions[0].size
+        edges = lone_box(self.collisions)
+        if edges is not None:
+            return edges
         low, high = self.surface(collision=True).bounds
         return tuple(float(h - lo) for lo, h in zip(low, high))
 
-    @cached_property
-    def reach(self) -> float:
-        """Return the radius (m) of a ball about the link origin that holds every piece."""
-        return float(np.linalg.norm(self.surface(collision=True).vertices, axis=1).max())
+
+def lone_box(pieces: Sequence[Piece]) -> Optional[Vector3]:
+    """Return the edges (m) of ``pieces`` that are one box about the frame's origin, else None."""
+    if len(pieces) == 1 and pieces[0].kind == 'box' and not (
+            pieces[0].transform - np.eye(4)).any():
+        return tuple(float(e) for e in pieces[0].size)
+    return None
 
 
 def box_distance(local: Sequence[float], box_size: Sequence[float]) -> float:

@@ -141,13 +141,6 @@ class CollisionShape:
         """Return a box of full edge lengths ``size`` along the body axes about ``center``."""
         return cls(vertices=box_corners(size, center=center))
 
-    @property
-    def contact_count_bound(self) -> int:
-        """Return the most contacts one substep can have."""
-        count = len(self.vertices)
-        return ((count if count <= PLAIN_VERTICES else MAX_VERTEX_CONTACTS)
-                + len(self.spheres) + 2 * RIM_POINTS * len(self.cylinders))
-
     def reach(self, rotation: Sequence[float]) -> float:
         """Return how far below the COM the lowest point reaches (m), for rotation matrix R."""
         r20, r21, r22 = rotation[6], rotation[7], rotation[8]

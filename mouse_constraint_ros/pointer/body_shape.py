@@ -34,21 +34,11 @@ was: a ray that starts inside it meets it where it leaves.
 import math
 from typing import Optional, Sequence, Tuple
 
-import numpy as np
-
 from .geometry import local_point, Pose, ray_box_hit
 from .node_readouts import ViewParameters
-from ..description.body_geometry import BodyGeometry, Piece
+from ..description.body_geometry import BodyGeometry, lone_box
 from ..node.body_parameters import geometry_from, GEOMETRY_PARAMETERS
 from ..physics.algebra import multiply_transposed, rotation_matrix, Vector3
-
-
-def lone_box(pieces: Sequence[Piece]) -> Optional[Vector3]:
-    """Return the edges (m) of ``pieces`` that are one box about the frame's origin, else None."""
-    if len(pieces) == 1 and pieces[0].kind == 'box' and not (
-            pieces[0].transform - np.eye(4)).any():
-        return tuple(float(e) for e in pieces[0].size)
-    return None
 
 
 def ray_body_hit(origin: Sequence[float], direction: Sequence[float], *, pose: Pose,

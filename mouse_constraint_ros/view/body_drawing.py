@@ -37,10 +37,9 @@ import numpy as np
 import viser
 from viser import transforms
 
-from ..description.body_geometry import BodyGeometry, Piece
+from ..description.body_geometry import BodyGeometry, lone_box, Piece
 from ..monitoring.markers import ANCHOR_COLOR, BODY_COLOR
 from ..physics.algebra import Vector3
-from ..pointer.body_shape import lone_box
 
 # Sections of a drawn cylinder, subdivisions of a drawn sphere (as ``Piece.triangles``).
 CYLINDER_SECTIONS = 48
