@@ -19,10 +19,8 @@ A body is a union of convex pieces; each meets the floor where it reaches lowest
 
 - polytopes (a box, a mesh's convex hull): their vertices, fixed in the body. A vertex within
   the contact margin of the plane is a contact (a shape of more than ``PLAIN_VERTICES``: only
-  within a band above its lowest vertex, what the substep can bring down to the plane); where
-  more than ``MAX_VERTEX_CONTACTS`` are (a finely meshed face lying flat), four that span them
-  are kept (``_spread``): the deepest, the farthest from it and the farthest on either side of
-  the line through both;
+  within a band above its lowest vertex, what the substep can bring down to the plane, and at
+  most four that span them; ``hull_vertices``);
 - spheres: exactly the lowest point, centre - radius z, one contact that rolls with the body;
 - cylinders: exactly the lowest point of each rim circle, and the rim points a quarter, a half
   and three quarters of the way round from it (``RIM_POINTS`` per rim), so a cylinder on its
@@ -43,16 +41,13 @@ from typing import List, Optional, Sequence, Tuple
 import numpy as np
 
 from .algebra import Vector3
+from .hull_vertices import HullVertices
 from .limits import MAX_DISTANCE
 from .validation import finite_vector, scalar, shown
 
 # Shapes of at most this many vertices (a box, a mesh cube) take every vertex within the margin
 # as a contact, on plain floats in the box's own order and arithmetic.
 PLAIN_VERTICES = 8
-# The most vertex contacts of a shape with more vertices: four, the deepest and three spread
-# over the support polygon (as Bullet's persistent manifold keeps four points): a face lying
-# flat stands on them, and the floor's sweeps cost what a box's do.
-MAX_VERTEX_CONTACTS = 4
 # Contacts per cylinder rim: the lowest point and three more, a quarter turn apart.
 RIM_POINTS = 4
 # The most vertices a body's pieces may have in all: the contact test reads them every substep.
@@ -99,11 +94,10 @@ class CollisionShape:
     vertices: Tuple[Vector3, ...] = ()
     spheres: Tuple[Sphere, ...] = ()
     cylinders: Tuple[Cylinder, ...] = ()
-    # Derived: the vertices sorted, as an n x 3 array, and the radius of a ball about the COM
-    # holding every piece (a cheap bound of the reach below it).
-    points: np.ndarray = field(init=False, repr=False, compare=False)
+    # Derived: the radius of a ball about the COM holding every piece (a cheap bound of the
+    # reach below it), and a many-vertex shape's vertices as ``hull_vertices`` keeps them.
     bound: float = field(init=False, repr=False, compare=False)
-    _memo: list = field(init=False, repr=False, compare=False)
+    hull: Optional[HullVertices] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         """Validate the pieces, sort the vertices, derive the bound; raise ValueError."""
@@ -118,9 +112,9 @@ class CollisionShape:
         order = np.lexsort((-points[:, 0], -points[:, 1], -points[:, 2])) if len(points) else []
         points = points[order]
         object.__setattr__(self, 'vertices', tuple(tuple(float(c) for c in p) for p in points))
-        object.__setattr__(self, 'points', np.ascontiguousarray(points))
-        object.__setattr__(self, '_memo', [None, None])
         bound = float(np.sqrt((points * points).sum(axis=1)).max()) if len(points) else 0.0
+        object.__setattr__(self, 'hull', HullVertices(points, bound)
+                           if len(points) > PLAIN_VERTICES else None)
         for sphere in self.spheres:
             finite_vector('sphere center', sphere.center)
             scalar('sphere radius', sphere.radius, above=0.0, at_most=MAX_DISTANCE)
@@ -145,8 +139,8 @@ class CollisionShape:
         """Return how far below the COM the lowest point reaches (m), for rotation matrix R."""
         r20, r21, r22 = rotation[6], rotation[7], rotation[8]
         lowest = math.inf
-        if len(self.vertices) > PLAIN_VERTICES:
-            lowest = float(self._heights(r20, r21, r22).min())
+        if self.hull is not None:
+            lowest = self.hull.lowest((r20, r21, r22))
         else:
             for a, b, c in self.vertices:
                 lowest = min(lowest, r20 * a + r21 * b + r22 * c)
@@ -182,7 +176,10 @@ class CollisionShape:
                         found.append((index, r00 * a + r01 * b + r02 * c,
                                       r10 * a + r11 * b + r12 * c, rz, s))
             else:
-                found.extend(self._vertex_contacts(rotation, base, margin, band))
+                for i, rz in self.hull.near((r20, r21, r22), margin - base, band):
+                    a, b, c = self.vertices[i]
+                    found.append((i, r00 * a + r01 * b + r02 * c, r10 * a + r11 * b + r12 * c,
+                                  rz, base + rz))
         index = count
         for sphere in self.spheres:
             cx, cy, cz = sphere.center
@@ -199,39 +196,6 @@ class CollisionShape:
                     found.append((index, rx, ry, rz, s))
                 index += 1
         return found
-
-    def _vertex_contacts(self, rotation: Sequence[float], base: float, margin: float,
-                         band: float) -> List[Contact]:
-        """
-        Return the vertex contacts of a many-vertex shape, at most MAX_VERTEX_CONTACTS.
-
-        The vertices within the margin and within ``band`` of the lowest: at rest on a curved
-        hull that is the few about the lowest point, on a face lying flat the face's.
-        """
-        r00, r01, r02, r10, r11, r12, r20, r21, r22 = rotation
-        heights = self._heights(r20, r21, r22)
-        near = np.flatnonzero(heights <= min(margin - base, float(heights.min()) + band))
-        if not len(near):
-            return []
-        plane = np.array(((r00, r10), (r01, r11), (r02, r12)))
-        if len(near) > MAX_VERTEX_CONTACTS:
-            near = near[_spread(self.points[near] @ plane, heights[near])]
-        found = (self.points[near] @ plane).tolist()
-        return [(i, x, y, z, base + z)
-                for i, (x, y), z in zip(near.tolist(), found, heights[near].tolist())]
-
-    def _heights(self, r20: float, r21: float, r22: float) -> np.ndarray:
-        """
-        Return the vertices' heights above the COM for the rotation's last row (world z).
-
-        The touching test and the contacts of a substep ask for the same row: the last one
-        is kept.
-        """
-        memo = self._memo
-        if memo[0] != (r20, r21, r22):
-            memo[0] = (r20, r21, r22)
-            memo[1] = self.points @ np.array(memo[0])
-        return memo[1]
 
 
 def box_corners(size: Sequence[float], *, center: Vector3 = (0.0, 0.0, 0.0),
@@ -250,22 +214,6 @@ def box_corners(size: Sequence[float], *, center: Vector3 = (0.0, 0.0, 0.0),
             local = rotation @ local
         corners.append(tuple(float(c + o) for c, o in zip(local, center)))
     return tuple(corners)
-
-
-def _spread(xy: np.ndarray, heights: np.ndarray) -> np.ndarray:
-    """
-    Return at most MAX_VERTEX_CONTACTS indices of the points ``xy`` (n x 2) that span them.
-
-    The deepest point, the one farthest from it, and the two farthest on either side of the
-    line through both: a quadrilateral of nearly the largest area (Bullet keeps its persistent
-    manifold's four points so). Fewer when points coincide or lie on one line.
-    """
-    deepest = int(np.argmin(heights))
-    offset = xy - xy[deepest]
-    far = int(np.argmax(np.einsum('ij,ij->i', offset, offset)))
-    ex, ey = offset[far]
-    side = offset[:, 0] * ey - offset[:, 1] * ex
-    return np.array(sorted({deepest, far, int(np.argmax(side)), int(np.argmin(side))}))
 
 
 def _rim_frame(cylinder: Cylinder, rotation: Sequence[float]):

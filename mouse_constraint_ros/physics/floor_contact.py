@@ -29,7 +29,9 @@ direction d changes it by K P, K = 1 / m + (r x d) . I_w^-1 (r x d).
   velocity before the solve), in a pass after the sweeps (``floor_energy.bounce``).
 - Friction: both tangential impulses together stay within the cone |P_t| <= mu P_n.
 - Sweeps: a contact's friction, then its normal row (``_sweeps``), so that each sweep ends
-  with non-penetration met.
+  with non-penetration met. A many-vertex hull's few contacts sit close together, where the
+  sweeps alone settle slowly: after a sweep that has not converged, their normal rows are
+  solved together, exactly (``normal_block``).
 - Warm start: each contact starts from the impulses its point had in the previous substep;
   if the sweeps end unconverged with more energy than the substep started with
   (``floor_energy.twice_energy``), the contacts are solved again from zero impulses.
@@ -44,8 +46,9 @@ operations per sweep, and Python calls and tuples would cost more than that.
 import math
 from typing import List, Tuple
 
-from . import floor_energy
+from . import floor_energy, normal_block
 from .algebra import congruence, rotation_matrix, Vector3
+from .collision import PLAIN_VERTICES
 from .floor_energy import CONVERGED_SPEED, twice_energy
 
 # Fraction of the penetration beyond the slop that the split impulses remove per substep.
@@ -152,7 +155,9 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
             wz += pn * nz + pt * tz + pb * bz
         rows.append([index, rx, ry, rz, s, nx, ny, nz, tx, ty, tz, bx, by, bz,
                      kn, 1.0 / kn, 1.0 / kt, 1.0 / kb, goal, pn, pt, pb, bounce])
-    velocities, converged = _sweeps(rows, (vx, vy, vz, wx, wy, wz), im, friction, iterations)
+    block = len(shape.vertices) > PLAIN_VERTICES and 1 < len(rows) <= normal_block.MOST_CONTACTS
+    velocities, converged = _sweeps(rows, (vx, vy, vz, wx, wy, wz), im, friction, iterations,
+                                    block)
     if warmed and not converged:
         # A warm start that the sweeps could not undo may leave an old impulse pushing a
         # contact that now separates, which adds energy. Then the contacts are solved cold.
@@ -164,7 +169,7 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
         if twice_energy(velocities, mass, world_inertia, kick) > allowed:
             for row in rows:
                 row[19] = row[20] = row[21] = 0.0
-            velocities, _ = _sweeps(rows, (*v, *w), im, friction, iterations)
+            velocities, _ = _sweeps(rows, (*v, *w), im, friction, iterations, block)
     vx, vy, vz, wx, wy, wz = velocities
     if bounces:
         vx, vy, vz, wx, wy, wz = floor_energy.bounce(
@@ -204,17 +209,20 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
 
 
 def _sweeps(rows: Rows, velocities: Tuple[float, ...], im: float, friction: float,
-            iterations: int) -> Tuple[Tuple[float, ...], bool]:
+            iterations: int, block: bool = False) -> Tuple[Tuple[float, ...], bool]:
     """
     Return the velocities after the sequential-impulse sweeps over ``rows``, and if converged.
 
     Converged: the last sweep changed no contact's velocity by more than ``CONVERGED_SPEED``.
+    With ``block``, a sweep that has not converged is followed by ``normal_block``'s exact
+    solve of the normal rows, which the next sweep then confirms or refines.
     Each sweep solves a contact's friction, then its normal row, so that the sweep ends with
     the contact's non-penetration met, whatever friction did to it; normal first, friction's
     change of the normal velocity (a corner's lever arm couples them) can undo the normal
     impulse, and the sweeps then alternate between two states instead of converging.
     """
     vx, vy, vz, wx, wy, wz = velocities
+    memo = []
     for _ in range(iterations):
         largest = 0.0
         for row in rows:
@@ -262,6 +270,19 @@ def _sweeps(rows: Rows, velocities: Tuple[float, ...], im: float, friction: floa
             row[19], row[20], row[21] = pn, pt, pb
         if largest <= CONVERGED_SPEED:
             return (vx, vy, vz, wx, wy, wz), True
+        if block:
+            impulses = normal_block.impulses(rows, vz, wx, wy, im, CONVERGED_SPEED, memo)
+            if impulses is None:
+                block = False
+                continue
+            for row, total in zip(rows, impulses):
+                d = total - row[19]
+                if d != 0.0:
+                    vz += im * d
+                    wx += d * row[5]
+                    wy += d * row[6]
+                    wz += d * row[7]
+                    row[19] = total
     return (vx, vy, vz, wx, wy, wz), False
 
 
