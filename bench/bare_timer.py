@@ -21,7 +21,10 @@ A bare rclpy timer that publishes one PoseStamped per tick: the floor under the 
 until SIGINT/SIGTERM. Each tick stamps the message with the clock and publishes it on ``pose``
 (the node's QoS); no physics; with ``--twist`` also a TwistStamped on ``twist``, as the node
 publishes both, and with ``--wrench`` a WrenchStamped on ``force``, as the node does with
-``publish_force``. The executors:
+``publish_force``. With ``--echo`` each PoseStamped on ``target_pose`` (the node's QoS) publishes
+them at once, stamped with the pose's own stamp, and the timer publishes nothing from the first
+pose on: the node's device-clocked ticks (``tick_source: target_pose``) without their physics,
+the floor of a pose -> force round trip through rclpy. The executors:
 
 - ``single``: SingleThreadedExecutor, ``spin_once(timeout_sec=0.1)`` in a loop;
 - ``events``: rclpy.experimental.EventsExecutor, ``spin_once(timeout_sec=0.1)`` in a loop, as
@@ -56,6 +59,7 @@ from rclpy.task import Future
 
 from mouse_constraint_ros.timing.loop_timer import LoopTimer
 from mouse_constraint_ros.timing.spin import spin_until, StopRequest
+from mouse_constraint_ros.wire.interface import TARGET_POSE_QOS, TARGET_POSE_TOPIC
 
 STATE_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10,
                        reliability=ReliabilityPolicy.RELIABLE)
@@ -71,6 +75,8 @@ def main(argv=None) -> int:
                         help='also publish a TwistStamped on twist each tick, as the node does')
     parser.add_argument('--wrench', action='store_true',
                         help='also publish a WrenchStamped on force each tick (publish_force)')
+    parser.add_argument('--echo', action='store_true',
+                        help='publish at once for each pose on target_pose, with its stamp')
     options = parser.parse_args(argv)
     rclpy.init(signal_handler_options=SignalHandlerOptions.NO)
     node = Node('bench_bare_timer')
@@ -84,9 +90,20 @@ def main(argv=None) -> int:
     wrench = WrenchStamped()
     wrench.header.frame_id = 'world'
     clock = node.get_clock()
+    echoing = []
 
     def tick() -> None:
-        sec, nanosec = divmod(clock.now().nanoseconds, 1_000_000_000)
+        if not echoing:
+            publish(*divmod(clock.now().nanoseconds, 1_000_000_000))
+
+    def echo(pose: PoseStamped) -> None:
+        echoing.append(True)
+        publish(pose.header.stamp.sec, pose.header.stamp.nanosec)
+
+    if options.echo:
+        node.create_subscription(PoseStamped, TARGET_POSE_TOPIC, echo, TARGET_POSE_QOS)
+
+    def publish(sec: int, nanosec: int) -> None:
         message.header.stamp.sec, message.header.stamp.nanosec = sec, nanosec
         publisher.publish(message)
         if options.twist:

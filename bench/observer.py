@@ -188,8 +188,10 @@ def observe_latency(node: Node, executor, options) -> dict:
         publisher.publish(message)
         published.append(now)
         targets.append(target)
-        next_time = time.monotonic() + generator.uniform(options.gap_min, options.gap_max)
-    spin_for(executor, options.gap_max)
+        # On a schedule, as a device's loop keeps its period (from now if a gap behind).
+        gap = generator.uniform(options.gap_min, options.gap_max)
+        next_time = max(next_time, time.monotonic() - options.gap_max) + gap
+    spin_for(executor, max(options.gap_max, 0.1))  # the last target's answer
     say(f'end {time.time_ns()}')
 
     def stacked(records):

@@ -55,6 +55,7 @@ SUITE = [
     ('publish_rate', 'publishing at 100 Hz from 1 kHz physics, if the node offers it'),
     ('latency', 'target published -> first pose reflecting it, at 1 kHz'),
     ('force_latency', 'target pose published -> first force reflecting it, config/haptic.yaml'),
+    ('device_stream', "a device at the node's rate: each pose -> its force, against an echo"),
     ('discovery', 'mouse_ctl release against the node, with and without its Fast DDS profile'),
     ('soak', '10 min simulated at 1 kHz, the core directly'),
     ('flood', 'target floods at the 1 kHz node: 5 000/s plain, unbounded, hostile'),

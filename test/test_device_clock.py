@@ -124,6 +124,28 @@ def test_each_pose_runs_one_tick_and_gets_its_force_m_g_minus_a_on_every_tick(ac
 
 
 @pytest.mark.ros
+def test_poses_that_come_together_each_run_their_own_tick():
+    """
+    Three poses sent before the node spins (a stall of the node's process): three ticks.
+
+    The subscription keeps the sensor-data depth, so a device's poses that queue up while the
+    node is busy each run their tick in order, each force the reaction of its own pose.
+    """
+    with SimulatedBody(**PRESET) as body:
+        listener = body.add_node(StateListener(context=body.context))
+        hand = body.add_node(Hand(context=body.context, acceleration=(0.0, 0.0, 3.0)))
+        body.step(0)
+        for burst in range(20):
+            for tick in range(3):
+                hand.send((3 * burst + tick) * T)
+            body.step(0)
+            assert len(listener.forces) == 3 * (burst + 1)
+        assert body.node.ticker.device_clock.ticks == 60
+    forces = np.array([force for _, force in listener.forces])
+    np.testing.assert_allclose(forces, replayed_forces(hand.sent), rtol=0.0, atol=1e-9)
+
+
+@pytest.mark.ros
 def test_a_device_that_stops_hands_the_ticks_back_to_the_node_s_clock_after_the_timeout():
     """
     Without poses, the node's own clock runs the ticks again after device_timeout.

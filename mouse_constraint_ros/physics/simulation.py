@@ -66,8 +66,7 @@ class MouseSimulation:
         self._target: Optional[Vector3] = None
         # The last substep's impulse P and its h: the constraint force P / h, divided when read.
         self._impulse: Tuple[Vector3, float] = (ZERO, 1.0)
-        # The last step's impulses summed over its substeps (N s), and its dt (s).
-        self._tick_impulse: Tuple[Vector3, float] = (ZERO, 0.0)
+        self._tick_impulse: Tuple[Vector3, float] = (ZERO, 0.0)  # The last step's, and its dt.
         self._wrench: Tuple[Vector3, Vector3] = (ZERO, ZERO)
         self._friction_torque = 0.0
         # Simulated time (s): the sum of the steps taken; targets' arrival times are on it.
@@ -79,8 +78,7 @@ class MouseSimulation:
         self._staggered = False
         # The prepare stage of the steps (``step_plan``), made again when settings or h change.
         self._plan: Optional[StepPlan] = None
-        # The last substep's contacts (the floor's warm start) and their COM.
-        self._contacts: list = []
+        self._contacts: list = []  # The last substep's (the floor's warm start), their COM:
         self._contact_origin: Vector3 = ZERO
 
     @property
@@ -143,15 +141,17 @@ class MouseSimulation:
         Set the target at ``time`` (s of simulated time): its arrival, or its stamp if stamped.
 
         Timed targets form a stream whose velocity the joint follows with
-        ``TargetMotion.feed_forward``; a target without a time (as ``target = point`` sets)
-        is a jump. None frees the body. A stamped target arrived now (``TargetStream``).
+        ``TargetMotion.feed_forward``, the stream's only reader: without it, a target is a jump
+        (unfitted), as one without a time (``target = point``) is. None frees the body. A
+        stamped target arrived now (``TargetStream``).
         """
         if target is None:
             self._target = self._guide = None
             self._stream.clear()
             return
         target = finite_vector('target', target)
-        time = None if time is None else scalar('time', time)
+        time = None if time is None or not self._settings.target_motion.feed_forward \
+            else scalar('time', time)
         self._target = target
         self._stream.add(target, time, self._settings.target_motion.max_speed,
                          self._time if stamped else None)

@@ -68,11 +68,12 @@ FORCE_QOS = STATE_QOS
 # forward command controller's ``commands``: as ``force``, from the same tick.
 FORCE_ARRAY_TOPIC = 'force_array'
 # A target as a pose (PoseStamped: its position), as haptic device drivers publish their
-# handle. BEST_EFFORT, depth 1: drivers publish with sensor QoS (BEST_EFFORT) or RELIABLE, and a
+# handle. BEST_EFFORT: drivers publish with sensor QoS (BEST_EFFORT) or RELIABLE, and a
 # BEST_EFFORT reader matches both, where a RELIABLE one leaves a BEST_EFFORT writer unmatched.
-# Only the newest pose matters, and the next one comes a tick later.
+# Depth 5, the sensor-data profile's: with tick_source target_pose, poses that queue while the
+# node is busy each run their own tick; on the node's clock a tick takes the newest of them.
 TARGET_POSE_TOPIC = 'target_pose'
-TARGET_POSE_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
+TARGET_POSE_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5,
                              reliability=ReliabilityPolicy.BEST_EFFORT)
 WRENCH_TOPIC = 'wrench'
 PAUSE_SERVICE = '~/pause'
