@@ -195,7 +195,7 @@ def run(quick: bool = False) -> dict:
             f'{name}: {counts["published"]} poses published at {min(total["rate"]):.0f}-'
             f'{max(total["rate"]):.0f}/s, {counts["found"]} answered {how}, '
             f'{counts["superseded"]} replaced before taken, {counts["unexplained"]} forces no '
-            f'pose explains, {counts["own"]} ticks of the node\'s own clock among them; CPU '
+            f'pose explains, own-clock ticks among them: {counts["own"]}; CPU '
             f'{np.median(total["cpu"]):.1f} %, the device process '
             f'{np.median(total["observer_cpu"]):.1f} % (medians of the rounds), load '
             f'{max(total["load"]):.1f} at most.')

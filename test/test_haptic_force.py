@@ -15,11 +15,15 @@
 """The force out: what the pointer feels, exact to the momentum the body gains, through ROS."""
 
 from pathlib import Path
+import time
 
 from geometry_msgs.msg import WrenchStamped
 import numpy as np
 import pytest
+import rclpy
+from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
+from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from visualization_msgs.msg import Marker, MarkerArray
 
 from mouse_constraint_ros.monitoring.markers import marker_array
@@ -221,6 +225,56 @@ def test_publish_force_turned_off_and_on_again_keeps_its_publisher():
         poses = [stamp for stamp, _ in listener.poses]
         assert len(poses) == 60
         assert [stamp for stamp, _ in listener.forces] == poses[:20] + poses[40:]
+
+
+@pytest.mark.ros
+def test_a_reader_of_another_participant_gets_every_force_after_an_off_and_on():
+    """
+    A device driver's reader (its own participant, sensor QoS): no force lost to an off and on.
+
+    Its participant matched the force's publisher once; after publish_force goes off and on
+    again, the 20 ticks that follow at once each reach it. A publisher made anew at the on
+    would have to be discovered by the reader's participant first, and the forces of those
+    ticks would go nowhere.
+    """
+    # Two participants that discover each other (on this test's domain, localhost only): the
+    # harness's own context would discover nothing outside it.
+    context, node_context = rclpy.Context(), rclpy.Context()
+    rclpy.init(args=[], context=context)
+    rclpy.init(args=[], context=node_context)
+    try:
+        reader = Node('device_driver', context=context)
+        stamps = []
+        subscription = reader.create_subscription(
+            WrenchStamped, FORCE_TOPIC,
+            lambda message: stamps.append(messages.stamp_nanoseconds(message.header.stamp)),
+            QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
+                       reliability=ReliabilityPolicy.BEST_EFFORT))
+        executor = SingleThreadedExecutor(context=context)
+        executor.add_node(reader)
+
+        def drain(seconds: float, until=lambda: False) -> None:
+            deadline = time.monotonic() + seconds
+            while time.monotonic() < deadline and not until():
+                executor.spin_once(timeout_sec=0.01)
+
+        with SimulatedBody(context=node_context, publish_force=True,
+                           anchor=[0.0, 0.0, 0.0]) as body:
+            drain(10.0, lambda: subscription.get_publisher_count() > 0)
+            body.step(20)
+            drain(1.0, lambda: len(stamps) >= 20)
+            body.set_parameters(publish_force=False)
+            body.step(20)
+            body.set_parameters(publish_force=True)
+            after_on = []
+            for _ in range(20):
+                body.step(1)
+                after_on.append(round(body.time * 1e9))
+            drain(2.0, lambda: set(after_on) <= set(stamps))
+        assert set(after_on) <= set(stamps), f'{len(set(after_on) - set(stamps))} of 20 lost'
+    finally:
+        rclpy.try_shutdown(context=context)
+        rclpy.try_shutdown(context=node_context)
 
 
 def test_the_markers_draw_the_felt_force_from_the_anchor():
