@@ -47,14 +47,12 @@ from functools import partial
 import time
 
 from bench import ros_process
-from bench.force_latency import force_ticks, FORCE_TOLERANCE, preset
-from bench.latency import _decode, alternating, CURRENT, MIN_JUMP_M, pooled, resume, SPREAD_M
-from geometry_msgs.msg import PoseStamped, TwistStamped, WrenchStamped
+from bench.force_latency import device_ticks, force_ticks, FORCE_TOLERANCE, preset
+from bench.latency import _decode, alternating, MIN_JUMP_M, pooled, SPREAD_M
+from geometry_msgs.msg import WrenchStamped
 import numpy as np
 
 from mouse_constraint_ros.node.parameters import DEFAULTS, node_config
-from mouse_constraint_ros.physics import MouseSimulation
-from mouse_constraint_ros.wire.messages import felt_force, state_from_messages
 
 TRIALS = 8000
 QUICK_TRIALS = 1000
@@ -64,51 +62,6 @@ NODE = 'mouse_constraint_node, tick_source target_pose'
 CLOCKED = 'mouse_constraint_node, its own clock'
 ECHO = 'bare rclpy echo: bench.bare_timer --echo'
 TARGET_P99_TICKS = 1.0
-
-
-def node_answers(data: dict, parameters: dict) -> dict:
-    """Return, per pose the node ticked, its force's (stamp, receive ns), and the counts."""
-    config = node_config(dict(DEFAULTS, **parameters))
-    simulation = MouseSimulation(config.settings, config.initial_state)
-    dt = 1.0 / config.rate_hz
-    poses = _decode(data['pose_raw'], data['pose_recv_ns'], PoseStamped)
-    twists = _decode(data['twist_raw'], data['twist_recv_ns'], TwistStamped)
-    forces = _decode(data['force_raw'], data['force_recv_ns'], WrenchStamped)
-    targets = [tuple(float(c) for c in point) for point in data['targets']]
-    published = data['target_pub_ns']
-    stamps = sorted(forces)
-    current, following = config.initial_anchor(), 0
-    found, superseded, unexplained, own = {}, 0, 0, 0
-    for previous, stamp in zip(stamps, stamps[1:]):
-        if stamp < published[0]:
-            continue
-        if previous not in poses or previous not in twists:
-            unexplained += 1
-            continue
-        before = state_from_messages(poses[previous][0], twists[previous][0])
-        force, received = forces[stamp]
-        measured = (force.wrench.force.x, force.wrench.force.y, force.wrench.force.z)
-        candidates = [(k, targets[k]) for k in range(following, len(targets))
-                      if published[k] < received] + [(CURRENT, current)]
-        match = None
-        for index, target in candidates:
-            resume(simulation, before)
-            simulation.target = target
-            simulation.step(dt)
-            if max(abs(a - b) for a, b in zip(felt_force(simulation.tick_impulse),
-                                              measured)) <= FORCE_TOLERANCE:
-                match = index
-                break
-        if match is None:
-            unexplained += 1
-        elif match == CURRENT:
-            own += 1
-        else:
-            superseded += match - following
-            found[match] = (stamp, received)
-            current, following = targets[match], match + 1
-    return {'found': found, 'superseded': superseded, 'unexplained': unexplained,
-            'own': own, 'forces': len(forces)}
 
 
 def clocked_answers(data: dict, parameters: dict) -> dict:
@@ -164,7 +117,7 @@ def run(quick: bool = False) -> dict:
     runs = ((NODE, ros_process.node_command(parameters)),
             (CLOCKED, ros_process.node_command(clocked)),
             (ECHO, ros_process.bench_command('bare_timer', '--echo', '--twist', '--wrench')))
-    answers = {id(runs[0][1]): partial(node_answers, parameters=parameters),
+    answers = {id(runs[0][1]): partial(device_ticks, parameters=parameters),
                id(runs[1][1]): partial(clocked_answers, parameters=clocked)}
 
     def measure_round(command) -> dict:
@@ -195,7 +148,8 @@ def run(quick: bool = False) -> dict:
             f'{name}: {counts["published"]} poses published at {min(total["rate"]):.0f}-'
             f'{max(total["rate"]):.0f}/s, {counts["found"]} answered {how}, '
             f'{counts["superseded"]} replaced before taken, {counts["unexplained"]} forces no '
-            f'pose explains, own-clock ticks among them: {counts["own"]}; CPU '
+            'pose explains' + (f', {counts["own"]} tick(s) of the node\'s own clock'
+                               if name == NODE else '') + '; CPU '
             f'{np.median(total["cpu"]):.1f} %, the device process '
             f'{np.median(total["observer_cpu"]):.1f} % (medians of the rounds), load '
             f'{max(total["load"]):.1f} at most.')

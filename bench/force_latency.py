@@ -33,22 +33,22 @@ Beside the executable, whose ticks come from its own spin loop, run the node wit
 an rclpy timer (``bench.timer_node``) and the executable with ``tick_source: target_pose``
 (each pose runs one tick at once, its force right after), the three alternating over ROUNDS
 rounds of TRIALS / ROUNDS targets (as ``bench.latency``); each one's percentiles are over all
-its targets. With device ticks the force of a target is the first stamped at or after its
-publication, before the next target's (the node's own ticks are held back while poses come),
-and the replay from the previous tick's published state must give it, as above. The node sits
+its targets. With device ticks each force is matched to its pose by replay (``device_ticks``):
+from the state published with the force before it, the tick with that pose as the target must
+give it, as above (the node's own ticks are held back while poses come). The node sits
 idle between these sparse poses and each wakes it; a device at the node's rate, and its
 one-tick target, is ``bench.device_stream``.
 
 Standalone: ``python -m bench.force_latency [--quick]`` prints the section as JSON.
 """
 
-from bisect import bisect_left
 from pathlib import Path
 import time
 
 from bench import ros_process
-from bench.latency import _decode, alternating, GAP_S, MIN_JUMP_M, pooled, QUICK_ROUNDS
-from bench.latency import QUICK_TRIALS, reflecting_ticks, resume, ROUNDS, SPREAD_M, TRIALS
+from bench.latency import _decode, alternating, CURRENT, GAP_S, MIN_JUMP_M, pooled
+from bench.latency import QUICK_ROUNDS, QUICK_TRIALS, reflecting_ticks, resume, ROUNDS, SPREAD_M
+from bench.latency import TRIALS
 from geometry_msgs.msg import PoseStamped, TwistStamped, WrenchStamped
 import numpy as np
 import yaml
@@ -100,47 +100,66 @@ def force_ticks(data: dict, parameters: dict) -> dict:
             'forces': len(forces), 'poses': len(poses)}
 
 
-def device_force_ticks(data: dict, parameters: dict) -> dict:
+def device_ticks(data: dict, parameters: dict) -> dict:
     """
-    Return, per target, the device tick it ran: its force's stamp and receive time, checked.
+    Return, per pose the node ticked (``tick_source: target_pose``), its force, and the counts.
 
-    The tick is the first force stamped at or after the target's publication and before the
-    next target's; the replay from the state published by the tick before it must give its
-    force.
+    Each force after the first pose is matched by replay: from the state the node published
+    with the force before it, the tick with pose k as its target (k the next pose not yet
+    matched, or a later one published before the force came: the ones between were replaced
+    before the node took them) must give the published force to FORCE_TOLERANCE; else the
+    target in force (a tick of the node's own clock). ``found``: pose index -> (force stamp,
+    receive ns).
     """
     config = node_config(dict(DEFAULTS, **parameters))
     simulation = MouseSimulation(config.settings, config.initial_state)
+    dt = 1.0 / config.rate_hz
     poses = _decode(data['pose_raw'], data['pose_recv_ns'], PoseStamped)
     twists = _decode(data['twist_raw'], data['twist_recv_ns'], TwistStamped)
     forces = _decode(data['force_raw'], data['force_recv_ns'], WrenchStamped)
     targets = [tuple(float(c) for c in point) for point in data['targets']]
     published = data['target_pub_ns']
     stamps = sorted(forces)
-    found, mismatched, unanswered = {}, 0, 0
-    for index, sent in enumerate(published):
-        at = bisect_left(stamps, sent)
-        following = published[index + 1] if index + 1 < len(published) else None
-        if not 0 < at < len(stamps) or (following is not None and stamps[at] >= following):
-            unanswered += 1
+    current, following = config.initial_anchor(), 0
+    found, superseded, unexplained, own = {}, 0, 0, 0
+    for previous, stamp in zip(stamps, stamps[1:]):
+        if stamp < published[0]:
             continue
-        stamp, previous = stamps[at], stamps[at - 1]
         if previous not in poses or previous not in twists:
+            unexplained += 1
             continue
-        resume(simulation, state_from_messages(poses[previous][0], twists[previous][0]))
-        simulation.target = targets[index]
-        simulation.step(1.0 / config.rate_hz)
+        before = state_from_messages(poses[previous][0], twists[previous][0])
         force, received = forces[stamp]
-        published_force = force.wrench.force
-        error = max(abs(a - b) for a, b in zip(
-            felt_force(simulation.tick_impulse),
-            (published_force.x, published_force.y, published_force.z)))
-        if error > FORCE_TOLERANCE:
-            mismatched += 1
-            continue
-        found[index] = (stamp, received)
-    return {'found': found, 'mismatched': mismatched,
-            'replay': {'superseded': [None] * unanswered}, 'forces': len(forces),
-            'poses': len(poses)}
+        measured = (force.wrench.force.x, force.wrench.force.y, force.wrench.force.z)
+        candidates = [(k, targets[k]) for k in range(following, len(targets))
+                      if published[k] < received] + [(CURRENT, current)]
+        match = None
+        for index, target in candidates:
+            resume(simulation, before)
+            simulation.target = target
+            simulation.step(dt)
+            if max(abs(a - b) for a, b in zip(felt_force(simulation.tick_impulse),
+                                              measured)) <= FORCE_TOLERANCE:
+                match = index
+                break
+        if match is None:
+            unexplained += 1
+        elif match == CURRENT:
+            own += 1
+        else:
+            superseded += match - following
+            found[match] = (stamp, received)
+            current, following = targets[match], match + 1
+    return {'found': found, 'superseded': superseded, 'unexplained': unexplained,
+            'own': own, 'forces': len(forces), 'poses': len(poses)}
+
+
+def device_force_ticks(data: dict, parameters: dict) -> dict:
+    """Return ``device_ticks``'s result in ``force_ticks``'s shape."""
+    result = device_ticks(data, parameters)
+    return {'found': result['found'], 'mismatched': result['unexplained'],
+            'replay': {'superseded': [None] * result['superseded']},
+            'forces': result['forces'], 'poses': result['poses']}
 
 
 def measure(command, parameters: dict, trials: int, ticks=force_ticks) -> dict:
