@@ -48,7 +48,6 @@ from typing import List, Tuple
 
 from . import floor_energy, normal_block
 from .algebra import congruence, rotation_matrix, Vector3
-from .collision import PLAIN_VERTICES
 from .floor_energy import CONVERGED_SPEED, twice_energy
 
 # Fraction of the penetration beyond the slop that the split impulses remove per substep.
@@ -155,7 +154,7 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
             wz += pn * nz + pt * tz + pb * bz
         rows.append([index, rx, ry, rz, s, nx, ny, nz, tx, ty, tz, bx, by, bz,
                      kn, 1.0 / kn, 1.0 / kt, 1.0 / kb, goal, pn, pt, pb, bounce])
-    block = len(shape.vertices) > PLAIN_VERTICES and 1 < len(rows) <= normal_block.MOST_CONTACTS
+    block = shape.hull is not None and 1 < len(rows) <= normal_block.MOST_CONTACTS
     velocities, converged = _sweeps(rows, (vx, vy, vz, wx, wy, wz), im, friction, iterations,
                                     block)
     if warmed and not converged:
