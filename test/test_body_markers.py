@@ -24,10 +24,8 @@ q q_piece; a 4 x 4 product of the two transforms checks them all once more.
 import math
 from pathlib import Path
 
-from geometry_msgs.msg import PoseStamped
 import numpy as np
 import pytest
-from rclpy.node import Node
 from scipy.spatial.transform import Rotation
 from visualization_msgs.msg import Marker, MarkerArray
 
@@ -38,6 +36,7 @@ from mouse_constraint_ros.monitoring.body_markers import (compose, drawn_pieces,
 from mouse_constraint_ros.monitoring.markers import BODY_COLOR, marker_array, SPHERE_FRACTION
 from mouse_constraint_ros.physics import BodyState
 from mouse_constraint_ros.wire.messages import stamp_nanoseconds
+from test_support.marker_viewer import marker_viewer
 from test_support.meshes import cube, geometry, inertial, mug, urdf, write
 
 HALF = math.sqrt(0.5)
@@ -235,12 +234,7 @@ def test_the_node_draws_its_urdf_link_at_the_published_link_pose(simulated_body_
                                   initial_orientation=list(LINK.orientation),
                                   angular_damping=0.0, gravity=[0.0, 0.0, 0.0],
                                   hold_initial_anchor=False)
-    viewer = Node('viewer', context=body.context)
-    arrays, poses = [], {}
-    viewer.create_subscription(MarkerArray, '/mouse_constraint/markers', arrays.append, 10)
-    viewer.create_subscription(PoseStamped, 'pose', lambda p: poses.__setitem__(
-        stamp_nanoseconds(p.header.stamp), p), 1000)
-    body.add_node(viewer)
+    arrays, poses = marker_viewer(body)
     body.step(10)
     body.step_until(lambda: len(arrays) > 1, max_ticks=100_000)
     box, sphere = body_of(arrays[-1])

@@ -17,10 +17,8 @@
 import math
 import time
 
-from geometry_msgs.msg import PoseStamped
 import numpy as np
 import pytest
-from rclpy.node import Node
 from rclpy.parameter import Parameter
 from visualization_msgs.msg import Marker
 from visualization_msgs.msg import MarkerArray
@@ -36,6 +34,7 @@ from mouse_constraint_ros.physics import RigidBody
 from mouse_constraint_ros.physics import Settings
 from mouse_constraint_ros.physics import STANDARD_GRAVITY
 from mouse_constraint_ros.wire.messages import stamp_nanoseconds
+from test_support.marker_viewer import marker_viewer
 
 BOX = (0.3, 0.2, 0.1)
 STATE = BodyState((0.1, 0.2, 0.9), (0.0, 0.0, math.sin(0.3), math.cos(0.3)), (1.0, 0.0, 0.0),
@@ -148,12 +147,7 @@ def test_node_publishes_the_markers_of_the_latest_tick_in_its_frame(simulated_bo
     node = body.node
     # The box drawn is the box whose inertia the body has (inertia all zeros: a solid box).
     assert node.simulation.settings.body == RigidBody.solid_box(3.0, BOX)
-    viewer = Node('viewer', context=body.context)
-    arrays, poses = [], {}
-    viewer.create_subscription(MarkerArray, '/mouse_constraint/markers', arrays.append, 10)
-    viewer.create_subscription(PoseStamped, 'pose', lambda p: poses.__setitem__(
-        stamp_nanoseconds(p.header.stamp), p), 1000)
-    body.add_node(viewer)
+    arrays, poses = marker_viewer(body)
     target = (0.3, 0.1, 1.1)
     body.target(target, frame_id='map')
     body.step(200)

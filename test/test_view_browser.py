@@ -43,15 +43,15 @@ from scipy.spatial.transform import Rotation
 pytest.importorskip('viser', reason='mouse_view needs viser: pip install -r requirements/view.txt')
 from mouse_constraint_ros.inputs.grab import box_distance
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
-from mouse_constraint_ros.pointer.geometry import camera_plane_point, FRAME_FRACTION, world_point
+from mouse_constraint_ros.pointer.geometry import FRAME_FRACTION, world_point
 from mouse_constraint_ros.view.command import page_address
 from mouse_constraint_ros.view.node import MouseViewNode
 from mouse_constraint_ros.view.scene import ViewScene
 from mouse_constraint_ros.view.server import start
 from test_support import browser_page
-from test_support.browser_page import (camera_known, clear_of_the_panel, newest_client,
-                                       PinholeCamera, press_until_grabbed, spinning, VIEWPORT,
-                                       wait_for)
+from test_support.browser_page import (camera_known, clear_of_the_panel, drag_and_follow,
+                                       newest_client, PinholeCamera, press_until_grabbed,
+                                       spinning, VIEWPORT, wait_for)
 
 pytestmark = pytest.mark.browser
 
@@ -98,17 +98,9 @@ def test_a_real_mouse_grabs_drags_and_releases_the_body(ros, chromium_page, tmp_
             camera, press = _grab(page, node, lambda: _aim(server, view))
             anchor = np.array(node.get_parameter('anchor').value)
             assert box_distance(anchor, BOX) <= node.get_parameter('grab_margin').value
-            grabbed = world_point(view.latest_pose(), anchor)
             end = press + DRAG
-            page.mouse.move(*end, steps=12)
-            expected = camera_plane_point(camera.position, camera.ray(end), through=grabbed,
-                                          normal=camera.forward)
-            wait_for(lambda: node.simulation.target is not None and np.linalg.norm(
-                np.subtract(node.simulation.target, expected)) < 0.01, 10.0,
-                "the target reached the pointer's plane point")
-            wait_for(lambda: np.linalg.norm(np.subtract(world_point(
-                view.latest_pose(), anchor), expected)) < 0.01, 10.0,
-                "the anchor followed the drag to the pointer's plane point")
+            drag_and_follow(page, node, view, camera, end, anchor=anchor, steps=12,
+                            tolerance=0.01)
             # The picture while the body is on its way back: target, line and trail in sight.
             page.mouse.move(*(end - 1.5 * DRAG), steps=4)
             time.sleep(1.0)

@@ -36,14 +36,15 @@ import trimesh
 # mouse_view serves its page with viser (requirements/view.txt; no rosdep key: package.xml).
 pytest.importorskip('viser', reason='mouse_view needs viser: pip install -r requirements/view.txt')
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
-from mouse_constraint_ros.pointer.geometry import camera_plane_point, local_point, world_point
+from mouse_constraint_ros.pointer.geometry import local_point, world_point
 from mouse_constraint_ros.view.command import page_address
 from mouse_constraint_ros.view.node import MouseViewNode
 from mouse_constraint_ros.view.scene import ViewScene
 from mouse_constraint_ros.view.server import start
 from test_support import browser_page
-from test_support.browser_page import (camera_known, clear_of_the_panel, newest_client,
-                                       PinholeCamera, press_until_grabbed, spinning, wait_for)
+from test_support.browser_page import (camera_known, clear_of_the_panel, drag_and_follow,
+                                       newest_client, PinholeCamera, press_until_grabbed,
+                                       spinning, wait_for)
 from test_support.meshes import geometry, MUG_HEIGHT, MUG_RADIUS, urdf, write
 from test_support.meshes import mug as mug_mesh
 
@@ -103,17 +104,8 @@ def test_a_real_mouse_grabs_the_mug_on_its_mesh_and_drags_it(ros, chromium_page,
             _, distance, _ = trimesh.proximity.closest_point(mesh, [anchor])
             print(f'the anchor lies {distance[0]:.3g} m from the mesh surface')
             assert distance[0] <= ON_THE_SURFACE, (anchor, distance[0])
-            grabbed = world_point(view.latest_pose(), anchor)
-            end = press + DRAG
-            page.mouse.move(*end, steps=8)
-            expected = camera_plane_point(camera.position, camera.ray(end), through=grabbed,
-                                          normal=camera.forward)
-            wait_for(lambda: node.simulation.target is not None and np.linalg.norm(
-                np.subtract(node.simulation.target, expected)) < 0.0025, 10.0,
-                "the target reached the pointer's plane point")
-            wait_for(lambda: np.linalg.norm(np.subtract(world_point(
-                view.latest_pose(), anchor), expected)) < 0.0025, 10.0,
-                "the anchor followed the drag to the pointer's plane point")
+            drag_and_follow(page, node, view, camera, press + DRAG, anchor=anchor, steps=8,
+                            tolerance=0.0025)
             moved = np.linalg.norm(np.array(view.latest_pose().position) - start_position)
             assert moved > 0.02, moved
             page.screenshot(path=str(Path(tmp_path) / 'mug.png'))

@@ -20,7 +20,8 @@ missing); ``spinning`` spins an in-process harness on a thread while Playwright 
 browser; ``PinholeCamera`` turns the camera a page reports into pixels and rays, so that the
 mouse is aimed at a point of the body; ``newest_client`` is the page's connection to aim with;
 ``press_until_grabbed`` presses on the body until the node took the grab (the page's first frame
-comes late in software rendering).
+comes late in software rendering); ``drag_and_follow`` drags it to a pixel and waits for the
+target and the anchor to reach the pointer's plane point.
 """
 
 import contextlib
@@ -33,6 +34,8 @@ from typing import Callable, Iterator, Tuple
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
+
+from mouse_constraint_ros.pointer.geometry import camera_plane_point, world_point
 
 CHROMIUM = '/usr/bin/chromium'
 CHROMIUM_ARGS = ['--headless', '--no-sandbox', '--disable-gpu', '--disable-background-networking',
@@ -172,3 +175,29 @@ def press_until_grabbed(page, aim: Callable[[], Tuple[PinholeCamera, np.ndarray]
                 pytest.fail(f'no grab reached the node within {timeout:g} s of pressing at '
                             f'{press}: see {shot.with_name("view-no-grab.png")}')
             time.sleep(1.0)
+
+
+def drag_and_follow(page, node, view, camera: PinholeCamera, pixel, *, anchor, steps: int,
+                    tolerance: float) -> None:
+    """
+    Drag the held pointer to ``pixel``; wait until the target and the anchor follow it.
+
+    Where they go is the point under ``pixel`` on the camera-facing plane through the grabbed
+    point (the anchor's world point before the drag), as the view's drag places it.
+
+    :param node: the ``MouseConstraintNode`` (its simulation's target).
+    :param view: the ``MouseViewNode`` (its latest pose).
+    :param anchor: the anchor, body frame (m).
+    :param steps: Playwright's mouse move steps.
+    :param tolerance: how near (m) the target and the anchor must come.
+    """
+    grabbed = world_point(view.latest_pose(), anchor)
+    page.mouse.move(*pixel, steps=steps)
+    expected = camera_plane_point(camera.position, camera.ray(pixel), through=grabbed,
+                                  normal=camera.forward)
+    wait_for(lambda: node.simulation.target is not None and np.linalg.norm(
+        np.subtract(node.simulation.target, expected)) < tolerance, 10.0,
+        "the target reached the pointer's plane point")
+    wait_for(lambda: np.linalg.norm(np.subtract(world_point(
+        view.latest_pose(), anchor), expected)) < tolerance, 10.0,
+        "the anchor followed the drag to the pointer's plane point")
