@@ -1,0 +1,379 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+A robot dragged by the mouse constraint on any of its links: its state, target and step.
+
+The state is the configuration q and the generalized momentum p = M(q) v. A substep h is
+symplectic Euler on Hamilton's equations, the momentum first:
+
+1. free motion: p' = p + h (C(q, v*)^T v* - g(q) - D v*), v* = M(q)^-1 p', solved by two
+   fixed-point passes from v* = M(q)^-1 p (D: the joints' ``<dynamics damping>``, implicit);
+   then the ``linear_damping`` and ``angular_damping`` rates, exp(-c h);
+2. the rows (``robot_rows``): the mouse on its link, the position limits near their stops,
+   joint friction and the speed limits, by sequential impulses on v* with M(q);
+3. positions: q' = q (+) h v* (Pinocchio's ``integrate``), and p' = M(q) v* kept.
+
+The velocity-dependent term is the one that makes this conserve energy: d(M v)/dt =
+tau - C v - g + dM/dt v, and dM/dt = C + C^T (Pinocchio's C), so dp/dt = tau + C^T v - g. Taken
+implicitly in v*, as symplectic Euler takes the momentum, the energy of a free swing oscillates
+within O(h) of its start instead of drifting. Plain semi-implicit Euler on v,
+v' = v + h M^-1 (tau - C v - g), gains a fraction of the energy every swing
+(docs/robots.md has the figures). As the single body's (``kernel.stagger``), a new state's
+momentum is moved back half a substep first, which makes the positions second-order accurate.
+"""
+
+import math
+from typing import Optional, Sequence, Tuple
+
+import numpy as np
+import pinocchio
+
+from .mouse_joint import MouseConstraint
+from .robot_model import RobotModel
+from .robot_rows import (bounded_row, JointRow, limit_row, mimic_row, mouse_rows, RowSolution,
+                         solve_rows)
+from .robot_state import RobotSettings, RobotState
+from .state import BodyState
+from .validation import finite_vector, scalar
+
+WORLD_ALIGNED = pinocchio.ReferenceFrame.LOCAL_WORLD_ALIGNED
+FIXED_POINT_PASSES = 2
+
+
+def skew(r: np.ndarray) -> np.ndarray:
+    """Return [r]x, the cross product's matrix."""
+    return np.array(((0.0, -r[2], r[1]), (r[2], 0.0, -r[0]), (-r[1], r[0], 0.0)))
+
+
+class RobotSimulation:
+    """
+    The robot, its settings, its grab and its target, advanced by ``step``.
+
+    :param model: the robot (``robot_model``).
+    :param settings: the step's settings.
+    :param initial_state: where ``reset`` returns to.
+    """
+
+    def __init__(self, model: RobotModel, settings: RobotSettings,
+                 initial_state: RobotState) -> None:
+        """Start at ``initial_state``, nothing grabbed."""
+        self.model = model
+        self._data = model.model.createData()
+        self._initial_state = self._checked(initial_state)
+        self._settings = settings
+        self._set_gravity()
+        self._target: Optional[np.ndarray] = None
+        self._anchor: Optional[Tuple[int, np.ndarray]] = None
+        self._wrench = (np.zeros(3), np.zeros(3))
+        self._time = 0.0
+        self.reset()
+
+    # --- configuration ----------------------------------------------------------------------
+    @property
+    def settings(self) -> RobotSettings:
+        """Return the settings in force."""
+        return self._settings
+
+    @settings.setter
+    def settings(self, settings: RobotSettings) -> None:
+        if not isinstance(settings, RobotSettings):
+            raise ValueError(f'settings must be a RobotSettings, got {settings!r}')
+        self._settings = settings
+        self._set_gravity()
+
+    def _set_gravity(self) -> None:
+        self.model.model.gravity.linear = np.array(self._settings.gravity, dtype=float)
+
+    def _checked(self, state: RobotState) -> RobotState:
+        q = np.array(state.q, dtype=float)
+        v = np.array(state.v, dtype=float)
+        if q.shape != (self.model.nq,) or v.shape != (self.model.nv,):
+            raise ValueError(f'a state needs q of {self.model.nq} and v of {self.model.nv} '
+                             f'numbers, got {q.shape} and {v.shape}')
+        if not (np.all(np.isfinite(q)) and np.all(np.isfinite(v))):
+            raise ValueError('a state must be finite')
+        return RobotState(pinocchio.normalize(self.model.model, q), v)
+
+    @property
+    def initial_state(self) -> RobotState:
+        """Return the state that ``reset`` returns to."""
+        return self._initial_state
+
+    @initial_state.setter
+    def initial_state(self, state: RobotState) -> None:
+        self._initial_state = self._checked(state)
+
+    def set_state(self, state: RobotState) -> None:
+        """Replace the current state (checked; its momentum is staggered at the next step)."""
+        state = self._checked(state)
+        self._q = state.q
+        self._mass_matrix = self._crba(self._q)
+        self._p = self._mass_matrix @ state.v
+        self._staggered = False
+
+    def reset(self) -> None:
+        """Return to the initial state; drop the target and the grab's target."""
+        self.set_state(self._initial_state)
+        self._target = None
+        self._mouse_impulse = (np.zeros(3), 1.0)
+        self._tick_torque = np.zeros(self.model.nv)
+        self._limit_torque = np.zeros(self.model.nv)
+
+    # --- inputs -------------------------------------------------------------------------------
+    def grab(self, link: str, point: Sequence[float]) -> None:
+        """Hold ``point`` (m, in ``link``'s frame) of ``link`` with the mouse constraint."""
+        if link not in self.model.link_frames:
+            raise ValueError(f'the robot has no link {link!r}')
+        self._anchor = (self.model.link_frames[link], np.array(finite_vector('anchor', point)))
+
+    @property
+    def anchor(self) -> Optional[Tuple[str, Tuple[float, ...]]]:
+        """Return the grabbed link's name and the point held (its frame), or None."""
+        if self._anchor is None:
+            return None
+        frame, point = self._anchor
+        return self.model.model.frames[frame].name, tuple(float(x) for x in point)
+
+    @property
+    def target(self) -> Optional[Tuple[float, ...]]:
+        """Return the target the anchor is pulled to (m, world), or None."""
+        return None if self._target is None else tuple(float(x) for x in self._target)
+
+    @target.setter
+    def target(self, target: Optional[Sequence[float]]) -> None:
+        self._target = None if target is None else np.array(finite_vector('target', target))
+
+    @property
+    def wrench(self) -> Tuple[Tuple[float, ...], Tuple[float, ...]]:
+        """Return the external force (N) and torque (N m) on the tracked link, world frame."""
+        return tuple(self._wrench[0]), tuple(self._wrench[1])
+
+    def set_wrench(self, force: Sequence[float], torque: Sequence[float],
+                   link: str) -> None:
+        """Apply ``force`` at ``link``'s frame origin and ``torque`` on it (world frame)."""
+        if link not in self.model.link_frames:
+            raise ValueError(f'the robot has no link {link!r}')
+        self._wrench_frame = self.model.link_frames[link]
+        self._wrench = (np.array(finite_vector('wrench force', force)),
+                        np.array(finite_vector('wrench torque', torque)))
+
+    # --- readings -----------------------------------------------------------------------------
+    @property
+    def time(self) -> float:
+        """Return the simulated seconds so far."""
+        return self._time
+
+    @property
+    def state(self) -> RobotState:
+        """Return q and v = M(q)^-1 p."""
+        return RobotState(self._q.copy(), np.linalg.solve(self._mass_matrix, self._p))
+
+    def joint_positions(self) -> Tuple[float, ...]:
+        """Return each moving joint's position (rad or m)."""
+        return self.model.joint_positions(self._q)
+
+    def joint_velocities(self) -> Tuple[float, ...]:
+        """Return each moving joint's velocity (rad/s or m/s)."""
+        v = self.state.v
+        return tuple(float(v[joint.v_index]) for joint in self.model.joints)
+
+    def joint_efforts(self) -> Tuple[float, ...]:
+        """Return each joint's torque (N m or N) from the mouse and the limits, the last step's."""
+        torque = self._tick_torque
+        return tuple(float(torque[joint.v_index]) for joint in self.model.joints)
+
+    @property
+    def constraint_force(self) -> Tuple[float, float, float]:
+        """Return the mouse constraint's force P / h of the last substep (N), world frame."""
+        impulse, h = self._mouse_impulse
+        return tuple(float(x) / h for x in impulse)
+
+    def link_state(self, link: str) -> BodyState:
+        """Return ``link``'s frame: pose and velocities of its origin, world frame."""
+        frame = self.model.link_frames[link]
+        model, data = self.model.model, self._data
+        v = self.state.v
+        pinocchio.forwardKinematics(model, data, self._q, v)
+        placement = pinocchio.updateFramePlacement(model, data, frame)
+        twist = pinocchio.getFrameVelocity(model, data, frame, WORLD_ALIGNED)
+        x, y, z, w = pinocchio.Quaternion(placement.rotation).coeffs()
+        return BodyState(tuple(float(c) for c in placement.translation),
+                         (float(x), float(y), float(z), float(w)),
+                         tuple(float(c) for c in twist.linear),
+                         tuple(float(c) for c in twist.angular))
+
+    def link_placements(self) -> dict:
+        """Return every link's (position, rotation matrix) in the world."""
+        model, data = self.model.model, self._data
+        pinocchio.framesForwardKinematics(model, data, self._q)
+        return {name: (data.oMf[frame].translation.copy(), data.oMf[frame].rotation.copy())
+                for name, frame in self.model.link_frames.items()}
+
+    def anchor_position(self) -> Optional[np.ndarray]:
+        """Return the anchor's world position, or None when nothing is grabbed."""
+        if self._anchor is None:
+            return None
+        frame, point = self._anchor
+        pinocchio.framesForwardKinematics(self.model.model, self._data, self._q)
+        return self._data.oMf[frame].act(point)
+
+    def energy(self) -> float:
+        """Return the robot's energy: kinetic plus gravity's potential (J)."""
+        model, data = self.model.model, self._data
+        v = self.state.v
+        return float(pinocchio.computeKineticEnergy(model, data, self._q, v)
+                     + pinocchio.computePotentialEnergy(model, data, self._q))
+
+    # --- the step -----------------------------------------------------------------------------
+    def _crba(self, q: np.ndarray) -> np.ndarray:
+        upper = pinocchio.crba(self.model.model, self._data, q)
+        return np.triu(upper) + np.triu(upper, 1).T
+
+    def _momentum_rate(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """Return dp/dt = C(q, v)^T v - g(q) + the wrench's torques (no damping, no rows)."""
+        model, data = self.model.model, self._data
+        rate = pinocchio.computeCoriolisMatrix(model, data, q, v).T @ v \
+            - pinocchio.computeGeneralizedGravity(model, data, q)
+        force, torque = self._wrench
+        if force.any() or torque.any():
+            pinocchio.computeJointJacobians(model, data, q)
+            jacobian = pinocchio.getFrameJacobian(model, data, self._wrench_frame, WORLD_ALIGNED)
+            rate += jacobian.T @ np.concatenate((force, torque))
+        return rate
+
+    def step(self, dt: float) -> RobotState:
+        """Advance ``dt`` seconds in ``settings.substeps`` substeps; return the new state."""
+        dt = scalar('dt', dt, above=0.0, at_most=1.0)
+        settings = self._settings
+        h = dt / settings.substeps
+        damping = self._joint_damping()
+        if not self._staggered:
+            v = np.linalg.solve(self._mass_matrix, self._p)
+            self._p = self._p - 0.5 * h * (self._momentum_rate(self._q, v) - damping * v)
+            self._staggered = True
+        torque_sum = np.zeros(self.model.nv)
+        limit_sum = np.zeros(self.model.nv)
+        for _ in range(settings.substeps):
+            solution = self._substep(h, damping)
+            torque_sum += solution.joint_impulse
+            limit_sum += solution.limit_impulse
+        self._tick_torque = torque_sum / dt
+        self._limit_torque = limit_sum / dt
+        self._time += dt
+        return self.state
+
+    def _joint_damping(self) -> np.ndarray:
+        damping = np.zeros(self.model.nv)
+        for joint in self.model.joints:
+            damping[joint.v_index] = joint.damping
+        return damping
+
+    def _decay(self) -> np.ndarray:
+        """Return the body damping's rate per coordinate of v (1/s)."""
+        settings = self._settings
+        rates = np.zeros(self.model.nv)
+        if self.model.floating:
+            rates[0:3] = settings.linear_damping
+            rates[3:6] = settings.angular_damping
+        for joint in self.model.joints:
+            rates[joint.v_index] = settings.linear_damping if joint.kind == 'prismatic' \
+                else settings.angular_damping
+        return rates
+
+    def _substep(self, h: float, damping: np.ndarray) -> RowSolution:
+        q, p, mass = self._q, self._p, self._mass_matrix
+        # 1. free motion: the momentum, implicit in the velocity it moves the positions with.
+        damped_mass = mass + h * np.diag(damping)
+        v = np.linalg.solve(mass, p)
+        for _ in range(FIXED_POINT_PASSES):
+            v = np.linalg.solve(damped_mass, p + h * self._momentum_rate(q, v))
+        rates = self._decay()
+        if rates.any():
+            v = v * np.exp(-rates * h)
+        # 2. the rows, on v with M(q).
+        inverse_mass = np.linalg.inv(mass)
+        inverse_mass = 0.5 * (inverse_mass + inverse_mass.T)
+        mouse = self._mouse_rows(q, v, inverse_mass, h)
+        joints = self._joint_rows(q, v, inverse_mass, h)
+        solution = solve_rows(v, mouse, joints, self._settings.iterations)
+        self._mouse_impulse = (solution.mouse_impulse, h)
+        # 3. positions, and the momentum carried at the new configuration.
+        self._p = mass @ v
+        self._q = pinocchio.integrate(self.model.model, q, h * v)
+        self._mass_matrix = self._crba(self._q)
+        return solution
+
+    def _mouse_rows(self, q: np.ndarray, v: np.ndarray, inverse_mass: np.ndarray, h: float):
+        if self._target is None or self._anchor is None:
+            return None
+        model, data = self.model.model, self._data
+        frame, point = self._anchor
+        pinocchio.computeJointJacobians(model, data, q)
+        placement = pinocchio.updateFramePlacement(model, data, frame)
+        lever = placement.rotation @ point
+        jacobian6 = pinocchio.getFrameJacobian(model, data, frame, WORLD_ALIGNED)
+        jacobian = jacobian6[:3] - skew(lever) @ jacobian6[3:]
+        error = placement.translation + lever - self._target
+        constraint = self._settings.constraint
+        return mouse_rows(jacobian, inverse_mass, error, constraint.gains(h),
+                          h * self.force_bound())
+
+    def force_bound(self) -> float:
+        """Return the bound on the constraint force (N): max_force and max_force_per_weight."""
+        constraint: MouseConstraint = self._settings.constraint
+        if math.isinf(constraint.max_force_per_weight):
+            return constraint.max_force
+        weight = self.model.mass * (float(np.linalg.norm(self._settings.gravity)) or 9.80665)
+        return min(constraint.max_force, constraint.max_force_per_weight * weight)
+
+    def _joint_rows(self, q: np.ndarray, v: np.ndarray, inverse_mass: np.ndarray,
+                    h: float) -> list:
+        settings = self._settings
+        rows: list = []
+        for joint in self.model.joints:
+            index = joint.v_index
+            speed = abs(float(v[index]))
+            if joint.limited:
+                position = float(q[joint.q_index])
+                reach = settings.limit_slop * 4.0 + 4.0 * h * speed
+                for bound, upper_side in ((joint.lower, False), (joint.upper, True)):
+                    distance = bound - position if upper_side else position - bound
+                    if distance <= reach:
+                        rows.append(limit_row(index, inverse_mass, distance, h,
+                                              settings.limit_slop, settings.limit_baumgarte,
+                                              upper_side))
+            if joint.friction > 0.0:
+                rows.append(bounded_row(index, inverse_mass, 0.0, h * joint.friction))
+            if math.isfinite(joint.velocity) and speed > 0.5 * joint.velocity:
+                rows.append(self._speed_row(joint, index, inverse_mass, h, float(v[index])))
+        positions = self.model.joint_positions(q)
+        order = {joint.name: number for number, joint in enumerate(self.model.joints)}
+        for mimic in self.model.mimics:
+            error = positions[order[mimic.follower.name]] - (
+                mimic.multiplier * positions[order[mimic.leader.name]] + mimic.offset)
+            rows.append(mimic_row(mimic.follower.v_index, mimic.leader.v_index,
+                                  mimic.multiplier, error, inverse_mass, h,
+                                  settings.limit_baumgarte))
+        return rows
+
+    @staticmethod
+    def _speed_row(joint, index: int, inverse_mass: np.ndarray, h: float,
+                   velocity: float) -> JointRow:
+        """Return the brake that keeps |v_i| <= the joint's velocity, with at most its effort."""
+        bound = h * joint.effort
+        mobility = inverse_mass[:, index].copy()
+        if velocity > 0.0:
+            return JointRow(index, mobility, 1.0 / mobility[index], joint.velocity, -bound, 0.0)
+        return JointRow(index, mobility, 1.0 / mobility[index], -joint.velocity, 0.0, bound)

@@ -1,0 +1,191 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""The whole robot's step (physics.robot_simulation): energy, accuracy, damping, limits, drag."""
+
+import math
+
+import numpy as np
+import pinocchio
+import pytest
+
+from mouse_constraint_ros.description.robot_description import load_robot
+from mouse_constraint_ros.physics.mouse_joint import MouseConstraint
+from mouse_constraint_ros.physics.robot_simulation import RobotSimulation
+from mouse_constraint_ros.physics.robot_state import initial_state, RobotSettings
+from test_support.robots import (collection_urdf, double_pendulum, double_pendulum_tip, G)
+
+START = math.radians(60.0)
+DT = 1e-3
+
+
+def pendulum(text: str = double_pendulum(), settings: RobotSettings = RobotSettings(),
+             positions=(START, 0.0)) -> RobotSimulation:
+    """Return the double pendulum released from ``positions``."""
+    robot = load_robot(text)
+    model = robot.model
+    return RobotSimulation(model, settings,
+                           initial_state(model, joint_positions=positions))
+
+
+def swing_energy(simulation: RobotSimulation) -> float:
+    """Return the energy above the hanging rest: the swing's (J)."""
+    model = simulation.model
+    data = model.model.createData()
+    rest = pinocchio.computePotentialEnergy(model.model, data, pinocchio.neutral(model.model))
+    return simulation.energy() - rest
+
+
+def test_a_double_pendulum_keeps_its_energy_within_a_thousandth_of_its_swing():
+    simulation = pendulum()
+    swing = swing_energy(simulation)
+    start = simulation.energy()
+    means = []
+    for _second in range(10):
+        total = 0.0
+        for _tick in range(1000):
+            simulation.step(DT)
+            total += simulation.energy()
+        means.append(total / 1000.0)
+    drift = np.abs(np.array(means) - start) / swing
+    assert drift.max() < 1e-3, drift
+
+
+def test_plain_semi_implicit_euler_would_gain_energy_on_the_same_chain():
+    # The contrast that makes the momentum form necessary: v' = v + h M^-1 (tau - C v - g).
+    simulation = pendulum()
+    model, data = simulation.model.model, simulation.model.model.createData()
+    q, v = simulation.state
+    swing = swing_energy(simulation)
+    energy = pinocchio.computeKineticEnergy(model, data, q, v) \
+        + pinocchio.computePotentialEnergy(model, data, q)
+    means = []
+    for _second in range(10):
+        total = 0.0
+        for _tick in range(1000):
+            v = v + DT * pinocchio.aba(model, data, q, v, np.zeros(model.nv))
+            q = pinocchio.integrate(model, q, DT * v)
+            total += pinocchio.computeKineticEnergy(model, data, q, v) \
+                + pinocchio.computePotentialEnergy(model, data, q)
+        means.append(total / 1000.0)
+    assert (means[-1] - energy) / swing > 1e-2
+
+
+def test_the_tip_follows_the_closed_equations_within_a_millimetre_rms():
+    simulation = pendulum()
+    times = np.arange(1, 2001) * DT
+    tips = []
+    for _tick in times:
+        simulation.step(DT)
+        tips.append(simulation.link_state('tip').position)
+    tips = np.array(tips)[:, (0, 2)]
+    reference = double_pendulum_tip(times, START, gravity=G)
+    errors = np.linalg.norm(tips - reference, axis=1)
+    assert math.sqrt(np.mean(errors ** 2)) < 1e-3
+    # The swing is a real one: the tip travels far more than the error.
+    assert np.ptp(reference[:, 0]) > 0.5
+
+
+def test_a_damped_arm_settles_where_gravitys_torques_vanish():
+    # A bent arm whose lower link carries its mass off the axis: it settles hanging, its COM
+    # under the shoulder, where g(q) = 0 (not at q = 0).
+    text = double_pendulum(kind='revolute', damping=2.0,
+                           limit='<limit lower="-3" upper="3" effort="10" velocity="10"/>')
+    text = text.replace('<origin xyz="0 0 -0.25"/><mass value="1.0"/>',
+                        '<origin xyz="0.1 0 -0.25"/><mass value="1.0"/>', 2)
+    simulation = pendulum(text, positions=(1.0, -0.5))
+    for _tick in range(20000):
+        simulation.step(DT)
+    model = simulation.model.model
+    q, v = simulation.state
+    gravity = pinocchio.computeGeneralizedGravity(model, model.createData(), q)
+    assert np.abs(gravity).max() < 1e-6 * simulation.model.mass * G
+    assert np.abs(v).max() < 1e-6
+    assert abs(simulation.joint_positions()[0]) > 0.05  # the offset mass turns it off zero
+
+
+def test_a_limit_stops_a_falling_link_within_the_slop():
+    text = double_pendulum(kind='revolute',
+                           limit='<limit lower="-0.3" upper="0.3" effort="10" velocity="50"/>')
+    settings = RobotSettings()
+    simulation = pendulum(text, settings, positions=(0.29, 0.0))
+    worst = 0.0
+    for _tick in range(3000):
+        simulation.step(DT)
+        for position in simulation.joint_positions():
+            worst = max(worst, abs(position) - 0.3)
+    assert worst <= settings.limit_slop
+    assert min(simulation.joint_positions()) > -0.3 - settings.limit_slop
+
+
+def test_the_mouse_on_the_middle_link_holds_it_and_its_force_is_the_constraints():
+    simulation = pendulum(positions=(0.0, 0.0))
+    simulation.grab('lower', (0.0, 0.0, -0.25))
+    target = np.array((0.2, 0.0, -0.6))
+    simulation.target = target
+    for _tick in range(3000):
+        simulation.step(DT)
+    assert np.linalg.norm(simulation.anchor_position() - target) < 1e-6
+    # At rest the joint carries what gravity does not hand to the base: the impulse's torques
+    # J^T P / h balance g(q) at each joint.
+    model = simulation.model.model
+    q, _ = simulation.state
+    gravity = pinocchio.computeGeneralizedGravity(model, model.createData(), q)
+    assert np.allclose(simulation.joint_efforts(), gravity, atol=1e-6)
+
+
+def test_the_soft_mouse_rings_at_its_frequency_on_the_effective_mass():
+    # A soft spring of f on the robot's effective mass: the anchor's error decays by the
+    # damping ratio, whatever K is (zeta = 1: no overshoot).
+    settings = RobotSettings(constraint=MouseConstraint(frequency_hz=5.0, damping_ratio=1.0),
+                             gravity=(0.0, 0.0, 0.0))
+    simulation = pendulum(settings=settings, positions=(0.3, 0.4))
+    simulation.grab('tip', (0.0, 0.0, 0.0))
+    start = simulation.anchor_position()
+    target = start + np.array((0.05, 0.0, 0.0))
+    simulation.target = target
+    along = []
+    for _tick in range(1000):
+        simulation.step(DT)
+        along.append(float((simulation.anchor_position() - start)[0]))
+    assert max(along) < 0.05 + 1e-4  # critically damped: no overshoot past the target
+    assert abs(along[-1] - 0.05) < 5e-4
+
+
+@pytest.fixture(scope='module')
+def panda():
+    """Return the Panda of the public collection, as shipped (its fingers a mimic pair)."""
+    return load_robot(collection_urdf('panda_description/urdf/panda.urdf').read_text())
+
+
+@pytest.mark.parametrize('offset', [(0.3, 0.0, 0.0), (0.0, 0.3, 0.0), (0.0, 0.0, 0.3)])
+def test_a_real_arm_hangs_and_its_tool_is_dragged_0_3_m_within_a_millimetre(panda, offset):
+    model = panda.model
+    settings = RobotSettings()
+    simulation = RobotSimulation(model, settings, initial_state(model))
+    assert panda.structure.tool == 'panda_hand_tcp'
+    for _tick in range(1000):  # it hangs from its base, at its stops
+        simulation.step(DT)
+    start = np.array(simulation.link_state('panda_hand_tcp').position)
+    simulation.grab('panda_hand_tcp', (0.0, 0.0, 0.0))
+    simulation.target = start + offset
+    worst = 0.0
+    for _tick in range(2000):
+        simulation.step(DT)
+        for joint, position in zip(model.joints, simulation.joint_positions()):
+            worst = max(worst, joint.lower - position, position - joint.upper)
+    assert np.linalg.norm(simulation.anchor_position() - (start + offset)) < 1e-3
+    assert worst <= settings.limit_slop
+    fingers = simulation.joint_positions()[-2:]
+    assert abs(fingers[0] - fingers[1]) < 1e-6  # the mimic joint follows its leader
