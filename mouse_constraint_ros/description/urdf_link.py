@@ -33,7 +33,7 @@ Every failure is a ValueError of one line naming the link, the element and how t
 import io
 import logging
 import math
-from typing import NamedTuple, Tuple
+from typing import NamedTuple, Optional, Tuple
 
 from lxml import etree
 import numpy as np
@@ -128,8 +128,13 @@ def _link(text: str, name: str):
     return urdf.link_map[name]
 
 
-def _piece(element, link: str, kind: str, find_package: PackageFinder) -> Piece:
-    """Return one ``<collision>`` or ``<visual>`` element as a Piece."""
+def _piece(element, link: str, kind: str, find_package: PackageFinder, *,
+           closed: Optional[bool] = None) -> Piece:
+    """
+    Return one ``<collision>`` or ``<visual>`` element as a Piece.
+
+    :param closed: whether a mesh must be watertight; None: a collision mesh must.
+    """
     transform = np.eye(4) if element.origin is None else np.asarray(element.origin, dtype=float)
     geometry = element.geometry
     color = None
@@ -152,7 +157,8 @@ def _piece(element, link: str, kind: str, find_package: PackageFinder) -> Piece:
     if geometry.mesh is not None:
         uri = geometry.mesh.filename
         try:
-            mesh = load_mesh(uri, scale=geometry.mesh.scale, closed=kind == 'collision',
+            mesh = load_mesh(uri, scale=geometry.mesh.scale,
+                             closed=kind == 'collision' if closed is None else closed,
                              find_package=find_package)
         except ValueError as error:
             raise ValueError(f'{where}: {error}') from None

@@ -46,6 +46,7 @@ from std_msgs.msg import String
 from std_srvs.srv import SetBool, Trigger
 
 from .anchor_parameter import AnchorParameter
+from .body_simulation import robot_change_refusal, simulation_for
 from .monitors import Monitors
 from .parameter_changes import declare, publishing
 from .parameters import node_config, NodeConfig, PARAMETERS
@@ -69,6 +70,7 @@ from ..wire.interface import (DESCRIPTION_QOS, DESCRIPTION_TOPIC, GRAB_TOPIC, NO
                               PAUSE_SERVICE, RELEASE_SERVICE, RESET_SERVICE, SERVICE_EVENT_QOS,
                               STEP_SERVICE, TARGET_POSE_QOS, TARGET_POSE_TOPIC, TARGET_QOS,
                               TARGET_TOPIC, WRENCH_QOS, WRENCH_TOPIC)
+from ..wire.robot_outputs import RobotOutputs
 from ..wire.state_publishers import (BroadcasterFactory, DEFAULT_BROADCASTER, StatePublishers,
                                      TF_UNAVAILABLE)
 
@@ -156,7 +158,7 @@ class MouseConstraintNode(Node):
 
     def _build(self, config: NodeConfig, transform_broadcaster) -> None:
         """Make the parts, each given what it reads and writes, and start the ticks."""
-        simulation = self._simulation = MouseSimulation(config.settings, config.initial_state)
+        simulation = self._simulation = simulation_for(config)
         record = TickRecord()
         ticker = self.ticker = Ticker(self, config=config, record=record, stepped=self._stepped,
                                       warn=self._throttle, loop=self._loop_ticks)
@@ -175,8 +177,14 @@ class MouseConstraintNode(Node):
                                    device_clock=ticker.device_clock)
         self._wrench = WrenchInput(simulation=simulation, config=config, now_ns=ticker.now_ns,
                                    refuse=refusals, log=log)
-        ticker.start(Tick(simulation=simulation, target=self._target, wrench=self._wrench,
-                          state_publishers=self._state_publishers, record=record))
+        tick = Tick(simulation=simulation, target=self._target, wrench=self._wrench,
+                    state_publishers=self._state_publishers, record=record)
+        if config.robot is not None:
+            tick.robot_outputs = RobotOutputs(
+                self, joint_names=[joint.name for joint in config.robot.robot.model.joints],
+                frame_id=config.frame_id, tracked_link=config.robot.tracked_link,
+                send_transform=self._state_publishers.send_transform)
+        ticker.start(tick)
         self._controls = SimulatorControls(
             ticker=ticker, simulation=simulation, target=self._target, wrench=self._wrench,
             restore_anchor=lambda: self._anchor.restore(self._config.anchor),
@@ -267,6 +275,9 @@ class MouseConstraintNode(Node):
         use_sim_time = next((p.value for p in changes if p.name == 'use_sim_time'),
                             self.get_parameter('use_sim_time').value)
         refusal = self._clock_refusal(config, use_sim_time)
+        if refusal is not None:
+            return SetParametersResult(successful=False, reason=refusal)
+        refusal = robot_change_refusal(self._config, config)
         if refusal is not None:
             return SetParametersResult(successful=False, reason=refusal)
         previous, self._config = self._config, config

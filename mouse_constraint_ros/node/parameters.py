@@ -32,6 +32,7 @@ from .device_parameters import device_from, DEVICE_PARAMETERS, DeviceConfig
 from .floor_parameters import floor_from, FLOOR_PARAMETERS
 from .frame_parameters import frames_from
 from .haptic_parameters import HAPTIC_PARAMETERS, soft_mode
+from .robot_parameters import robot_from, ROBOT_PARAMETERS, RobotConfig, stand_in_body
 from .timer_limits import FINITE_MAX, MIN_REAL_TIME_FACTOR, MIN_TIMER_RATE, off_or_at_least
 from ..description import BodyGeometry
 from ..physics import BodyState, MouseConstraint, Settings
@@ -188,7 +189,8 @@ PARAMETERS = (
                   'Estimate the velocity of a stream of targets (a drag) from their stamps or '
                   'arrival times and let the joint follow it, so a drag does not lag.'),
 ) + tuple(ParameterSpec(*spec) for spec in
-          BODY_PARAMETERS + FLOOR_PARAMETERS + HAPTIC_PARAMETERS + DEVICE_PARAMETERS)
+          BODY_PARAMETERS + ROBOT_PARAMETERS + FLOOR_PARAMETERS + HAPTIC_PARAMETERS
+          + DEVICE_PARAMETERS)
 
 DEFAULTS = {p.name: p.default for p in PARAMETERS}
 
@@ -222,6 +224,7 @@ class NodeConfig(NamedTuple):
     geometry: BodyGeometry = BodyGeometry.box((0.4, 0.2, 0.1))
     body_frame: BodyFrame = BodyFrame()
     device: DeviceConfig = DeviceConfig()
+    robot: Optional[RobotConfig] = None
 
     @property
     def anchor(self) -> Vector3:
@@ -254,7 +257,16 @@ def _configuration_from(values: Mapping[str, Any]) -> NodeConfig:
     if isinstance(substeps, int) and substeps > most:
         raise ValueError(f'substeps must be <= {most}, got {substeps}')
     box_size = finite_vector('box_size', values['box_size'])
-    body, geometry, frame, body_name = body_from(values)
+    robot = robot_from(values)
+    if robot is None:
+        body, geometry, frame, body_name = body_from(values)
+    else:
+        if values['floor']:
+            raise ValueError('floor is not served for a robot (a robot_description of several '
+                             'links): set floor false, or body_link to drag one link')
+        body, frame = stand_in_body(robot), BodyFrame()
+        geometry = robot.links.geometry(robot.tracked_link)
+        body_name = f'robot {robot.robot.structure.name!r} of mass'
     frequency_hz, damping_ratio = soft_mode(values)
     anchor = finite_vector('anchor', values['anchor'])
     constraint = MouseConstraint(
@@ -277,7 +289,8 @@ def _configuration_from(values: Mapping[str, Any]) -> NodeConfig:
         values['initial_position'], values['initial_orientation']).validated(prefix='initial_'))
     settings.floor.check_state(initial_state.position, initial_state.orientation)
     frame_id, body_frame_id = frames_from(values, geometry.link)
-    hold = _flag(values, 'hold_initial_anchor')
+    # A robot starts free: its anchor's first world point is its own, not the box's.
+    hold = _flag(values, 'hold_initial_anchor') and robot is None
     anchor_warn = scalar('diagnostics_anchor_warn', values['diagnostics_anchor_warn'], above=0.0)
     anchor_error = scalar('diagnostics_anchor_error', values['diagnostics_anchor_error'],
                           at_least=anchor_warn)
@@ -304,6 +317,7 @@ def _configuration_from(values: Mapping[str, Any]) -> NodeConfig:
         geometry=geometry,
         body_frame=frame,
         device=device_from(values),
+        robot=robot,
     )
 
 

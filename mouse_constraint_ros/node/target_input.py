@@ -45,7 +45,7 @@ from geometry_msgs.msg import PointStamped, PoseStamped
 
 from .parameters import NodeConfig
 from .tick_record import TickRecord
-from ..inputs.grab import grab
+from ..inputs.grab import Grab, grab
 from ..inputs.input_timeouts import input_age, target_release_text, timed_out
 from ..inputs.one_per_tick import OnePerTick
 from ..inputs.target_gate import apart, Refusal, TargetGate
@@ -246,8 +246,13 @@ class TargetInput:
                          f'ignoring grab {refusal.reason}')
             return
         config = self._config
-        landed = grab(config.body_frame.link_state(self._simulation.state), config.geometry,
-                      point)
+        if config.robot is not None:
+            # A robot: the grab lands on the nearest of its links (``RobotBody.land``).
+            link, local, distance = self._simulation.land(point)
+            landed = Grab(local, distance)
+        else:
+            landed = grab(config.body_frame.link_state(self._simulation.state), config.geometry,
+                          point)
         margin = config.grab_margin
         if not landed.taken(margin):
             off, bound = apart(landed.distance, margin)
@@ -256,6 +261,8 @@ class TargetInput:
             self._refuse(Refusal('grab off body', reason), f'ignoring grab {reason}')
             return
         self._flush()  # a target that came before the grab goes before it
+        if config.robot is not None:
+            self._simulation.hold(link)
         failure = self._set_anchor(landed.anchor)
         if failure is not None:
             self._refuse(Refusal('grab anchor', f'{point}: {failure}'),

@@ -64,6 +64,8 @@ class Tick:
         # /clock, published by the tick while the node is the clock (set by ``ClockTicks``); which
         # driver runs, and whether the node is the clock, is ``Ticker``'s to say.
         self.clock_publisher: Optional[Publisher] = None
+        # A robot's joint_states and links' TF (``wire.robot_outputs``), or None for one body.
+        self.robot_outputs = None
         self._clock_message = ClockMessage()
 
     def configure(self, *, rate_hz: float, publish_rate_hz: float) -> None:
@@ -95,6 +97,15 @@ class Tick:
             publishers = self._state_publishers
             publishers.force_muted = self._target.device_silent(stamp)
             publishers.publish(stamp, state)
+            if self.robot_outputs is not None:
+                self._publish_robot(stamp)
+
+    def _publish_robot(self, stamp: int) -> None:
+        """Publish the robot's joint_states (and its links' TF) of the tick stamped ``stamp``."""
+        robot = self._simulation.robot
+        outputs = self.robot_outputs
+        outputs.publish(stamp, robot.joint_positions(), robot.joint_velocities(),
+                        robot.joint_efforts(), robot.link_poses() if outputs.tf_on else None)
 
     def publish_state(self) -> None:
         """

@@ -221,6 +221,12 @@ class RobotSimulation:
         return {name: (data.oMf[frame].translation.copy(), data.oMf[frame].rotation.copy())
                 for name, frame in self.model.link_frames.items()}
 
+    def link_poses(self) -> dict:
+        """Return every link's (position, orientation (x, y, z, w)) in the world, as tuples."""
+        return {name: (tuple(float(x) for x in position),
+                       tuple(float(x) for x in pinocchio.Quaternion(rotation).coeffs()))
+                for name, (position, rotation) in self.link_placements().items()}
+
     def anchor_position(self) -> Optional[np.ndarray]:
         """Return the anchor's world position, or None when nothing is grabbed."""
         if self._anchor is None:

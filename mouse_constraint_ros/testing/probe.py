@@ -28,12 +28,14 @@ from rclpy.event_handler import PublisherEventCallbacks, SubscriptionEventCallba
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.type_description_service import START_TYPE_DESCRIPTION_SERVICE_PARAM
+from sensor_msgs.msg import JointState
 from std_srvs.srv import Trigger
 
 from .errors import InputRefused
 from ..node.mouse_constraint_node import MouseConstraintNode
-from ..wire.interface import (GRAB_TOPIC, POSE_TOPIC, STATE_QOS, TARGET_QOS, TARGET_TOPIC,
-                              TWIST_TOPIC, WRENCH_QOS, WRENCH_TOPIC)
+from ..wire.interface import (GRAB_TOPIC, JOINT_STATES_QOS, JOINT_STATES_TOPIC, POSE_TOPIC,
+                              STATE_QOS, TARGET_QOS, TARGET_TOPIC, TWIST_TOPIC, WRENCH_QOS,
+                              WRENCH_TOPIC)
 
 # The name of the probe's node.
 PROBE_NAME = 'simulated_body'
@@ -55,6 +57,7 @@ class Probe:
         self._drain = drain
         self.pose: Optional[PoseStamped] = None
         self.twist: Optional[TwistStamped] = None
+        self.joint_states: Optional[JointState] = None  # a robot's
         # The anchor in effect when the node published ``pose``: a grab changes it between ticks.
         self.pose_anchor = None
         # Only what it sends and reads: every entity of a node is added to the executor's wait
@@ -68,6 +71,8 @@ class Probe:
         quiet = {'event_callbacks': SubscriptionEventCallbacks(use_default_callbacks=False)}
         probe.create_subscription(PoseStamped, POSE_TOPIC, self._on_pose, STATE_QOS, **quiet)
         probe.create_subscription(TwistStamped, TWIST_TOPIC, self._on_twist, STATE_QOS, **quiet)
+        probe.create_subscription(JointState, JOINT_STATES_TOPIC, self._on_joint_states,
+                                  JOINT_STATES_QOS, **quiet)
         quiet = {'event_callbacks': PublisherEventCallbacks(use_default_callbacks=False)}
         self.publishers = {
             'target': probe.create_publisher(PointStamped, TARGET_TOPIC, TARGET_QOS, **quiet),
@@ -83,6 +88,9 @@ class Probe:
 
     def _on_twist(self, message: TwistStamped) -> None:
         self.twist = message
+
+    def _on_joint_states(self, message: JointState) -> None:
+        self.joint_states = message
 
     def send(self, kind: str, message) -> None:
         """Publish ``message`` on the ``kind`` input, drain, and raise if the node refused it."""

@@ -35,6 +35,7 @@ import numpy as np
 from rclpy.executors import Executor, SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
+from sensor_msgs.msg import JointState
 
 from .errors import HarnessClosed, NeverHeld
 from .harness_checks import (check_context, check_executor, checked_seconds, checked_stamp_ns,
@@ -194,6 +195,11 @@ class SimulatedBody:
         where ``pose.position`` is the centre of mass.
         """
         return world_point(self._seen('pose'), self._seen('pose_anchor'))
+
+    @property
+    def joints(self) -> Optional[JointState]:
+        """Return a robot's latest ``joint_states`` (names, positions, velocities, efforts)."""
+        return self._probe.joint_states
 
     @property
     def twist(self) -> Optional[BodyTwist]:

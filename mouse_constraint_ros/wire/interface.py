@@ -89,6 +89,10 @@ SERVICE_EVENT_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=100,
 # The body's URDF (std_msgs/String), when robot_description is set: as robot_state_publisher
 # offers it (relative name, TRANSIENT_LOCAL so that a late reader such as RViz's RobotModel
 # display still gets it, depth 1), for RViz to draw the link on the node's TF.
+# A robot's joints (sensor_msgs/JointState), every published tick, as robot_state_publisher and
+# controllers read them.
+JOINT_STATES_TOPIC = 'joint_states'
+JOINT_STATES_QOS = STATE_QOS
 DESCRIPTION_TOPIC = 'robot_description'
 DESCRIPTION_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
                              reliability=ReliabilityPolicy.RELIABLE,

@@ -188,6 +188,11 @@ class StatePublishers:
         """Whether ``publish`` sends the transform."""
         return self._send_transform is not None
 
+    @property
+    def send_transform(self):
+        """Return the TF broadcaster's ``sendTransform``, or None while TF is off."""
+        return self._send_transform
+
     def publish(self, stamp_ns: int, state: BodyState, *, force: bool = True) -> None:
         """
         Publish the pose, twist and, where on, the transform, odometry and force.

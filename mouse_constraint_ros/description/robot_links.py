@@ -1,0 +1,89 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+Every link's collision pieces of a robot, in its link frame: what a grab lands on.
+
+A collision mesh exported from CAD is often not a closed surface (KUKA iiwa's link_7, for one):
+a robot's link takes such a mesh by its convex hull, with a warning line, since only the density
+route needs the volume a closed mesh bounds and a robot's links carry their ``<inertial>``.
+"""
+
+import dataclasses
+import io
+import logging
+from typing import Callable, Dict, List, NamedTuple, Tuple
+
+import numpy as np
+
+from .body_geometry import BodyGeometry, Piece
+from .mesh_files import ament_share, PackageFinder
+from .urdf_link import _piece
+
+
+class RobotLinks(NamedTuple):
+    """Each link's collision pieces (link frame), and the warnings loading them gave."""
+
+    pieces: Dict[str, Tuple[Piece, ...]]
+    warnings: Tuple[str, ...]
+
+    def distance(self, link: str, point: np.ndarray) -> float:
+        """Return how far a point (``link``'s frame) lies from the link (inf: no pieces)."""
+        pieces = self.pieces.get(link, ())
+        return min((piece.distance(point) for piece in pieces), default=float('inf'))
+
+    def geometry(self, link: str) -> BodyGeometry:
+        """Return the pieces of ``link`` as a body geometry (a 5 cm cube at its frame if none)."""
+        pieces = self.pieces.get(link, ())
+        if not pieces:
+            return BodyGeometry.box((0.05, 0.05, 0.05), link=link)
+        return BodyGeometry(link, (0.0, 0.0, 0.0), pieces)
+
+
+def robot_links(text: str, *, find_package: PackageFinder = ament_share,
+                warn: Callable[[str], None] = lambda _line: None) -> RobotLinks:
+    """
+    Return the collision pieces of every link of the URDF ``text``.
+
+    :param text: the URDF (already checked by ``robot_structure``).
+    :param find_package: resolves ``package://`` names.
+    :param warn: called with one line per mesh taken by its convex hull.
+    """
+    import yourdfpy  # a URDF body's: the box body runs without it
+    logger = logging.getLogger('yourdfpy')
+    level = logger.level
+    logger.setLevel(logging.CRITICAL)
+    try:
+        urdf = yourdfpy.URDF.load(io.BytesIO(text.encode()), build_scene_graph=False,
+                                  load_meshes=False, load_collision_meshes=False)
+    except (ValueError, KeyError, TypeError, AttributeError) as error:
+        raise ValueError(f'robot_description is not a valid URDF: {type(error).__name__} '
+                         f'{error}') from None
+    finally:
+        logger.setLevel(level)
+    pieces: Dict[str, Tuple[Piece, ...]] = {}
+    warnings: List[str] = []
+    for link in urdf.robot.links:
+        found = []
+        for element in link.collisions:
+            piece = _piece(element, link.name, 'collision', find_package, closed=False)
+            if piece.kind == 'mesh' and not piece.mesh.is_watertight:
+                line = (f'link {link.name!r} <collision> mesh {piece.uri!r} is not a closed '
+                        'surface: its convex hull is taken for grabs')
+                warnings.append(line)
+                warn(line)
+                piece = dataclasses.replace(piece, mesh=piece.mesh.convex_hull)
+            found.append(piece)
+        pieces[link.name] = tuple(found)
+    return RobotLinks(pieces, tuple(warnings))

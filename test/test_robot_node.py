@@ -1,0 +1,97 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""The whole robot through ROS: the node in lockstep, its joint_states, pose, grab and drag."""
+
+import math
+
+import numpy as np
+import pytest
+
+from mouse_constraint_ros.testing import SimulatedBody
+from test_support.robots import double_pendulum, double_pendulum_tip
+
+START = math.radians(60.0)
+
+
+def test_a_double_pendulum_through_ros_follows_the_closed_equations_and_keeps_its_energy():
+    # 1 kHz, one substep: each tick is one step of the robot's symplectic Euler.
+    with SimulatedBody(robot_description=double_pendulum(), substeps=1,
+                       initial_joint_positions=[START, START - START]) as body:
+        assert body.node.simulation.tracked_link == 'tip'
+        tips, stamps = [], []
+        for _tick in range(2000):
+            body.step()
+            tips.append(body.pose.position[[0, 2]])
+            stamps.append(body.joints.header.stamp.nanosec + body.joints.header.stamp.sec * 10**9)
+            assert list(body.joints.name) == ['shoulder', 'elbow']
+        # joint_states on every published tick, stamped as the tick.
+        assert np.all(np.diff(stamps) == 1_000_000)
+        reference = double_pendulum_tip(np.arange(1, 2001) * 1e-3, START)
+        errors = np.linalg.norm(np.array(tips) - reference, axis=1)
+        assert math.sqrt(np.mean(errors ** 2)) < 1e-3
+        robot = body.node.simulation.robot
+        start_energy = robot.energy()
+        means = []
+        for _second in range(8):
+            total = 0.0
+            for _tick in range(1000):
+                body.step()
+                total += robot.energy()
+            means.append(total / 1000.0)
+        swing = start_energy - (-9.80665 * (1.0 * -0.25 + 1.0 * -0.75))  # above hanging rest
+        assert np.max(np.abs(np.array(means) - start_energy)) / swing < 1e-3
+
+
+def test_a_grab_on_the_middle_link_takes_that_link_and_drags_the_robot():
+    with SimulatedBody(robot_description=double_pendulum(), substeps=1) as body:
+        body.step()
+        # A point on the upper rod's surface (it spans z 0 .. -0.5, 4 cm thick).
+        anchor = body.grab((0.02, 0.0, -0.2))
+        simulation = body.node.simulation
+        assert simulation.grabbed_link == 'upper'
+        assert np.allclose(anchor, (0.02, 0.0, -0.2), atol=1e-9)
+        # The point turned 1 rad about the shoulder (+y): in the robot's reach.
+        turn = -1.0
+        target = np.array((0.02 * math.cos(turn) - 0.2 * math.sin(turn), 0.0,
+                           -0.02 * math.sin(turn) - 0.2 * math.cos(turn)))
+        for _tick in range(1500):
+            body.target(target)
+            body.step()
+        assert np.linalg.norm(simulation.anchor_position() - target) < 1e-3
+        # The shoulder turned to bring its link's point there; the efforts are the mouse's.
+        assert body.joints.position[0] == pytest.approx(turn, abs=1e-2)
+        assert np.any(np.abs(body.joints.effort) > 0.1)
+
+
+def test_a_grab_off_every_link_is_refused():
+    from mouse_constraint_ros.testing.errors import InputRefused
+    with SimulatedBody(robot_description=double_pendulum(), substeps=1) as body:
+        body.step()
+        with pytest.raises(InputRefused):
+            body.grab((0.5, 0.0, 0.3))
+
+
+def test_a_run_time_change_to_a_robot_or_of_it_is_refused_in_one_line():
+    from rclpy.parameter import Parameter
+    with SimulatedBody(robot_description=double_pendulum(), substeps=1) as body:
+        other = double_pendulum(length=(0.4, 0.4))
+        result = body.node.set_parameters([Parameter('robot_description', value=other)])[0]
+        assert not result.successful and '\n' not in result.reason
+        assert 'restart' in result.reason
+        # What acts on the body acts on the robot at run time: gravity off, and it stays.
+        result = body.node.set_parameters([Parameter('gravity', value=[0.0, 0.0, 0.0])])[0]
+        assert result.successful
+        body.step(100)
+        assert np.allclose(body.joints.position, 0.0, atol=1e-12)
