@@ -44,7 +44,7 @@ class RobotLinks(NamedTuple):
         return min((piece.distance(point) for piece in pieces), default=float('inf'))
 
     def geometry(self, link: str) -> BodyGeometry:
-        """Return the pieces of ``link`` as a body geometry (a 5 cm cube at its frame if none)."""
+        """Return the pieces of a link as a BodyGeometry; a 5 cm cube at its frame if none."""
         pieces = self.pieces.get(link, ())
         if not pieces:
             return BodyGeometry.box((0.05, 0.05, 0.05), link=link)
