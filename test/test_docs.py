@@ -209,13 +209,18 @@ def test_readme_is_an_entry_point_of_at_most_250_lines():
     assert len(README.read_text().splitlines()) <= 250
 
 
-def test_no_module_is_over_350_lines():
-    """The package's, the test support's, the benchmarks' and the launch files' modules."""
+def test_no_module_is_over_500_lines():
+    """
+    The package's, the test support's, the benchmarks' and the launch files' modules.
+
+    The rule is one concern per module (CONTRIBUTING.md); 500 lines flags a module that has
+    likely grown a second one, to be split along the two, never squeezed to fit.
+    """
     folders = ('mouse_constraint_ros', 'test_support', 'bench', 'launch', 'demo')
     modules = [path for folder in folders for path in sorted((ROOT / folder).rglob('*.py'))]
     assert len(modules) > 100
     long = {str(path.relative_to(ROOT)): count for path in modules
-            if (count := len(path.read_text().splitlines())) > 350}
+            if (count := len(path.read_text().splitlines())) > 500}
     assert not long
 
 
