@@ -45,6 +45,8 @@ from typing import List, NamedTuple, Optional
 
 import numpy as np
 
+from .robot_block import first_set, solve_block
+
 # Eigenvalues of K below this fraction of its largest are directions the anchor cannot move.
 RANK_TOLERANCE = 1e-9
 
@@ -55,7 +57,8 @@ class MouseRows(NamedTuple):
 
     :param jacobian: J (3 x nv), the anchor's world-frame point Jacobian.
     :param mobility: W = M^-1 J^T (nv x 3).
-    :param effective_mass: K^-1 = (J W)^-1 (3 x 3).
+    :param stiffness: K = J W (3 x 3), the inverse effective mass; sequential impulses take its
+        pseudo-inverse (``effective_mass``).
     :param bias: (b / a) C (m/s), with a the mass scale.
     :param mass_scale: a (1 in rigid mode).
     :param bound: the largest impulse norm h F_max (N s).
@@ -63,7 +66,7 @@ class MouseRows(NamedTuple):
 
     jacobian: np.ndarray
     mobility: np.ndarray
-    effective_mass: np.ndarray
+    stiffness: np.ndarray
     bias: np.ndarray
     mass_scale: float
     bound: float
@@ -99,11 +102,17 @@ class JointRow(NamedTuple):
 
 
 class RowSolution(NamedTuple):
-    """What one substep's rows did: the joint impulses and the mouse's impulse."""
+    """What one substep's rows did: the joint impulses, the mouse's, and the set they held."""
 
     joint_impulse: np.ndarray
     mouse_impulse: np.ndarray
     limit_impulse: np.ndarray
+    held: dict = {}
+
+
+def row_key(row: JointRow) -> tuple:
+    """Return what names a joint row from one substep to the next: its joint, kind and side."""
+    return (row.index, row.limit, row.jacobian is not None, row.lower == 0.0, row.upper == 0.0)
 
 
 def mouse_rows(jacobian: np.ndarray, inverse_mass: np.ndarray, error: np.ndarray,
@@ -120,10 +129,17 @@ def mouse_rows(jacobian: np.ndarray, inverse_mass: np.ndarray, error: np.ndarray
     mobility = inverse_mass @ jacobian.T
     k = jacobian @ mobility
     a, b = gains
-    # K is singular along the directions the joints cannot move the anchor (a planar arm's
-    # normal, an arm at full stretch): the pseudo-inverse pulls along the others only.
-    effective_mass = np.linalg.pinv(0.5 * (k + k.T), rcond=RANK_TOLERANCE, hermitian=True)
-    return MouseRows(jacobian, mobility, effective_mass, (b / a) * error, a, bound)
+    return MouseRows(jacobian, mobility, 0.5 * (k + k.T), (b / a) * error, a, bound)
+
+
+def effective_mass(mouse: MouseRows) -> np.ndarray:
+    """
+    Return the mouse's effective mass K^-1.
+
+    K is singular along the directions the joints cannot move the anchor (a planar arm's
+    normal, an arm at full stretch): the pseudo-inverse pulls along the others only.
+    """
+    return np.linalg.pinv(mouse.stiffness, rcond=RANK_TOLERANCE, hermitian=True)
 
 
 def limit_row(index: int, inverse_mass: np.ndarray, distance: float, h: float, slop: float,
@@ -168,53 +184,42 @@ def mimic_row(follower: int, leader: int, multiplier: float, error: float,
 
 
 def solve_rows(v: np.ndarray, mouse: Optional[MouseRows], joints: List[JointRow],
-               iterations: int) -> RowSolution:
+               iterations: int, last_held: Optional[dict] = None) -> RowSolution:
     """
-    Solve the rows by sequential impulses, changing ``v`` in place; return their impulses.
+    Solve the rows, changing ``v`` in place; return their impulses.
 
-    The mouse alone is solved once, exactly (its three rows as a block); with joint rows, each
-    sweep visits the mouse block, then each joint row.
+    The rows are solved together, exactly (``robot_block``), the last substep's held set tried
+    first; if no set settles, by sequential impulses: ``iterations`` sweeps, each visiting the
+    mouse's block, then each joint row. Either way a last pass of the joint rows alone gives the
+    stops the last word where the mouse pulls against them.
     """
     nv = v.shape[0]
-    joint_impulse = np.zeros(nv)
-    limit_impulse = np.zeros(nv)
-    mouse_total = np.zeros(3)
     accumulated = [0.0] * len(joints)
-    sweeps = iterations if joints else 1
-    for _ in range(sweeps):
+    mouse_total = np.zeros(3)
+    held: dict = {}
+    block = _block(v, mouse, joints, last_held or {})
+    if block is not None:
+        impulse, held = block
+        mouse_rows = 3 if mouse is not None else 0
         if mouse is not None:
-            a = mouse.mass_scale
-            change = -a * (mouse.effective_mass @ (mouse.jacobian @ v + mouse.bias)) \
-                - (1.0 - a) * mouse_total
-            total = mouse_total + change
-            size = float(np.linalg.norm(total))
-            if size > mouse.bound:
-                total *= mouse.bound / size
-            change = total - mouse_total
-            mouse_total = total
-            v += mouse.mobility @ change
+            mouse_total = impulse[:3]
+            v += mouse.mobility @ mouse_total
         for number, row in enumerate(joints):
-            change = row.effective_mass * (row.target - row.velocity(v))
-            old = accumulated[number]
-            new = min(max(old + change, row.lower), row.upper)
-            if new != old:
-                accumulated[number] = new
-                v += row.mobility * (new - old)
-        if mouse is None and sweeps > 1 and _settled(joints, accumulated, v):
-            break
-    if mouse is not None:
-        # The stops have the last word: a sweep of the joint rows alone, so that the mouse's
-        # pull is what gives way where the two disagree.
-        for _ in range(sweeps):
-            for number, row in enumerate(joints):
-                change = row.effective_mass * (row.target - row.velocity(v))
-                old = accumulated[number]
-                new = min(max(old + change, row.lower), row.upper)
-                if new != old:
-                    accumulated[number] = new
-                    v += row.mobility * (new - old)
+            accumulated[number] = float(impulse[mouse_rows + number])
+            v += row.mobility * accumulated[number]
+    else:
+        inverse = None if mouse is None else effective_mass(mouse)
+        for _ in range(iterations if joints else 1):
+            if mouse is not None:
+                mouse_total = _mouse_sweep(v, mouse, inverse, mouse_total)
+            _joint_sweep(v, joints, accumulated)
+    if mouse is not None and joints:
+        for _ in range(iterations):
             if _settled(joints, accumulated, v):
                 break
+            _joint_sweep(v, joints, accumulated)
+    joint_impulse = np.zeros(nv)
+    limit_impulse = np.zeros(nv)
     for number, row in enumerate(joints):
         if row.jacobian is not None:
             joint_impulse += row.jacobian * accumulated[number]
@@ -224,7 +229,70 @@ def solve_rows(v: np.ndarray, mouse: Optional[MouseRows], joints: List[JointRow]
             limit_impulse[row.index] += accumulated[number]
     if mouse is not None:
         joint_impulse += mouse.jacobian.T @ mouse_total
-    return RowSolution(joint_impulse, mouse_total, limit_impulse)
+    return RowSolution(joint_impulse, mouse_total, limit_impulse, held)
+
+
+def _block(v: np.ndarray, mouse: Optional[MouseRows], joints: List[JointRow],
+           last_held: dict):
+    """Return the rows' impulses solved together and the held set by key, or None."""
+    if mouse is None and not joints:
+        return None
+    jacobians, mobilities, targets, lowers, uppers, keys = [], [], [], [], [], []
+    if mouse is not None:
+        jacobians.append(mouse.jacobian)
+        mobilities.append(mouse.mobility)
+        targets.extend(-mouse.bias)
+        lowers.extend([-math.inf] * 3)
+        uppers.extend([math.inf] * 3)
+        keys.extend([None] * 3)
+    nv = v.shape[0]
+    for row in joints:
+        if row.jacobian is None:
+            jacobian = np.zeros((1, nv))
+            jacobian[0, row.index] = 1.0
+        else:
+            jacobian = row.jacobian[np.newaxis, :]
+        jacobians.append(jacobian)
+        mobilities.append(row.mobility[:, np.newaxis])
+        targets.append(row.target)
+        lowers.append(row.lower)
+        uppers.append(row.upper)
+        keys.append(row_key(row))
+    lower, upper = np.array(lowers), np.array(uppers)
+    mouse_rows = 3 if mouse is not None else 0
+    solved = solve_block(
+        np.vstack(jacobians), np.hstack(mobilities), v, np.array(targets), lower, upper,
+        mouse_rows,
+        mouse.mass_scale if mouse is not None else 1.0,
+        mouse.bound if mouse is not None else math.inf, first_set(keys, lower, upper, last_held))
+    if solved is None:
+        return None
+    impulse, held = solved
+    return impulse, {key: int(state) for key, state in zip(keys, held) if key and state}
+
+
+def _mouse_sweep(v: np.ndarray, mouse: MouseRows, inverse: np.ndarray,
+                 total: np.ndarray) -> np.ndarray:
+    """Visit the mouse's block once (``inverse``: its K^-1); return its accumulated impulse."""
+    a = mouse.mass_scale
+    change = -a * (inverse @ (mouse.jacobian @ v + mouse.bias)) - (1.0 - a) * total
+    new = total + change
+    size = float(np.linalg.norm(new))
+    if size > mouse.bound:
+        new *= mouse.bound / size
+    v += mouse.mobility @ (new - total)
+    return new
+
+
+def _joint_sweep(v: np.ndarray, joints: List[JointRow], accumulated: List[float]) -> None:
+    """Visit each joint row once, clamping its accumulated impulse to its bounds."""
+    for number, row in enumerate(joints):
+        change = row.effective_mass * (row.target - row.velocity(v))
+        old = accumulated[number]
+        new = min(max(old + change, row.lower), row.upper)
+        if new != old:
+            accumulated[number] = new
+            v += row.mobility * (new - old)
 
 
 def _settled(joints: List[JointRow], accumulated: List[float], v: np.ndarray) -> bool:

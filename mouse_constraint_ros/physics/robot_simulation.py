@@ -118,10 +118,11 @@ class RobotSimulation:
     def set_state(self, state: RobotState) -> None:
         """Replace the current state (checked; its momentum is staggered at the next step)."""
         state = self._checked(state)
-        self._q = state.q
-        self._mass_matrix = self._crba(self._q)
+        self._set_configuration(state.q)
         self._p = self._mass_matrix @ state.v
+        self._v = state.v.copy()
         self._staggered = False
+        self._held: dict = {}
 
     def reset(self) -> None:
         """Return to the initial state; drop the target and the grab's target."""
@@ -178,7 +179,7 @@ class RobotSimulation:
     @property
     def state(self) -> RobotState:
         """Return q and v = M(q)^-1 p."""
-        return RobotState(self._q.copy(), np.linalg.solve(self._mass_matrix, self._p))
+        return RobotState(self._q.copy(), self._v.copy())
 
     def joint_positions(self) -> Tuple[float, ...]:
         """Return each moving joint's position (rad or m)."""
@@ -266,7 +267,7 @@ class RobotSimulation:
         h = dt / settings.substeps
         damping = self._joint_damping()
         if not self._staggered:
-            v = np.linalg.solve(self._mass_matrix, self._p)
+            v = self._v
             self._p = self._p - 0.5 * h * (self._momentum_rate(self._q, v) - damping * v)
             self._staggered = True
         torque_sum = np.zeros(self.model.nv)
@@ -298,27 +299,37 @@ class RobotSimulation:
                 else settings.angular_damping
         return rates
 
+    def _set_configuration(self, q: np.ndarray) -> None:
+        """Move to ``q``: M(q) and its inverse (symmetrized) with it."""
+        self._q = q
+        self._mass_matrix = self._crba(q)
+        inverse = np.linalg.inv(self._mass_matrix)
+        self._inverse_mass = 0.5 * (inverse + inverse.T)
+
     def _substep(self, h: float, damping: np.ndarray) -> RowSolution:
-        q, p, mass = self._q, self._p, self._mass_matrix
+        q, p, mass, inverse_mass = self._q, self._p, self._mass_matrix, self._inverse_mass
         # 1. free motion: the momentum, implicit in the velocity it moves the positions with.
-        damped_mass = mass + h * np.diag(damping)
-        v = np.linalg.solve(mass, p)
-        for _ in range(FIXED_POINT_PASSES):
-            v = np.linalg.solve(damped_mass, p + h * self._momentum_rate(q, v))
+        v = inverse_mass @ p
+        if damping.any():
+            damped_mass = mass + h * np.diag(damping)
+            for _ in range(FIXED_POINT_PASSES):
+                v = np.linalg.solve(damped_mass, p + h * self._momentum_rate(q, v))
+        else:
+            for _ in range(FIXED_POINT_PASSES):
+                v = inverse_mass @ (p + h * self._momentum_rate(q, v))
         rates = self._decay()
         if rates.any():
             v = v * np.exp(-rates * h)
         # 2. the rows, on v with M(q).
-        inverse_mass = np.linalg.inv(mass)
-        inverse_mass = 0.5 * (inverse_mass + inverse_mass.T)
         mouse = self._mouse_rows(q, v, inverse_mass, h)
         joints = self._joint_rows(q, v, inverse_mass, h)
-        solution = solve_rows(v, mouse, joints, self._settings.iterations)
+        solution = solve_rows(v, mouse, joints, self._settings.iterations, self._held)
+        self._held = solution.held
         self._mouse_impulse = (solution.mouse_impulse, h)
         # 3. positions, and the momentum carried at the new configuration.
         self._p = mass @ v
-        self._q = pinocchio.integrate(self.model.model, q, h * v)
-        self._mass_matrix = self._crba(self._q)
+        self._set_configuration(pinocchio.integrate(self.model.model, q, h * v))
+        self._v = self._inverse_mass @ self._p
         return solution
 
     def _mouse_rows(self, q: np.ndarray, v: np.ndarray, inverse_mass: np.ndarray, h: float):
