@@ -55,6 +55,7 @@ from rclpy.experimental import EventsExecutor
 from rclpy.node import Node
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
+from sensor_msgs.msg import JointState
 from std_srvs.srv import Trigger
 from visualization_msgs.msg import MarkerArray
 
@@ -93,7 +94,7 @@ def spin_for(executor, seconds: float) -> None:
 
 
 # The message type of a topic ``--also`` names; any other is a TwistStamped.
-ALSO_TYPES = {'force': WrenchStamped}
+ALSO_TYPES = {'force': WrenchStamped, 'joint_states': JointState}
 
 
 def observe_rate(node: Node, executor, options) -> dict:

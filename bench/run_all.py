@@ -52,6 +52,7 @@ SUITE = [
     ('tick_profile', "where a tick's time goes: py-spy samples of the node's main thread"),
     ('node_floor', 'the node at 1 kHz resting on the floor against no floor: CPU ratio'),
     ('node_hull', 'a 500-vertex mesh body on the floor at 1 kHz against the rclpy floor'),
+    ('node_robot', 'a UR5 and a Panda at 1 kHz, joint_states read, against the rclpy floor'),
     ('publish_rate', 'publishing at 100 Hz from 1 kHz physics, if the node offers it'),
     ('latency', 'target published -> first pose reflecting it, at 1 kHz'),
     ('force_latency', 'target pose published -> first force reflecting it, config/haptic.yaml'),

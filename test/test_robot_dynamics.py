@@ -189,3 +189,33 @@ def test_a_real_arm_hangs_and_its_tool_is_dragged_0_3_m_within_a_millimetre(pand
     assert worst <= settings.limit_slop
     fingers = simulation.joint_positions()[-2:]
     assert abs(fingers[0] - fingers[1]) < 1e-6  # the mimic joint follows its leader
+
+
+def test_the_force_out_is_the_operational_space_inertia_times_the_asked_change():
+    # A UR5 at rest, weightless, its tool pulled in rigid mode: the first tick's impulse is
+    # -(J M^-1 J^T)^-1 (delta / h) C, the tool's operational-space inertia, computed here
+    # independently from Pinocchio's frame Jacobian and CRBA.
+    robot = load_robot(collection_urdf('ur_description/urdf/ur5_robot.urdf').read_text())
+    model = robot.model
+    settings = RobotSettings(gravity=(0.0, 0.0, 0.0))
+    simulation = RobotSimulation(model, settings,
+                                 initial_state(model, joint_positions=[0.3, -1.0, 1.2, -0.5,
+                                                                       0.4, 0.1]))
+    tool = robot.structure.tool
+    start = np.array(simulation.link_state(tool).position)
+    simulation.grab(tool, (0.0, 0.0, 0.0))
+    simulation.target = start + (0.01, -0.02, 0.005)
+    q, _ = simulation.state
+    data = model.model.createData()
+    jacobian = pinocchio.computeFrameJacobian(
+        model.model, data, q, model.link_frames[tool],
+        pinocchio.ReferenceFrame.LOCAL_WORLD_ALIGNED)[:3]
+    mass = pinocchio.crba(model.model, data, q)
+    mass = np.triu(mass) + np.triu(mass, 1).T
+    inertia = np.linalg.inv(jacobian @ np.linalg.solve(mass, jacobian.T))
+    simulation.step(DT)
+    impulse, dt = simulation.tick_impulse
+    expected = -inertia @ ((settings.constraint.baumgarte / DT) * (start - simulation.target))
+    assert dt == DT
+    assert np.allclose(impulse, expected, rtol=1e-9, atol=1e-12)
+    assert np.allclose(simulation.constraint_force, expected / DT, rtol=1e-9)

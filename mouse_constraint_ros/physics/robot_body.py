@@ -72,7 +72,6 @@ class RobotBody:
         self._tracked = tracked_link
         self._link_distance = link_distance
         self._grabbed = tracked_link
-        self._tick_impulse: Tuple[Vector3, float] = (ZERO, 0.0)
 
     # --- what the node configures ------------------------------------------------------------
     @property
@@ -171,8 +170,8 @@ class RobotBody:
 
     @property
     def tick_impulse(self) -> Tuple[Vector3, float]:
-        """Return the last step's joint impulse (N s) and its dt (s)."""
-        return self._tick_impulse
+        """Return the mouse's impulse summed over the last step (N s) and its dt (s)."""
+        return self.robot.tick_impulse
 
     @property
     def contacts(self) -> tuple:
@@ -198,11 +197,8 @@ class RobotBody:
     def step(self, dt: float) -> BodyState:
         """Advance ``dt``; return the tracked link's state."""
         self.robot.step(dt)
-        force = self.robot.constraint_force
-        self._tick_impulse = (tuple(f * dt for f in force), dt)
         return self.state
 
     def reset(self) -> None:
         """Return to the initial state and drop the target."""
         self.robot.reset()
-        self._tick_impulse = (ZERO, 0.0)

@@ -129,6 +129,7 @@ class RobotSimulation:
         self.set_state(self._initial_state)
         self._target = None
         self._mouse_impulse = (np.zeros(3), 1.0)
+        self._tick_mouse_impulse = ((0.0, 0.0, 0.0), 0.0)
         self._tick_torque = np.zeros(self.model.nv)
         self._limit_torque = np.zeros(self.model.nv)
 
@@ -194,6 +195,11 @@ class RobotSimulation:
         """Return each joint's torque (N m or N) from the mouse and the limits, the last step's."""
         torque = self._tick_torque
         return tuple(float(torque[joint.v_index]) for joint in self.model.joints)
+
+    @property
+    def tick_impulse(self) -> Tuple[Tuple[float, float, float], float]:
+        """Return the mouse's impulse summed over the last step's substeps (N s), and its dt."""
+        return self._tick_mouse_impulse
 
     @property
     def constraint_force(self) -> Tuple[float, float, float]:
@@ -272,10 +278,13 @@ class RobotSimulation:
             self._staggered = True
         torque_sum = np.zeros(self.model.nv)
         limit_sum = np.zeros(self.model.nv)
+        mouse_sum = np.zeros(3)
         for _ in range(settings.substeps):
             solution = self._substep(h, damping)
             torque_sum += solution.joint_impulse
             limit_sum += solution.limit_impulse
+            mouse_sum += solution.mouse_impulse
+        self._tick_mouse_impulse = (tuple(float(x) for x in mouse_sum), dt)
         self._tick_torque = torque_sum / dt
         self._limit_torque = limit_sum / dt
         self._time += dt
