@@ -95,3 +95,32 @@ def test_a_run_time_change_to_a_robot_or_of_it_is_refused_in_one_line():
         assert result.successful
         body.step(100)
         assert np.allclose(body.joints.position, 0.0, atol=1e-12)
+
+
+def test_a_real_arm_with_its_meshes_hangs_and_is_dragged_0_3_m_by_its_hand(monkeypatch):
+    # The Panda of the public collection as shipped: its package:// meshes through the ament
+    # index, its fingers a mimic pair. It falls onto its stops, is grabbed on its hand and
+    # dragged 0.3 m up through ROS with the shipped joint (guided, bounded).
+    from test_support.robots import collection_urdf, robot_collection
+    monkeypatch.setenv('AMENT_PREFIX_PATH', str(robot_collection()))
+    text = collection_urdf('panda_description/urdf/panda.urdf').read_text()
+    with SimulatedBody(robot_description=text) as body:
+        body.step(500)
+        simulation = body.node.simulation
+        model = simulation.robot.model
+        placements = simulation.robot.link_placements()
+        origin, rotation = placements['panda_hand']
+        # A point 2 cm inside the hand's collision mesh, on its axis.
+        point = origin + rotation @ np.array((0.0, 0.0, 0.02))
+        anchor = np.array(body.grab(point))
+        assert simulation.grabbed_link == 'panda_hand'
+        assert np.allclose(anchor, (0.0, 0.0, 0.02), atol=1e-9)
+        goal = point + (0.0, 0.0, 0.3)
+        worst = 0.0
+        for _tick in range(3000):
+            body.target(goal)
+            body.step()
+            for joint, position in zip(model.joints, body.joints.position):
+                worst = max(worst, joint.lower - position, position - joint.upper)
+        assert np.linalg.norm(np.array(simulation.anchor_position()) - goal) < 1e-3
+        assert worst <= simulation.robot.settings.limit_slop
