@@ -50,6 +50,9 @@ def load_robot(text: str, *, base: str = FIXED_BASE, base_position: Vector3 = (0
             raise ValueError("base is floating, but the URDF's root link 'world' fixes the "
                              'robot to the world: remove that link, or use base: fixed')
         base_position, base_orientation = (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)
+    if base == FLOATING_BASE and structure.root_mass <= 0.0:
+        raise ValueError(f'base is floating, but the root link {structure.root!r} and the links '
+                         'fixed to it have no mass: a free base needs <inertial> mass')
     from ..physics.robot_model import robot_model
     model = robot_model(
         text, base=base, base_position=base_position, base_orientation=base_orientation,

@@ -68,6 +68,7 @@ class RobotStructure(NamedTuple):
     joints: Tuple[JointSpec, ...]
     root: str
     tool: str
+    root_mass: float = 0.0  # the root link's and what is fixed to it (kg)
 
     @property
     def fixed_to_world(self) -> bool:
@@ -216,7 +217,8 @@ def robot_structure(text: str) -> RobotStructure:
                 f'joint {joint.name!r} moves links of zero mass ({joint.child!r} and what is '
                 'fixed to it): give them <inertial> mass, or make the joint fixed')
     tool = _tool(links, depth)
-    return RobotStructure(root.get('name') or '', tuple(links), joints, roots[0], tool)
+    return RobotStructure(root.get('name') or '', tuple(links), joints, roots[0], tool,
+                          _moved_mass(roots[0], children, masses))
 
 
 def _moved_mass(link: str, children: Dict[str, List[JointSpec]],
