@@ -124,3 +124,42 @@ def test_a_real_arm_with_its_meshes_hangs_and_is_dragged_0_3_m_by_its_hand(monke
                 worst = max(worst, joint.lower - position, position - joint.upper)
         assert np.linalg.norm(np.array(simulation.anchor_position()) - goal) < 1e-3
         assert worst <= simulation.robot.settings.limit_slop
+
+
+class Transforms:
+    """A TF broadcaster that keeps what it is sent: (child frame, translation, rotation)."""
+
+    def __init__(self, _node) -> None:
+        """Keep nothing yet."""
+        self.sent = {}
+
+    def sendTransform(self, transform) -> None:  # noqa: N802 (tf2_ros's name)
+        """Keep the transform's pose by its child frame."""
+        t, r = transform.transform.translation, transform.transform.rotation
+        self.sent[transform.child_frame_id] = ((t.x, t.y, t.z), (r.x, r.y, r.z, r.w),
+                                               transform.header.frame_id)
+
+
+def test_tf_carries_every_link_and_reset_returns_the_joints():
+    made = []
+
+    def factory(node):
+        made.append(Transforms(node))
+        return made[-1]
+
+    with SimulatedBody(robot_description=double_pendulum(), substeps=1,
+                       transform_broadcaster=factory,
+                       initial_joint_positions=[0.4, -0.2]) as body:
+        body.step(200)
+        poses = body.node.simulation.robot.link_poses()
+        sent = made[0].sent
+        assert set(sent) == {'base', 'upper', 'lower', 'tip'}
+        for link, (position, orientation) in poses.items():
+            assert np.allclose(sent[link][0], position, atol=1e-12)
+            assert np.allclose(np.abs(np.dot(sent[link][1], orientation)), 1.0, atol=1e-12)
+            assert sent[link][2] == 'world'
+        assert not np.allclose(body.joints.position, (0.4, -0.2))
+        body.reset()
+        body.step()
+        # One tick from the start at rest: a step's motion, no more.
+        assert np.allclose(body.joints.position, (0.4, -0.2), atol=1e-4)
