@@ -241,3 +241,45 @@ def test_a_floating_robot_falls_as_a_whole_its_momentum_changing_by_its_weight()
     with pytest.raises(ValueError, match="root link 'base' and the links fixed to it have no"):
         load_robot(double_pendulum(), base='floating')
     assert np.allclose(simulation.joint_positions(), (0.7, -0.4), atol=1e-9)
+
+
+def single_rod(dynamics: str = '', limit: str = '') -> str:
+    """Return one rod on a revolute joint about y, its own <dynamics> and <limit>."""
+    from test_support.robots import rod_link
+    limit = limit or '<limit lower="-3" upper="3" effort="100" velocity="100"/>'
+    return ('<robot name="rod"><link name="base"/>' + rod_link('rod', 1.0, 0.5)
+            + '<joint name="hinge" type="revolute"><parent link="base"/><child link="rod"/>'
+            f'<axis xyz="0 1 0"/>{limit}{dynamics}</joint></robot>')
+
+
+def test_joint_friction_holds_a_rod_whose_gravity_torque_it_exceeds_and_not_beyond():
+    # Gravity's torque at 0.3 rad: m g (l / 2) sin 0.3 = 0.725 N m.
+    torque = 1.0 * 9.80665 * 0.25 * math.sin(0.3)
+    for friction, held in ((1.05 * torque, True), (0.95 * torque, False)):
+        robot = load_robot(single_rod(f'<dynamics friction="{friction}"/>'))
+        simulation = RobotSimulation(robot.model, RobotSettings(),
+                                     initial_state(robot.model, joint_positions=[0.3]))
+        for _tick in range(500):
+            simulation.step(DT)
+        moved = abs(simulation.joint_positions()[0] - 0.3)
+        assert (moved < 1e-9) == held, (friction, moved)
+
+
+def test_the_speed_limit_caps_the_joint_with_at_most_its_effort():
+    robot = load_robot(single_rod(limit='<limit lower="-3" upper="3" effort="100" '
+                                  'velocity="0.5"/>'))
+    simulation = RobotSimulation(robot.model, RobotSettings(),
+                                 initial_state(robot.model, joint_positions=[1.5]))
+    fastest = 0.0
+    for _tick in range(2000):
+        simulation.step(DT)
+        fastest = max(fastest, abs(simulation.joint_velocities()[0]))
+    assert 0.49 < fastest <= 0.5 + 1e-9
+    # With a weak brake (effort below gravity's torque) the rod runs past the limit.
+    weak = load_robot(single_rod(limit='<limit lower="-3" upper="3" effort="0.5" '
+                                 'velocity="0.5"/>'))
+    simulation = RobotSimulation(weak.model, RobotSettings(),
+                                 initial_state(weak.model, joint_positions=[1.5]))
+    for _tick in range(500):
+        simulation.step(DT)
+    assert abs(simulation.joint_velocities()[0]) > 0.6
