@@ -163,3 +163,38 @@ def test_tf_carries_every_link_and_reset_returns_the_joints():
         body.step()
         # One tick from the start at rest: a step's motion, no more.
         assert np.allclose(body.joints.position, (0.4, -0.2), atol=1e-4)
+
+
+def test_joint_states_come_at_the_publish_rate_asked():
+    with SimulatedBody(robot_description=double_pendulum(), substeps=1,
+                       publish_rate_hz=100.0) as body:
+        stamps = []
+        for _tick in range(100):
+            body.step()
+            if body.joints is not None:
+                stamp = body.joints.header.stamp
+                stamps.append(stamp.sec * 10**9 + stamp.nanosec)
+        # The ticks 10, 20 ... 100 of 100 publish, pose and joint_states alike.
+        published = sorted(set(stamps))
+        assert published == [tick * 1_000_000 for tick in range(10, 101, 10)]
+        stamp = body.pose.message.header.stamp
+        assert stamp.sec * 10**9 + stamp.nanosec == published[-1]
+
+
+def test_a_cad_mesh_that_is_not_closed_is_grabbed_by_its_convex_hull(monkeypatch):
+    # Kinova's arm of the public collection ships collision meshes with open edges.
+    from mouse_constraint_ros.description.robot_links import robot_links
+    from test_support.robots import collection_urdf, robot_collection
+    monkeypatch.setenv('AMENT_PREFIX_PATH', str(robot_collection()))
+    text = collection_urdf('kinova_description/robots/kinova.urdf').read_text()
+    lines = []
+    links = robot_links(text, warn=lines.append)
+    assert any("link 'j2s6s200_link_1'" in line and 'convex hull' in line for line in lines)
+    hull = links.pieces['j2s6s200_link_1'][0].mesh
+    assert hull.is_watertight and hull.is_convex
+    with SimulatedBody(robot_description=text, substeps=1) as body:
+        body.step()
+        origin, rotation = body.node.simulation.robot.link_placements()['j2s6s200_link_1']
+        centre = origin + rotation @ hull.centroid
+        body.grab(centre)
+        assert body.node.simulation.grabbed_link == 'j2s6s200_link_1'
