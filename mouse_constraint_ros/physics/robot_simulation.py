@@ -50,6 +50,9 @@ from .validation import finite_vector, scalar
 
 WORLD_ALIGNED = pinocchio.ReferenceFrame.LOCAL_WORLD_ALIGNED
 FIXED_POINT_PASSES = 2
+# A joint's speed limit gets its row from this fraction of the limit on: the rows can push a
+# joint faster within the substep, but not from far below its limit.
+SPEED_ROW_FROM = 0.8
 
 
 def skew(r: np.ndarray) -> np.ndarray:
@@ -71,6 +74,7 @@ class RobotSimulation:
         """Start at ``initial_state``, nothing grabbed."""
         self.model = model
         self._data = model.model.createData()
+        self._lower = np.tril_indices(model.nv, -1)
         self._initial_state = self._checked(initial_state)
         self._settings = settings
         self._set_gravity()
@@ -251,8 +255,10 @@ class RobotSimulation:
 
     # --- the step -----------------------------------------------------------------------------
     def _crba(self, q: np.ndarray) -> np.ndarray:
-        upper = pinocchio.crba(self.model.model, self._data, q)
-        return np.triu(upper) + np.triu(upper, 1).T
+        """Return M(q), whole: Pinocchio's CRBA fills its upper triangle."""
+        mass = pinocchio.crba(self.model.model, self._data, q).copy()
+        mass[self._lower] = mass.T[self._lower]
+        return mass
 
     def _momentum_rate(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """Return dp/dt = C(q, v)^T v - g(q) + the wrench's torques (no damping, no rows)."""
@@ -312,8 +318,11 @@ class RobotSimulation:
         """Move to ``q``: M(q) and its inverse (symmetrized) with it."""
         self._q = q
         self._mass_matrix = self._crba(q)
-        inverse = np.linalg.inv(self._mass_matrix)
-        self._inverse_mass = 0.5 * (inverse + inverse.T)
+        # Pinocchio's M^-1 (its upper triangle, by the articulated-body recursion): exactly
+        # symmetric once mirrored, and one call instead of factoring M.
+        inverse = pinocchio.computeMinverse(self.model.model, self._data, q).copy()
+        inverse[self._lower] = inverse.T[self._lower]
+        self._inverse_mass = inverse
 
     def _substep(self, h: float, damping: np.ndarray) -> RowSolution:
         q, p, mass, inverse_mass = self._q, self._p, self._mass_matrix, self._inverse_mass
@@ -382,7 +391,7 @@ class RobotSimulation:
                                               upper_side))
             if joint.friction > 0.0:
                 rows.append(bounded_row(index, inverse_mass, 0.0, h * joint.friction))
-            if math.isfinite(joint.velocity) and speed > 0.5 * joint.velocity:
+            if math.isfinite(joint.velocity) and speed > SPEED_ROW_FROM * joint.velocity:
                 rows.append(self._speed_row(joint, index, inverse_mass, h, float(v[index])))
         positions = self.model.joint_positions(q)
         order = {joint.name: number for number, joint in enumerate(self.model.joints)}
