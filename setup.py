@@ -39,6 +39,8 @@ setup(
     install_requires=['setuptools', 'numpy'],
     extras_require={
         'test': ['pytest', 'scipy', 'hypothesis'],
+        # The whole robot (a robot_description of several links): Pinocchio's dynamics.
+        'robot': ['pin'],
     },
     zip_safe=True,
     maintainer='mouse_constraint_ros maintainers',
