@@ -152,8 +152,9 @@ def bad_bodies(folder: Path) -> Dict[str, Tuple[str, str, str]]:
         'missing link': (urdf([weight, cube_piece], extra_links=['base']), 'gripper',
                          "body_link 'gripper' is not a link of robot_description; its links: "
                          'body, base'),
-        'several links, none named': (urdf([weight, cube_piece], extra_links=['base']), '',
-                                      'has 2 links (body, base): set body_link to the one'),
+        'several links, none named': (
+            urdf([weight, cube_piece], extra_links=['base']), '',
+            'set body_link to the one to simulate'),
         'missing mesh file': (mesh(str(folder / 'absent.stl')), '', 'no such file'),
         'mesh not closed': (mesh(str(folder / 'open.stl')), '', 'is not a closed surface'),
         'non-physical inertia': (urdf([inertial(1.0, (1.0, 0.0, 0.0, 1.0, 0.0, 3.0)),

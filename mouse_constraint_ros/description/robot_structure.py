@@ -197,7 +197,9 @@ def robot_structure(text: str) -> RobotStructure:
     roots = [link for link in links if link not in parent_of]
     if len(roots) != 1:
         raise ValueError(f'the URDF must have one root link, got {len(roots)}: '
-                         + (', '.join(map(repr, roots[:5])) or 'a kinematic loop'))
+                         + (', '.join(map(repr, roots[:5])) or 'a kinematic loop')
+                         + ('; join its links by joints for a robot, or set body_link to the '
+                            'one to simulate' if roots else ''))
     children: Dict[str, List[JointSpec]] = {}
     for joint in joints:
         children.setdefault(joint.parent, []).append(joint)

@@ -22,6 +22,7 @@ libraries load with the first robot: the box and single-link routes never import
 """
 
 import functools
+import math
 from typing import Any, Mapping, NamedTuple, Optional, Tuple
 
 from ..physics.body import RigidBody
@@ -66,24 +67,45 @@ def is_robot(values: Mapping[str, Any]) -> bool:
 
 def robot_from(values: Mapping[str, Any]) -> Optional[RobotConfig]:
     """Return the robot of parameter ``values``, or None for a single body; ValueError if bad."""
-    if not is_robot(values):
-        return None
     base = values['base']
     if base not in ('fixed', 'floating'):
         raise ValueError(f'base must be fixed or floating, got {shown(base)}')
     pose = finite_vector('base_pose', values['base_pose'], 7)
-    state = BodyState(pose[:3], pose[3:]).validated(prefix='base_')
+    try:
+        state = BodyState(pose[:3], pose[3:]).validated()
+    except ValueError as error:
+        raise ValueError(f'base_pose: {error}') from None
+    positions = values['initial_joint_positions']
+    try:
+        positions = tuple(float(x) for x in positions)
+    except (TypeError, ValueError):
+        raise ValueError('initial_joint_positions must be numbers, got '
+                         f'{shown(positions)}') from None
+    if not all(map(math.isfinite, positions)):
+        raise ValueError(f'initial_joint_positions must be finite, got {shown(positions)}')
+    tracked = values['tracked_link']
+    if not isinstance(tracked, str):
+        raise ValueError(f'tracked_link must be a string, got {shown(tracked)}')
+    if not is_robot(values):
+        if positions != (0.0,):
+            raise ValueError(f'initial_joint_positions {shown(list(positions))} is for a robot '
+                             '(robot_description of several links, no body_link): the body '
+                             'has no joints')
+        if tracked:
+            raise ValueError(f'tracked_link {tracked!r} is for a robot (robot_description of '
+                             'several links, no body_link)')
+        return None
     robot, links = _loaded(values['robot_description'], base, state.position, state.orientation)
-    tracked = values['tracked_link'] or robot.structure.tool
+    tracked = tracked or robot.structure.tool
     if tracked not in robot.model.link_frames:
         raise ValueError(f'tracked_link {tracked!r} is not a link of the robot; its links: '
                          + ', '.join(robot.structure.links))
-    positions = values['initial_joint_positions']
     joints = robot.model.joints
-    if list(positions) == [0.0]:
+    if positions == (0.0,) and len(joints) != 1:
         positions = None
-    else:
-        positions = finite_vector('initial_joint_positions', positions, len(joints))
+    elif len(positions) != len(joints):
+        raise ValueError(f'initial_joint_positions must have {len(joints)} elements (the '
+                         f"robot's joints), got {len(positions)}: {shown(list(positions))}")
     return RobotConfig(robot, links, tracked, state, positions)
 
 
