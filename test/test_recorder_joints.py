@@ -18,27 +18,38 @@
 The recorder beside a double pendulum released from 60 degrees, in lockstep, writes its files as
 ``mouse_record`` does (``RecordingFiles`` fed by the ``Recorder`` node); the CSV's joint columns
 hold the values of the joint_states the node published, bit for bit. A single body's CSV keeps
-its columns exactly, even with joint_states of another publisher on the topic.
+its columns exactly, even with joint_states of another publisher on the topic. The installed
+``mouse_record`` records a robot node spinning in this process on the wall clock likewise.
 """
 
 import csv
 import math
 from pathlib import Path
+import subprocess
+import sys
+import threading
+import time
 
 from mcap.reader import make_reader
 import numpy as np
+from PIL import Image
 import pytest
 from rclpy.node import Node
+from rclpy.parameter import Parameter
 from rclpy.serialization import deserialize_message
 from rclpy.serialization import serialize_message
 from sensor_msgs.msg import JointState
 
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.recording.capture import fetch_start
 from mouse_constraint_ros.recording.capture import Recorder
 from mouse_constraint_ros.recording.figure import draw_figure
+from mouse_constraint_ros.recording.figure import FIGURE_DPI
+from mouse_constraint_ros.recording.figure import FIGURE_INCHES
 from mouse_constraint_ros.recording.figure import JOINTS_TITLE
 from mouse_constraint_ros.recording.received import Received
 from mouse_constraint_ros.recording.recording_files import RecordingFiles
+from mouse_constraint_ros.recording.rows import RowStream
 from mouse_constraint_ros.recording.rows import tick_rows
 from mouse_constraint_ros.timing.spin import StopRequest
 from mouse_constraint_ros.wire.interface import JOINT_STATES_QOS
@@ -46,6 +57,7 @@ from mouse_constraint_ros.wire.interface import JOINT_STATES_TOPIC
 from mouse_constraint_ros.wire.messages import set_stamp
 from mouse_constraint_ros.wire.messages import stamp_nanoseconds
 from test_support.robots import double_pendulum
+from test_support.ros_harness import RosHarness
 
 START = math.radians(60.0)
 TICKS = 1000
@@ -190,6 +202,17 @@ def test_rows_pair_joint_states_with_the_pose_of_their_stamp(pose_and_twist):
     assert [None if row.joints is None else row.joints.position for row in rows] == [
         (0.1, 0.2), (0.3, 0.4), None, (0.5, 0.6), None]
     assert rows[0].joints.names == ('shoulder', 'elbow')
+    # The joints are named by the first message of a tick, not by one stamped off the ticks.
+    stream = RowStream({'anchor': (0.0, 0.0, 0.0)})
+    pose, twist = pose_and_twist(10)
+    stray = JointState(name=['wheel'], position=[1.0])
+    set_stamp(stray.header.stamp, 15)
+    stream.add(pose)
+    stream.add(Received(JOINT_STATES_TOPIC, 15, serialize_message(stray)))
+    stream.add(joint_states(10, (0.1, 0.2)))
+    assert stream.joint_names == ()  # no twist of stamp 10 yet
+    stream.add(twist)
+    assert stream.joint_names == ('shoulder', 'elbow')
 
 
 @pytest.fixture
@@ -230,3 +253,66 @@ def test_the_figure_has_a_joint_panel_only_for_a_robot(pose_and_twist):
     box = panel.get_position()
     assert box.y1 < min(other.y0 for other in others)
     assert box.width > 1.5 * max(other.width for other in others)
+
+
+@pytest.mark.system
+@pytest.mark.alone
+def test_mouse_record_of_a_robot_node_writes_its_joint_states(tmp_path):
+    """
+    The installed ``mouse_record`` against a swinging double pendulum at 200 Hz, for 1 s.
+
+    Every row from the first with joint values on has those of the joint_states the node
+    published at its stamp, bit for bit; the rows before it are the ticks before the recorder's
+    joint_states subscription matched the node's publisher (after its pose subscription). The
+    MCAP file holds those messages; the figure is drawn, without a warning about the robot's
+    outline.
+    """
+    ros = RosHarness()
+    try:
+        ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
+            Parameter('robot_description', value=double_pendulum()),
+            Parameter('initial_joint_positions', value=[START, 0.0]),
+            Parameter('rate_hz', value=200.0), Parameter('marker_rate_hz', value=0.0),
+            Parameter('diagnostics_rate_hz', value=0.0)]))
+        published = ros.collect(JointState, JOINT_STATES_TOPIC, depth=100000)
+        assert ros.spin_until(lambda: published)
+        prefix = tmp_path / 'robot'
+        process = subprocess.Popen(
+            [str(Path(sys.executable).parent / 'mouse_record'), '-d', '1', '-o', str(prefix),
+             '--mcap', '--timeout', '20'], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+            text=True)
+        lines = []
+        reader = threading.Thread(target=lambda: lines.extend(process.stderr), daemon=True)
+        reader.start()
+        deadline = time.monotonic() + 60.0
+        try:
+            while process.poll() is None:
+                assert time.monotonic() < deadline, 'mouse_record did not finish'
+                ros.spin_for(0.05)
+        finally:
+            if process.poll() is None:
+                process.kill()
+            process.wait()
+            reader.join(timeout=5.0)
+    finally:
+        ros.shutdown()
+    stderr = ''.join(lines)
+    assert process.returncode == 0, stderr
+    assert 'Traceback' not in stderr and 'outline' not in stderr
+    by_stamp = {stamp_nanoseconds(message.header.stamp): message for message in published}
+    header, rows = read_csv(prefix.with_suffix('.csv'))
+    names = list(published[0].name)
+    assert header[:len(BODY_COLUMNS)] == BODY_COLUMNS and len(rows) >= 150
+    first = next(index for index, row in enumerate(rows) if row['joint.shoulder.position'])
+    assert first < 0.25 * len(rows)
+    for row in rows[first:]:
+        message = by_stamp[int(row['stamp_ns'])]
+        for index, name in enumerate(names):
+            for quantity in ('position', 'velocity', 'effort'):
+                assert float(row[f'joint.{name}.{quantity}']) == getattr(message, quantity)[index]
+    _, raw = mcap_messages(prefix.with_suffix('.mcap'), '/joint_states')
+    recorded = [deserialize_message(data, JointState) for data in raw]
+    assert len(recorded) >= len(rows) - first
+    assert all(by_stamp[stamp_nanoseconds(m.header.stamp)] == m for m in recorded)
+    with Image.open(prefix.with_suffix('.png')) as image:
+        assert image.size == (FIGURE_INCHES[0] * FIGURE_DPI, FIGURE_INCHES[1] * FIGURE_DPI)

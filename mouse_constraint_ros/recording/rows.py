@@ -25,7 +25,8 @@ its first the target the node holds; the anchor error is the anchor's distance t
 wrench is the one the node applied at that tick (``WrenchView``): a wrench stamped on the poses'
 clock applies from the tick stamped at its stamp, whatever the order of arrival. A robot's row
 carries the ``joint_states`` of its stamp (``joints``), paired in the order they came as twists
-are; ``joint_names`` are the first such message's, the CSV's joint columns.
+are; ``joint_names``, the CSV's joint columns, are those of the first message that came with a
+twist of its stamp (the node's: another publisher's are stamped off its ticks).
 
 ``RowStream`` makes the rows while recording: a row is made once poses stamped ``SETTLE_NS``
 after it came (the changes it waits for and the next target of a stream are in by then), and
@@ -139,7 +140,7 @@ class RowStream:
         self._changes: List[Tuple[int, int]] = []
         self._twists: Dict[int, List[StampedFields]] = {}
         self._joints: Dict[int, List[JointValues]] = {}  # a robot's joint_states, by stamp
-        self.joint_names: Tuple[str, ...] = ()  # those of the first row with joint_states
+        self.joint_names: Tuple[str, ...] = ()  # those of the first tick's joint_states
         self._paired: Dict[int, int] = {}
         self._latest_pose: Optional[int] = None
         self._newest_pose: Optional[int] = None
@@ -157,6 +158,7 @@ class RowStream:
             joints = read_joint_states(received.data)
             if joints is not None:
                 self._joints.setdefault(joints[0], []).append(joints[1])
+                self._name_joints(joints[0])
             return []
         if topic in _RAW:
             item = decode_stamped(received.data, _RAW[topic])
@@ -167,6 +169,7 @@ class RowStream:
                 self._newest_pose = max(item.stamp_ns, self._newest_pose or item.stamp_ns)
             elif topic == TWIST_TOPIC:
                 self._twists.setdefault(item.stamp_ns, []).append(item)
+                self._name_joints(item.stamp_ns)
             elif topic == WRENCH_TOPIC:
                 stamp, item = item.stamp_ns, received_wrench(item, self._latest_pose)
                 if self._latest_pose is not None and item.at_ns == stamp:
@@ -188,6 +191,11 @@ class RowStream:
         if self._newest_pose is None:
             return []
         return self._rows(self._newest_pose - SETTLE_NS, self._newest_pose - 2 * SETTLE_NS)
+
+    def _name_joints(self, stamp: int) -> None:
+        """Name the joints after the joint_states of ``stamp`` once a twist of it came too."""
+        if not self.joint_names and stamp in self._joints and stamp in self._twists:
+            self.joint_names = self._joints[stamp][0].names
 
     def finish(self) -> List[Row]:
         """Return the rows not handed out yet: the recording is over."""
@@ -264,8 +272,6 @@ class RowStream:
         target = view.target
         if self._held is not None:
             target = self._path.at(stamp, self._held) or target
-        if joints is not None and not self.joint_names:
-            self.joint_names = joints.names
         self._ready.append(_row(_state(pose, [twist]), stamp, target, view.anchor,
                                 self._first, self._wrench.at(stamp), joints))
         self._made += 1
