@@ -47,6 +47,8 @@ from mouse_constraint_ros.recording.figure import draw_figure
 from mouse_constraint_ros.recording.figure import FIGURE_DPI
 from mouse_constraint_ros.recording.figure import FIGURE_INCHES
 from mouse_constraint_ros.recording.figure import JOINTS_TITLE
+from mouse_constraint_ros.recording.joints import joint_fields
+from mouse_constraint_ros.recording.joints import JointValues
 from mouse_constraint_ros.recording.received import Received
 from mouse_constraint_ros.recording.recording_files import RecordingFiles
 from mouse_constraint_ros.recording.rows import RowStream
@@ -316,3 +318,14 @@ def test_mouse_record_of_a_robot_node_writes_its_joint_states(tmp_path):
     assert all(by_stamp[stamp_nanoseconds(m.header.stamp)] == m for m in recorded)
     with Image.open(prefix.with_suffix('.png')) as image:
         assert image.size == (FIGURE_INCHES[0] * FIGURE_DPI, FIGURE_INCHES[1] * FIGURE_DPI)
+
+
+def test_joint_fields_follow_the_columns_and_leave_what_a_message_lacks_empty():
+    """Values by the columns' joint names, whatever the message's order; '' where it has none."""
+    columns = ('shoulder', 'elbow')
+    whole = JointValues(columns, (0.1, 0.2), (0.3, 0.4), (0.5, 0.6))
+    assert joint_fields(whole, columns) == [0.1, 0.3, 0.5, 0.2, 0.4, 0.6]
+    # Another order, no velocities, and a joint the columns do not name.
+    partial = JointValues(('wrist', 'elbow', 'shoulder'), (7.0, 0.2, 0.1), (), (1.0, 0.6, 0.5))
+    assert joint_fields(partial, columns) == [0.1, '', 0.5, 0.2, '', 0.6]
+    assert joint_fields(None, columns) == [''] * 6

@@ -72,6 +72,11 @@ def joint_columns(names: Sequence[str]) -> Tuple[str, ...]:
 
 def joint_fields(joints: Optional[JointValues], names: Sequence[str]) -> List[object]:
     """Return a row's values in ``joint_columns(names)`` order; '' where there is none."""
+    if joints is not None and joints.names == tuple(names) and \
+            len(joints.position) == len(joints.velocity) == len(joints.effort) == len(names):
+        # The node's message: every value, in the columns' order.
+        return [value for values in zip(joints.position, joints.velocity, joints.effort)
+                for value in values]
     fields: List[object] = []
     for name in names:
         for quantity in JOINT_QUANTITIES:
