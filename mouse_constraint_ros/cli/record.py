@@ -16,20 +16,22 @@
 The ``mouse_record`` command: record target, pose, twist, grabs and pushes, and draw the motion.
 
 ``mouse_record --duration 10 --output run`` records the relative topics ``target``, ``pose``,
-``twist``, ``grab`` and ``wrench`` for 10 s of the node's clock from the first pose, with a
-progress bar, into
+``twist``, ``grab`` and ``wrench``, and a robot's ``joint_states``, for 10 s of the node's clock
+from the first pose, with a progress bar, into
 
 - ``run.csv``: one row per tick (pose and twist of the same stamp), with the anchor's world
   position, the target path at the tick's time (within a stream of targets the point between
   the two around it; else the node's target: the latest received, a grab it took, what
   ``~/reset`` and ``~/release`` leave), the anchor error to it, speed and angular speed, the
   body-frame anchor in effect, the grabs, taken or ignored, and the wrench the node applied;
+  for a robot, each joint's position, velocity and effort of the tick (``joint.<name>.*``);
 - ``run.mcap`` with ``--mcap``: the topics as received (CDR, ``ros2`` profile), with the
   recorded node's changes from ``/parameter_events`` and its reset and release service events,
   which Foxglove and ``ros2 bag info/play`` open;
 - ``run.png`` at the end: anchor and target paths from above and from the side, the anchor
   error, speed and angular speed over time, grabs marked; pushes as spans, the anchor's path
-  while pushed in red, and the applied force over time; a URDF body's hull outlined.
+  while pushed in red, and the applied force over time; a URDF body's hull outlined; a robot's
+  joint positions over time.
 
 The CSV and the MCAP file are written while recording (``RecordingFiles``): a recorder killed
 outright leaves all but its last half second. The anchor (body frame), ``hold_initial_anchor``,
@@ -240,9 +242,10 @@ def finish_outputs(node: Recorder, files: RecordingFiles, options: argparse.Name
             for path in files.paths():
                 path.unlink(missing_ok=True)
             return 1
+        # A robot's links are not one body: no outline (its joints have a panel).
         write_figure(written[1], files.rows(), anchor=start['anchor'],
                      frame_id=files.frame_id or '?', ticks=files.figure_rows.count,
-                     hull=body_hull(start, logger.warning))
+                     hull=None if files.joint_names else body_hull(start, logger.warning))
     except OSError as error:
         logger.error(f'cannot write {describe_os_error(error)}')
         return 1

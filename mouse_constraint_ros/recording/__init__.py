@@ -20,7 +20,8 @@ The parts of ``mouse_record``, one idea a module, below the thin command ``cli/r
 - ``node_view``: the recorded node's target and anchor as the messages make them;
 - ``target_path``: where a stream of targets is at a tick's time;
 - ``applied_wrench``: the wrench the node applied at a tick, and the pushes of a recording;
-- ``rows``: messages to CSV rows (one per tick), made as the messages come;
+- ``rows``: messages to CSV rows (one per tick), made as the messages come; ``joints`` a
+  robot's ``joint_states`` on them and their CSV columns;
 - ``recording_files``: the files written while recording; ``csv_file`` and ``mcap_file`` the
   CSV and the MCAP file (and the ``ros2msg`` schemas it carries);
 - ``figure``: the PNG figure (matplotlib, no display); ``body_outline`` a URDF body's hull on it;

@@ -45,7 +45,8 @@ from .received import (BODY_PARAMETERS, COUNTED_TOPICS, header_stamp, MESSAGE_TY
                        service_event_topic, SERVICE_EVENTS, TOPICS)
 from ..timing.guarded_time_source import guard_time_source
 from ..timing.spin import spin_until, SpinEnd, StopRequest, wait_until
-from ..wire.interface import NODE_NAME, POSE_TOPIC, SERVICE_EVENT_QOS, TWIST_TOPIC
+from ..wire.interface import (JOINT_STATES_TOPIC, NODE_NAME, POSE_TOPIC, SERVICE_EVENT_QOS,
+                              TWIST_TOPIC)
 from ..wire.remote_parameters import fetch_parameters
 
 # Deep RELIABLE queues: a burst of caught-up ticks must not overwrite unread messages.
@@ -137,11 +138,13 @@ class Recorder(Node):
         # (7.1.6) fails on callbacks that take one.
         counts, clock, latest, keep = self.counts, self._clock, self.latest_ns, self._keep_message
         counted, state = key in counts, key in latest
+        # A robot's joint_states are the ticks' too: none stamped after the recorded time.
+        stamped = state or key == JOINT_STATES_TOPIC
 
         def receive(data: bytes) -> None:
             if not self.recording:
                 return
-            if state:
+            if stamped:
                 stamp = header_stamp(data)
                 if stamp is None:
                     return
@@ -152,9 +155,10 @@ class Recorder(Node):
                 first = self.first_pose_ns
                 if self.duration_ns is not None and first is not None and \
                         stamp > first + self.duration_ns:
-                    self.beyond[key] = True
+                    if state:
+                        self.beyond[key] = True
                     return
-                if latest[key] is None or stamp > latest[key]:
+                if state and (latest[key] is None or stamp > latest[key]):
                     latest[key] = stamp
             if counted:
                 counts[key] += 1

@@ -15,16 +15,18 @@
 """
 The CSV file of a recording, written row by row as the rows come: a crash keeps what came first.
 
-``# `` lines first (what the recording is of), then the ``COLUMNS`` header, a line per row
-(floats with every digit: repr), and ``# `` lines last (what the recording lacks, known at its
-end). ``flush`` hands what was written to the operating system, so that a killed recorder
-leaves every row written before its last flush.
+``# `` lines first (what the recording is of), then the header, a line per row (floats with
+every digit: repr), and ``# `` lines last (what the recording lacks, known at its end). The
+header is ``COLUMNS``, and for a robot its joints' columns after them (``joints``): it is written
+with the first rows, whose joints name them. ``flush`` hands what was written to the operating
+system, so that a killed recorder leaves every row written before its last flush.
 """
 
 import csv
 from pathlib import Path
-from typing import Iterable, Sequence
+from typing import Iterable, Optional, Sequence, Tuple
 
+from .joints import joint_columns, joint_fields
 from .rows import COLUMNS, Row
 
 
@@ -37,33 +39,52 @@ class CsvFile:
     """
 
     def __init__(self, path: Path, metadata: Sequence[str] = ()) -> None:
-        """Open the file and write the metadata and the header."""
+        """Open the file and write the metadata."""
         self._stream = open(path, 'w', newline='')
         for line in metadata:
             self._stream.write(f'# {line}\n')
         self._writer = csv.writer(self._stream)
-        self._writer.writerow(COLUMNS)
+        # The joints of the header written, None before it is.
+        self._joints: Optional[Tuple[str, ...]] = None
 
-    def write(self, rows: Iterable[Row]) -> None:
-        """Write ``rows``, one line each."""
-        self._writer.writerows(row.fields() for row in rows)
+    def _header(self, joint_names: Sequence[str]) -> None:
+        self._joints = tuple(joint_names)
+        self._writer.writerow(COLUMNS + joint_columns(self._joints))
+
+    def write(self, rows: Iterable[Row], joint_names: Sequence[str] = ()) -> None:
+        """
+        Write ``rows``, one line each, after the header when they are the first.
+
+        :param joint_names: a robot's joints, named in the header when it is written with these
+            rows (``RowStream.joint_names``); none for a single body.
+        """
+        if self._joints is None:
+            self._header(joint_names)
+        joints = self._joints
+        if joints:
+            self._writer.writerows(row.fields() + joint_fields(row.joints, joints)
+                                   for row in rows)
+        else:
+            self._writer.writerows(row.fields() for row in rows)
 
     def flush(self) -> None:
         """Hand what was written to the operating system."""
         self._stream.flush()
 
     def close(self, trailer: Sequence[str] = ()) -> None:
-        """Write ``trailer``, each line after ``# ``, and close the file."""
+        """Write ``trailer``, each line after ``# ``, and close the file (with its header)."""
+        if self._joints is None:
+            self._header(())
         for line in trailer:
             self._stream.write(f'# {line}\n')
         self._stream.close()
 
 
 def write_csv(path: Path, rows: Sequence[Row], metadata: Sequence[str] = (),
-              trailer: Sequence[str] = ()) -> None:
+              trailer: Sequence[str] = (), joint_names: Sequence[str] = ()) -> None:
     """Write a whole recording's CSV: ``metadata``, the header, ``rows``, ``trailer``."""
     csv_file = CsvFile(path, metadata)
     try:
-        csv_file.write(rows)
+        csv_file.write(rows, joint_names)
     finally:
         csv_file.close(trailer)

@@ -19,7 +19,9 @@ A recording with pushes (a wrench the node applied) gets a third row, the applie
 time, and each push is marked where it acted: a shaded span and a line at its start on the time
 plots, and its stretch of the anchor's path drawn over in magenta from a triangle where it began.
 A URDF body is outlined on the path plots where it started and where it ended: its convex hull
-seen from above and from the side (``body_outline``); the box body is not drawn.
+seen from above and from the side (``body_outline``); the box body is not drawn. A robot's
+recording (rows with ``joint_states``) gets a row of its own below, its joints' positions over
+time.
 
 matplotlib is imported when a figure is drawn, with its Agg canvas: no display is needed. Axes
 show plain numbers (no offset such as ``1e-9+1``, which a body at rest would otherwise get), a
@@ -52,6 +54,10 @@ PUSH_COLOR = 'magenta'
 PUSH_ALPHA = 0.15
 # The height of the applied wrench's row, relative to the other two rows.
 WRENCH_ROW_HEIGHT = 0.6
+# The height of a robot's joint positions' row, relative to the first two rows.
+JOINTS_ROW_HEIGHT = 0.8
+# The title of that row's panel.
+JOINTS_TITLE = 'Joint positions (joint_states)'
 # A URDF body's outline: its colour, and its line where the body started and where it ended.
 BODY_OUTLINE_COLOR = 'tab:blue'
 BODY_OUTLINES = ((0, ':', 'body at start (hull)'), (-1, '-', 'body at end (hull)'))
@@ -79,7 +85,9 @@ def draw_figure(rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
     a third row draws the applied force's components (and |torque|, when there was one) over
     time; each push is a shaded span on every time plot with a line at its start, labelled
     'push', and its stretch of the anchor path is drawn over in magenta, labelled 'anchor while
-    pushed', from a triangle at the anchor where it began, labelled 'push start'.
+    pushed', from a triangle at the anchor where it began, labelled 'push start'. A robot's
+    rows (``Row.joints``) add a last row, ``JOINTS_TITLE``: each joint's position over time, a
+    line labelled by the joint's name, with the grabs and pushes marked as on the time plots.
 
     :param rows: the ticks, at least one.
     :param anchor: the anchor in the body frame (m) at the start, named in the title (with the
@@ -106,9 +114,12 @@ def draw_figure(rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
     grabbed = [row for row in rows if row.grab is not None]
     pushes = push_spans(rows)
     pushed = np.array([(row.wrench_force, row.wrench_torque) != _NO_WRENCH for row in rows])
+    joint_names = next((row.joints.names for row in rows if row.joints is not None), ())
     figure = Figure(figsize=FIGURE_INCHES, dpi=FIGURE_DPI, layout='constrained')
-    if pushes:
-        grid = figure.add_gridspec(3, 2, height_ratios=(1.0, 1.0, WRENCH_ROW_HEIGHT))
+    if pushes or joint_names:
+        grid = figure.add_gridspec(2 + bool(pushes) + bool(joint_names), 2, height_ratios=(
+            1.0, 1.0, *((WRENCH_ROW_HEIGHT,) if pushes else ()),
+            *((JOINTS_ROW_HEIGHT,) if joint_names else ())))
         top, side = figure.add_subplot(grid[0, 0]), figure.add_subplot(grid[0, 1])
         error_axes, speed_axes = figure.add_subplot(grid[1, 0]), figure.add_subplot(grid[1, 1])
     else:
@@ -143,12 +154,14 @@ def draw_figure(rows: Sequence[Row], *, anchor: Vector3, frame_id: str,
         axes.legend(loc='best', fontsize='small')
     _draw_error(error_axes, t, errors)
     spin_axes = _draw_speeds(speed_axes, t, rows)
-    for axes in (error_axes, speed_axes):
+    time_axes = [error_axes, speed_axes]
+    if joint_names:
+        time_axes.append(_draw_joints(figure.add_subplot(grid[-1, :]), t, rows, joint_names))
+    for axes in time_axes:
         for index, row in enumerate(grabbed):
             axes.axvline(row.time, color='black' if row.grab_taken else 'grey', linestyle=':',
                          linewidth=1.0,
                          label='grab' if index == 0 and axes is speed_axes else None)
-    time_axes = [error_axes, speed_axes]
     if pushes:
         time_axes.append(_draw_wrench(figure.add_subplot(grid[2, :]), t, rows))
     for axes in time_axes:
@@ -244,6 +257,23 @@ def _draw_wrench(axes, t, rows):
         handles = handles + torque_axes.get_lines()
     axes.legend(handles, [line.get_label() for line in handles], loc='upper right',
                 fontsize='small')
+    return axes
+
+
+def _draw_joints(axes, t, rows: Sequence[Row], names: Sequence[str]):
+    """Draw each joint's position over time (a gap where a row has none); return ``axes``."""
+    for name in names:
+        positions = [None if row.joints is None else row.joints.value(name, 'position')
+                     for row in rows]
+        axes.plot(t, np.array([np.nan if p is None else p for p in positions]), linewidth=1.2,
+                  label=drawable(name))
+    axes.set_xlim(0.0, max(t[-1], 1e-3))
+    axes.set_xlabel('time (s)')
+    axes.set_ylabel('position (rad; m if prismatic)')
+    axes.set_title(JOINTS_TITLE)
+    axes.grid(True, alpha=0.3)
+    axes.ticklabel_format(useOffset=False)
+    axes.legend(loc='upper right', fontsize='small', ncol=max(1, len(names) // 8))
     return axes
 
 

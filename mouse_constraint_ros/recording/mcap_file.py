@@ -19,8 +19,8 @@ The MCAP file of a recording: the messages as received (CDR) on ``ros2msg`` sche
 recording at once.
 
 Foxglove and ``ros2 bag info/play`` open it: the ``ros2`` profile, one channel per recorded topic
-(target, pose, twist, grab, ``/parameter_events`` with the recorded node's changes, and the
-service events of its ``~/reset`` and ``~/release``)
+(target, pose, twist, grab, wrench, ``/parameter_events`` with the recorded node's changes, the
+service events of its ``~/reset`` and ``~/release``, and a robot's ``joint_states``)
 with the publishers' QoS as rosbag2 writes it (``offered_qos_profiles``), and schemas generated
 from the message classes (``message_definition``), so that no ``.msg`` files are needed.
 """
@@ -35,7 +35,7 @@ from typing import Dict, Iterator, List, Mapping, Sequence
 from rclpy.qos import QoSProfile
 import yaml
 
-from .received import MESSAGE_TYPES, Received
+from .received import MESSAGE_TYPES, Received, ROBOT_TOPICS
 
 
 def schema_name(message_type) -> str:
@@ -150,9 +150,11 @@ class McapStream:
 
     The schemas are written first, each channel with its first message (the publishers' QoS is
     known then), the channels without a message at the end, so that each recorded topic is in
-    the file. ``flush`` closes the chunk in progress and hands it to the operating system: a
-    killed recorder leaves a file whose chunks up to its last flush are read back (``mcap
-    recover``, a streaming reader); ``close`` writes the summary that seeking readers use.
+    the file; a robot's topics (``ROBOT_TOPICS``), schema and channel, come with their first
+    message only, so that a single body's file has none. ``flush`` closes the chunk in
+    progress and hands it to the operating system: a killed recorder leaves a file whose chunks
+    up to its last flush are read back (``mcap recover``, a streaming reader); ``close`` writes
+    the summary that seeking readers use.
 
     :param path: the file (created or truncated).
     :param topic_names: the resolved topic name of each key of ``MESSAGE_TYPES``.
@@ -170,19 +172,26 @@ class McapStream:
             self._writer._Writer__chunk_indices = self._chunk_indexes
         self._writer.start(profile='ros2', library='mouse_constraint_ros mouse_record')
         self._topic_names = topic_names
-        self._schemas = {
-            key: self._writer.register_schema(
-                name=schema_name(message_type), encoding='ros2msg',
-                data=message_definition(message_type).encode())
-            for key, message_type in MESSAGE_TYPES.items()}
+        self._schemas: Dict[str, int] = {}
+        for key in MESSAGE_TYPES:
+            if key not in ROBOT_TOPICS:
+                self._schema(key)
         self._channels: Dict[str, int] = {}
         self._sequence = 0
+
+    def _schema(self, key: str) -> int:
+        if key not in self._schemas:
+            message_type = MESSAGE_TYPES[key]
+            self._schemas[key] = self._writer.register_schema(
+                name=schema_name(message_type), encoding='ros2msg',
+                data=message_definition(message_type).encode())
+        return self._schemas[key]
 
     def _channel(self, key: str, offered_qos: str) -> int:
         if key not in self._channels:
             self._channels[key] = self._writer.register_channel(
                 topic=self._topic_names[key], message_encoding='cdr',
-                schema_id=self._schemas[key], metadata={'offered_qos_profiles': offered_qos})
+                schema_id=self._schema(key), metadata={'offered_qos_profiles': offered_qos})
         return self._channels[key]
 
     def add(self, message: Received, offered_qos: str = '') -> None:
@@ -204,7 +213,8 @@ class McapStream:
     def close(self, offered_qos: Mapping[str, str]) -> None:
         """Write the channels without a message, the summary and the footer; close the file."""
         for key in MESSAGE_TYPES:
-            self._channel(key, offered_qos.get(key, ''))
+            if key not in ROBOT_TOPICS:
+                self._channel(key, offered_qos.get(key, ''))
         self._writer.finish()
         self._stream.close()
         self._chunk_indexes.close()

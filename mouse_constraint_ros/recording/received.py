@@ -15,11 +15,11 @@
 """
 What a recording keeps: the recorded topics and each message as it arrived, serialized.
 
-Besides the five topics (the node's inputs ``target``, ``grab`` and ``wrench``, its ``pose``
-and ``twist``) it keeps what changes the recorded node's target and anchor without passing
-through them: the node's ``/parameter_events`` that change a parameter of ``NODE_PARAMETERS``
-(a grab sets ``anchor``), and the service events of its ``~/reset`` and ``~/release``
-(``<node>/reset/_service_event``, published by the node's service introspection).
+Besides the topics (the node's inputs ``target``, ``grab`` and ``wrench``, its ``pose`` and
+``twist``, and a robot's ``joint_states``) it keeps what changes the recorded node's target and
+anchor without passing through them: the node's ``/parameter_events`` that change a parameter
+of ``NODE_PARAMETERS`` (a grab sets ``anchor``), and the service events of its ``~/reset`` and
+``~/release`` (``<node>/reset/_service_event``, published by the node's service introspection).
 """
 
 import struct
@@ -27,14 +27,19 @@ from typing import Dict, NamedTuple, Optional
 
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped, WrenchStamped
 from rcl_interfaces.msg import ParameterEvent, ParameterType
+from sensor_msgs.msg import JointState
 from std_srvs.srv import Trigger
 
-from ..wire.interface import GRAB_TOPIC, POSE_TOPIC, TARGET_TOPIC, TWIST_TOPIC, WRENCH_TOPIC
+from ..wire.interface import (GRAB_TOPIC, JOINT_STATES_TOPIC, POSE_TOPIC, TARGET_TOPIC,
+                              TWIST_TOPIC, WRENCH_TOPIC)
 
 # The recorded topics (relative: namespaces and remaps apply) and their types, in CSV order;
 # the progress line counts the messages of the first four.
 TOPICS = {TARGET_TOPIC: PointStamped, POSE_TOPIC: PoseStamped, TWIST_TOPIC: TwistStamped,
-          GRAB_TOPIC: PointStamped, WRENCH_TOPIC: WrenchStamped}
+          GRAB_TOPIC: PointStamped, WRENCH_TOPIC: WrenchStamped, JOINT_STATES_TOPIC: JointState}
+# The topics only a node that serves a whole robot publishes: a recording of a single body has
+# no trace of them (no CSV column, no MCAP channel).
+ROBOT_TOPICS = (JOINT_STATES_TOPIC,)
 COUNTED_TOPICS = (TARGET_TOPIC, POSE_TOPIC, TWIST_TOPIC, GRAB_TOPIC)
 # The recorded node's parameter events that change a parameter of NODE_PARAMETERS: kept too,
 # so that each row uses the anchor in effect when its pose came.

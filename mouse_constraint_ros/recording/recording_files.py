@@ -32,7 +32,7 @@ each) is what grows, about 3 MB an hour.
 
 from pathlib import Path
 import time
-from typing import Callable, List, Mapping, Optional, Sequence
+from typing import Callable, List, Mapping, Optional, Sequence, Tuple
 
 from .csv_file import CsvFile
 from .figure_rows import FigureRows
@@ -116,7 +116,7 @@ class RecordingFiles:
 
     def _write(self, rows: List[Row]) -> None:
         if rows:
-            self._csv.write(rows)
+            self._csv.write(rows, self._rows.joint_names)
             for row in rows:
                 self.figure_rows.add(row)
                 self.ticks.add(row.stamp_ns)
@@ -137,6 +137,11 @@ class RecordingFiles:
         self._csv.close(self.missing().lines() if self.figure_rows.count else ())
         if self._mcap is not None:
             self._mcap.close(self._offered_qos)
+
+    @property
+    def joint_names(self) -> Tuple[str, ...]:
+        """Return a robot's joints, the CSV's joint columns; none for a single body."""
+        return () if self._rows is None else self._rows.joint_names
 
     def missing(self) -> Optional[MissingTicks]:
         """Return the ticks the rows so far lack on the node's grid; None before ``start``."""

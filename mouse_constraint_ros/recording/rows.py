@@ -23,7 +23,10 @@ row's target is where the target path is at the tick's time (``TargetPath``): wi
 of targets the point between the two around it, from its last target on that target, before
 its first the target the node holds; the anchor error is the anchor's distance to it. A row's
 wrench is the one the node applied at that tick (``WrenchView``): a wrench stamped on the poses'
-clock applies from the tick stamped at its stamp, whatever the order of arrival.
+clock applies from the tick stamped at its stamp, whatever the order of arrival. A robot's row
+carries the ``joint_states`` of its stamp (``joints``), paired in the order they came as twists
+are; ``joint_names``, the CSV's joint columns, are those of the first message that came with a
+twist of its stamp (the node's: another publisher's are stamped off its ticks).
 
 ``RowStream`` makes the rows while recording: a row is made once poses stamped ``SETTLE_NS``
 after it came (the changes it waits for and the next target of a stream are in by then), and
@@ -38,13 +41,15 @@ from typing import Deque, Dict, List, Mapping, NamedTuple, Optional, Sequence, T
 from rclpy.serialization import deserialize_message
 
 from .applied_wrench import received_wrench, WRENCH_DOUBLES, WrenchView
+from .joints import JointValues, read_joint_states
 from .node_view import change_stamp, NodeView, succeeded
 from .received import MESSAGE_TYPES, Received, RESET_EVENTS
 from .target_path import SAME_CLOCK_NS, TargetPath
 from ..physics import BodyState
 from ..physics.algebra import Vector3
 from ..wire.cdr.stamped import decode_stamped, POINT, POSE, Refusal, StampedFields, TWIST
-from ..wire.interface import GRAB_TOPIC, POSE_TOPIC, TARGET_TOPIC, TWIST_TOPIC, WRENCH_TOPIC
+from ..wire.interface import (GRAB_TOPIC, JOINT_STATES_TOPIC, POSE_TOPIC, TARGET_TOPIC,
+                              TWIST_TOPIC, WRENCH_TOPIC)
 
 COLUMNS = ('time', 'stamp_ns', 'x', 'y', 'z', 'qx', 'qy', 'qz', 'qw', 'vx', 'vy', 'vz', 'wx', 'wy',
            'wz', 'anchor_x', 'anchor_y', 'anchor_z', 'target_x', 'target_y', 'target_z',
@@ -69,7 +74,8 @@ class Row(NamedTuple):
     ``body_anchor`` is the anchor in the body frame in effect at this tick, ``grab`` a grab
     point marked on this tick (None on the ticks without one), ``grab_taken`` whether the node
     took it. ``wrench_force`` (N) and ``wrench_torque`` (N m) are the wrench the node applied at
-    this tick (``wrench`` topic), zero without one.
+    this tick (``wrench`` topic), zero without one. ``joints`` is a robot's ``joint_states`` of
+    this tick, None for a single body (or a tick whose message did not come).
     """
 
     time: float
@@ -88,6 +94,7 @@ class Row(NamedTuple):
     grab_taken: Optional[bool] = None
     wrench_force: Vector3 = _ZERO
     wrench_torque: Vector3 = _ZERO
+    joints: Optional[JointValues] = None
 
     def fields(self) -> list:
         """Return the row's values in ``COLUMNS`` order; '' where there is no target or grab."""
@@ -132,6 +139,8 @@ class RowStream:
         # The changes not yet applied whose node stamp is on the poses' clock: (index, stamp).
         self._changes: List[Tuple[int, int]] = []
         self._twists: Dict[int, List[StampedFields]] = {}
+        self._joints: Dict[int, List[JointValues]] = {}  # a robot's joint_states, by stamp
+        self.joint_names: Tuple[str, ...] = ()  # those of the first tick's joint_states
         self._paired: Dict[int, int] = {}
         self._latest_pose: Optional[int] = None
         self._newest_pose: Optional[int] = None
@@ -144,6 +153,13 @@ class RowStream:
     def add(self, received: Received) -> List[Row]:
         """Take one message as received; return the rows it completes, in order."""
         topic, index = received.topic, self._base + len(self._messages)
+        if topic == JOINT_STATES_TOPIC:
+            # Kept by stamp for the rows, as twists are; no row waits on one.
+            joints = read_joint_states(received.data)
+            if joints is not None:
+                self._joints.setdefault(joints[0], []).append(joints[1])
+                self._name_joints(joints[0])
+            return []
         if topic in _RAW:
             item = decode_stamped(received.data, _RAW[topic])
             if isinstance(item, Refusal):
@@ -153,6 +169,7 @@ class RowStream:
                 self._newest_pose = max(item.stamp_ns, self._newest_pose or item.stamp_ns)
             elif topic == TWIST_TOPIC:
                 self._twists.setdefault(item.stamp_ns, []).append(item)
+                self._name_joints(item.stamp_ns)
             elif topic == WRENCH_TOPIC:
                 stamp, item = item.stamp_ns, received_wrench(item, self._latest_pose)
                 if self._latest_pose is not None and item.at_ns == stamp:
@@ -174,6 +191,11 @@ class RowStream:
         if self._newest_pose is None:
             return []
         return self._rows(self._newest_pose - SETTLE_NS, self._newest_pose - 2 * SETTLE_NS)
+
+    def _name_joints(self, stamp: int) -> None:
+        """Name the joints after the joint_states of ``stamp`` once a twist of it came too."""
+        if not self.joint_names and stamp in self._joints and stamp in self._twists:
+            self.joint_names = self._joints[stamp][0].names
 
     def finish(self) -> List[Row]:
         """Return the rows not handed out yet: the recording is over."""
@@ -213,11 +235,14 @@ class RowStream:
             twists, paired = self._twists.get(stamp, ()), self._paired.get(stamp, 0)
             if paired < len(twists):
                 self._paired[stamp] = paired + 1
-                self._make_row(pose, twists[paired])
+                joints = self._joints.get(stamp, ())
+                self._make_row(pose, twists[paired], joints[paired] if paired < len(joints)
+                               else None)
             self._scanned += 1
         self._forget()
 
-    def _make_row(self, pose: StampedFields, twist: StampedFields) -> None:
+    def _make_row(self, pose: StampedFields, twist: StampedFields,
+                  joints: Optional[JointValues]) -> None:
         # Everything received before this pose, and the changes the node made before its tick.
         stamp = pose.stamp_ns
         until = max([self._scanned] + [index + 1 for index, change in self._changes
@@ -248,7 +273,7 @@ class RowStream:
         if self._held is not None:
             target = self._path.at(stamp, self._held) or target
         self._ready.append(_row(_state(pose, [twist]), stamp, target, view.anchor,
-                                self._first, self._wrench.at(stamp)))
+                                self._first, self._wrench.at(stamp), joints))
         self._made += 1
 
     def _forget(self) -> None:
@@ -261,6 +286,8 @@ class RowStream:
         for stamp in [s for s in self._twists if s < self._last - SETTLE_NS]:
             del self._twists[stamp]
             self._paired.pop(stamp, None)
+        for stamp in [s for s in self._joints if s < self._last - SETTLE_NS]:
+            del self._joints[stamp]
         self._path.forget_before(self._last)
 
 
@@ -292,7 +319,7 @@ def _state(pose: StampedFields, twists: Optional[List[StampedFields]]) -> BodySt
 
 
 def _row(state: BodyState, stamp: int, target: Optional[Vector3], body_anchor: Vector3,
-         start: int, wrench: Tuple[Vector3, Vector3]) -> Row:
+         start: int, wrench: Tuple[Vector3, Vector3], joints: Optional[JointValues]) -> Row:
     world_anchor = state.world_point(body_anchor)
     return Row(
         time=(stamp - start) * 1e-9, stamp_ns=stamp, position=state.position,
@@ -301,4 +328,4 @@ def _row(state: BodyState, stamp: int, target: Optional[Vector3], body_anchor: V
         anchor_error=None if target is None else math.dist(world_anchor, target),
         speed=math.hypot(*state.linear_velocity),
         angular_speed=math.hypot(*state.angular_velocity), body_anchor=body_anchor,
-        wrench_force=wrench[0], wrench_torque=wrench[1])
+        wrench_force=wrench[0], wrench_torque=wrench[1], joints=joints)
