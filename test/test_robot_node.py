@@ -198,3 +198,14 @@ def test_a_cad_mesh_that_is_not_closed_is_grabbed_by_its_convex_hull(monkeypatch
         centre = origin + rotation @ hull.centroid
         body.grab(centre)
         assert body.node.simulation.grabbed_link == 'j2s6s200_link_1'
+
+
+def test_a_reset_while_paused_publishes_the_joints_with_its_pose():
+    with SimulatedBody(robot_description=double_pendulum(), substeps=1,
+                       initial_joint_positions=[0.4, -0.2]) as body:
+        body.step(50)
+        assert not np.allclose(body.joints.position, (0.4, -0.2))
+        body.node.ticker.set_paused(True)
+        body.reset()
+        assert np.allclose(body.joints.position, (0.4, -0.2), atol=1e-12)
+        assert body.joints.header.stamp == body.pose.message.header.stamp

@@ -116,3 +116,5 @@ class Tick:
         """
         self._state_publishers.publish(self._record.stamp_ns, self._simulation.state,
                                        force=False)
+        if self.robot_outputs is not None:
+            self._publish_robot(self._record.stamp_ns)
