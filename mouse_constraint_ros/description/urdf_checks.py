@@ -30,6 +30,8 @@ from typing import List, Optional, Sequence
 
 from lxml import etree
 
+from ..physics.limits import MAX_DISTANCE
+
 # The longest robot_description read (bytes of UTF-8): a single link's URDF is a few kB, a
 # whole robot's a few hundred.
 MAX_DESCRIPTION_BYTES = 4 * 1024 * 1024
@@ -138,7 +140,10 @@ def _origin(element: etree._Element) -> None:
     for origin in element.findall('origin'):
         for name in ('xyz', 'rpy'):
             if origin.get(name) is not None:
-                _numbers(origin, name, 3, fix='three numbers')
+                values = _numbers(origin, name, 3, fix='three numbers')
+                if name == 'xyz' and not max(abs(v) for v in values) <= MAX_DISTANCE:
+                    raise ValueError(f'{_where(origin)} xyz="{origin.get(name)}" lies beyond '
+                                     f'{MAX_DISTANCE:g} m: give a point within it')
 
 
 def _numbers(element: etree._Element, name: str, count, *,

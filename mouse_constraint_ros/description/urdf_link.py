@@ -46,6 +46,7 @@ from .urdf_checks import check_link, checked_root, link_elements
 from ..physics.algebra import Symmetric3
 from ..physics.body import RigidBody
 from ..physics.collision import MAX_VERTICES
+from ..physics.limits import MAX_DISTANCE
 
 # The longest refusal (characters): an unforeseen error's text is cut there.
 MAX_REASON = 400
@@ -202,6 +203,10 @@ def _piece(element, kind: str, files: MeshFiles) -> Piece:
         scale = tuple(float(s) for s in scale)
         mesh = files.mesh(uri, scale=None if geometry.mesh.scale is None else scale,
                           closed=kind == 'collision')
+        reach = float(np.abs(mesh.vertices).max())
+        if not reach <= MAX_DISTANCE:
+            raise ValueError(f'mesh {uri!r} at scale {" ".join(f"{s:g}" for s in scale)} '
+                             f'reaches {reach:g} m from its frame, beyond {MAX_DISTANCE:g} m')
         hull = None
         if kind == 'collision':
             try:
@@ -226,8 +231,9 @@ def _check_hulls(link: str, pieces: Tuple[Piece, ...]) -> None:
 
 
 def _positive(values: Tuple[float, ...], what: str) -> None:
-    if not all(math.isfinite(v) and v > 0.0 for v in values):
-        raise ValueError(f'{what} must be finite and > 0, got {values}')
+    if not all(math.isfinite(v) and 0.0 < v <= MAX_DISTANCE for v in values):
+        raise ValueError(f'{what} must be finite and > 0 (at most {MAX_DISTANCE:g} m), got '
+                         f'{values}')
 
 
 def _inertial(link) -> Tuple[float, Symmetric3, np.ndarray]:
