@@ -20,19 +20,24 @@ here, so that the ticks it lets run are certain, not a race with the machine); a
 comes meanwhile is refused with the reason; a description that is refused leaves the body and
 the parameters as they were and the node running. The fuzz sets 500 mutated URDFs
 (``test_support.urdf_mutations``) one after the other on one node: each is taken, or refused
-in one line, and the node ticks on.
+in one line, and the node ticks on. Through ROS, the executable answers a set at once and then
+refuses it in one logged line, or takes it.
 """
 
 import math
 import threading
 
 import pytest
+from rcl_interfaces.srv import GetParameters, SetParameters
 from rclpy.parameter import Parameter
+from rclpy.qos import qos_profile_parameters
 import trimesh
 
 from mouse_constraint_ros.description import urdf_link
 from mouse_constraint_ros.node.parameters import DEFAULTS, node_config
+from test_support.hardening_tools import NodeProcess
 from test_support.meshes import geometry, urdf, write
+from test_support.processes import finish
 from test_support.urdf_mutations import mutations
 
 # Wall seconds a gate or a load may take before the test fails (a watchdog, not a timing).
@@ -135,3 +140,48 @@ def test_the_mutated_urdfs_are_refused_at_start_in_one_line_too(tmp_path):
             node_config(values)
         except ValueError as error:
             assert str(error) and '\n' not in str(error)
+
+
+@pytest.mark.system
+def test_through_ros_a_bad_body_is_refused_and_a_good_one_comes_in(ros, tmp_path):
+    """
+    The executable (its own executor and tick loop): both sets are answered at once.
+
+    The bad one is then refused in one logged line and its parameter set back, the node
+    running; the cylinder of 40 000 triangles is then the body.
+    """
+    bad = '<robot name="r"><link name="b"><collision><geometry/></collision></link></robot>'
+    mesh = trimesh.creation.cylinder(radius=0.05, height=0.2, sections=10000)
+    good = urdf([geometry('mesh', filename=str(write(mesh, tmp_path / 'roller.stl')))],
+                link='roller')
+    node = NodeProcess('-p', 'density:=1000.0', '-p', 'anchor:=[0.0, 0.0, 0.0]')
+    try:
+        client = ros.probe.create_client(SetParameters, '/mouse_constraint/set_parameters',
+                                         qos_profile=qos_profile_parameters)
+        getter = ros.probe.create_client(GetParameters, '/mouse_constraint/get_parameters',
+                                         qos_profile=qos_profile_parameters)
+        assert ros.spin_until(lambda: client.service_is_ready() and getter.service_is_ready(),
+                              timeout=20.0), node.log()
+        assert ros.discovered_by('/mouse_constraint'), node.log()
+
+        def description() -> str:
+            future = getter.call_async(GetParameters.Request(names=['robot_description']))
+            assert ros.spin_until(future.done)
+            return future.result().values[0].string_value
+
+        for text, logged in ((bad, "robot_description refused: link 'b' <collision> needs one "
+                                   '<geometry>'),
+                             (good, "parameters changed: 1000 Hz x 2 substeps in frame 'world': "
+                                    "link 'roller'")):
+            future = client.call_async(SetParameters.Request(
+                parameters=[Parameter('robot_description', value=text).to_parameter_msg()]))
+            assert ros.spin_until(future.done, timeout=20.0)
+            assert future.result().results[0].successful
+            assert ros.spin_until(lambda: logged in node.log(), timeout=WATCHDOG), node.log()
+        assert node.alive()
+        assert description() == good
+    finally:
+        exit_code, log = finish(node)
+    assert exit_code == 0, log[-2000:]
+    refusals = [line for line in log.splitlines() if 'robot_description refused' in line]
+    assert len(refusals) == 1 and 'Traceback' not in log, log[-2000:]
