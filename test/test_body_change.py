@@ -185,3 +185,25 @@ def test_through_ros_a_bad_body_is_refused_and_a_good_one_comes_in(ros, tmp_path
     assert exit_code == 0, log[-2000:]
     refusals = [line for line in log.splitlines() if 'robot_description refused' in line]
     assert len(refusals) == 1 and 'Traceback' not in log, log[-2000:]
+
+
+def test_other_changes_do_not_read_the_urdf_again(simulated_body_factory, tmp_path,
+                                                  monkeypatch):
+    """A grab's anchor, a valid change, a value out of its range: the body loaded is kept."""
+    mesh = trimesh.creation.cylinder(radius=0.05, height=0.2, sections=64)
+    text = urdf([geometry('mesh', filename=str(write(mesh, tmp_path / 'roller.stl')))],
+                link='roller')
+    body = simulated_body_factory(robot_description=text, density=1000.0,
+                                  anchor=[0.0, 0.0, 0.0])
+
+    def read(*_args, **_kwargs):
+        raise AssertionError('the URDF was read again')
+    monkeypatch.setattr(urdf_link, 'body_model', read)
+    settings = body.node.simulation.settings
+    body.step(2)
+    body.grab(body.pose.position)
+    body.set_parameters(anchor=[0.0, 0.0, 0.05], max_force=100.0)
+    with pytest.raises(ValueError, match='rate_hz'):
+        body.set_parameters(rate_hz=0.5)
+    assert body.node.simulation.settings.body == settings.body
+    body.step(5)
