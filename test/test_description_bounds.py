@@ -26,7 +26,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from mouse_constraint_ros.description import body_model, urdf_link
+from mouse_constraint_ros.description import body_model, hull, urdf_link
 from mouse_constraint_ros.description.hull import hull_vertices, HullError
 from mouse_constraint_ros.description.mesh_files import (MAX_LINK_FACES, MAX_LINK_MESH_BYTES,
                                                          MAX_MESH_BYTES)
@@ -122,3 +122,39 @@ def test_hulls_over_the_contact_tests_bound_are_refused_naming_the_link(tmp_path
     with pytest.raises(ValueError, match="link 'tool': the hulls of its collision meshes have "
                                          '16 vertices together, more than 10'):
         body_model(urdf([WEIGHT] + [geometry('mesh', filename=str(path))] * 2, link='tool'))
+
+
+def _record_hull_inputs(monkeypatch) -> list:
+    """Record how many points each Qhull call of ``hull`` is given."""
+    sizes = []
+    convex_hull = hull.ConvexHull
+
+    def recorded(points, *args, **kwargs):
+        sizes.append(len(points))
+        return convex_hull(points, *args, **kwargs)
+    monkeypatch.setattr(hull, 'ConvexHull', recorded)
+    return sizes
+
+
+def test_points_on_circles_past_the_bound_give_qhull_a_bounded_sample(monkeypatch):
+    """40 000 points on two circles, all vertices: Qhull never sees more than the bound."""
+    mesh = trimesh.creation.cylinder(0.05, 0.2, sections=20000)
+    sizes = _record_hull_inputs(monkeypatch)
+    vertices = hull_vertices(mesh.vertices)
+    assert max(sizes) <= hull.MAX_HULL_INPUT < len(mesh.vertices)
+    # Of the sample, only the two centres of the caps, if taken, are no vertices.
+    assert hull.MAX_HULL_INPUT - 2 <= len(vertices) <= hull.MAX_HULL_INPUT
+    assert {tuple(v) for v in vertices} <= {tuple(v) for v in mesh.vertices.tolist()}
+
+
+def test_inner_points_past_the_bound_are_dropped_and_the_hull_is_exact(monkeypatch):
+    """An ellipsoid's 3000 surface points among 30 000 inside it: trimesh's hull, to the bit."""
+    surface = ellipsoid_hull(3000, (0.1, 0.05, 0.03)).vertices
+    rng = np.random.default_rng(5)
+    inside = rng.uniform(-1.0, 1.0, (60000, 3))
+    inside = inside[(inside ** 2).sum(axis=1) < 0.8][:30000] * (0.1, 0.05, 0.03)
+    points = np.vstack([inside[:15000], surface, inside[15000:]])
+    sizes = _record_hull_inputs(monkeypatch)
+    vertices = hull_vertices(points)
+    assert max(sizes) <= hull.MAX_HULL_INPUT < len(points)
+    np.testing.assert_array_equal(vertices, trimesh.convex.convex_hull(points).vertices)
