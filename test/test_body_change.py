@@ -207,3 +207,13 @@ def test_other_changes_do_not_read_the_urdf_again(simulated_body_factory, tmp_pa
         body.set_parameters(rate_hz=0.5)
     assert body.node.simulation.settings.body == settings.body
     body.step(5)
+
+
+def test_a_description_too_long_is_refused_in_the_set_itself(simulated_body_factory):
+    """Over the limit: the set's own answer says so; nothing loads, nothing is published."""
+    body = simulated_body_factory()
+    text = urdf([geometry('box', size=(0.1, 0.1, 0.1)), '<!--' + 'x' * 5 * 2 ** 20 + '-->'])
+    result = body.node.set_parameters_atomically([Parameter('robot_description', value=text)])
+    assert not result.successful and not body.node.body_loads.loading
+    assert result.reason.startswith('robot_description is 5.0 MiB, over the limit of 4 MiB')
+    assert body.node.get_parameter('robot_description').value == ''

@@ -30,11 +30,9 @@ from typing import List, Optional, Sequence
 
 from lxml import etree
 
+from .text_size import oversized
 from ..physics.limits import MAX_DISTANCE
 
-# The longest robot_description read (bytes of UTF-8): a single link's URDF is a few kB, a
-# whole robot's a few hundred.
-MAX_DESCRIPTION_BYTES = 4 * 1024 * 1024
 # The shapes one <geometry> holds.
 SHAPES = ('box', 'sphere', 'cylinder', 'mesh')
 # The moments of an <inertia>, in URDF order.
@@ -49,12 +47,10 @@ def checked_root(text: str) -> etree._Element:
     """
     if not isinstance(text, str) or not text.strip():
         raise ValueError('robot_description is empty')
+    too_long = oversized(text)
+    if too_long is not None:
+        raise ValueError(too_long)
     data = text.encode('utf-8', 'replace')
-    if len(data) > MAX_DESCRIPTION_BYTES:
-        raise ValueError(
-            f'robot_description is {len(data) / 2 ** 20:.1f} MiB, over the limit of '
-            f'{MAX_DESCRIPTION_BYTES / 2 ** 20:g} MiB: give the URDF of the body, its meshes in '
-            'files')
     try:
         root = etree.fromstring(data, etree.XMLParser(resolve_entities=False, no_network=True))
     except etree.XMLSyntaxError as error:

@@ -19,12 +19,13 @@ Reading a URDF and its meshes takes from a millisecond to seconds (a mesh of 200
 triangles); the tick and the services must not wait for it. At start the node loads its body
 before it ticks (``now``). At run time a change that needs a body not loaded yet (another
 ``robot_description``, ``body_link`` or ``density``) is accepted at once and its whole
-configuration is made on a worker thread (``start``); the node ticks on with the body it has.
-When the worker is done, a timer of the node's executor (so between two ticks) applies the
-configuration whole, or logs its refusal in one line and sets the changed parameters back to
-what they were (``finish``): the body is then unchanged. While a body loads, other changes are
-refused with the reason (``refusal``). The body loaded last is kept: a change of another
-parameter (a grab's anchor) does not read the URDF again.
+configuration is made on a worker thread (``refusal`` starts it); the node ticks on with the
+body it has. When the worker is done, a timer of the node's executor (so between two ticks)
+applies the configuration whole, or logs its refusal in one line and sets the changed
+parameters back to what they were (``finish``): the body is then unchanged. While a body
+loads, other changes are refused with the reason (``refusal``), as is a description too long to
+read at once. The body loaded last is kept: a change of another parameter (a grab's anchor)
+does not read the URDF again.
 
 ``mouse_constraint_ros.testing`` waits for the worker (``wait``) and calls ``finish`` itself, so
 that a harness's change is applied, or refused, before its next tick.
@@ -39,6 +40,7 @@ from rclpy.parameter import Parameter
 
 from .body_parameters import load_body
 from .parameters import node_config, NodeConfig
+from ..description.text_size import oversized
 
 # How often (s, steady time) the node looks whether a load is done.
 POLL_PERIOD = 0.01
@@ -108,25 +110,33 @@ class BodyLoads:
             self._key = key
         return self._model
 
-    def refusal(self) -> Optional[str]:
-        """Return '' for a change the node makes back, why a change waits, or None (go on)."""
+    def refusal(self, values: Mapping[str, Any], changes: List[Parameter]) -> Optional[str]:
+        """
+        Return '' for a change taken here, the reason to refuse one, or None: the node goes on.
+
+        Taken here: the node's own change back, and a change that needs a body not loaded yet,
+        which starts loading. Refused: any change while a body loads; a description too long to
+        read.
+
+        :param values: every parameter's value with the changes.
+        :param changes: the changes, set back if the load is refused.
+        """
         if self._reverting:
             return ''
         if self._job is not None:
             return ('robot_description: the body of the last change is still loading: set '
                     'this again once it is in (the log says when)')
-        return None
-
-    def start(self, values: Mapping[str, Any], changes: List[Parameter]) -> bool:
-        """
-        Start loading the body of ``values`` on a worker when it is not loaded; return whether.
-
-        :param values: every parameter's value with the changes.
-        :param changes: the changes, set back if the load is refused.
-        """
         description = values['robot_description']
         if not isinstance(description, str) or not description or _key(values) == self._key:
-            return False
+            return None
+        too_long = oversized(description)
+        if too_long is not None:
+            return too_long
+        self._start(values, changes)
+        return ''
+
+    def _start(self, values: Mapping[str, Any], changes: List[Parameter]) -> None:
+        """Start loading the body of ``values`` on a worker; the node ticks on meanwhile."""
         node = self._node
         previous = [node.get_parameter(change.name) for change in changes
                     if node.has_parameter(change.name)]
@@ -137,9 +147,8 @@ class BodyLoads:
                                             clock=Clock(clock_type=ClockType.STEADY_TIME))
         else:
             self._timer.reset()
-        node.get_logger().info(f'loading robot_description ({len(description)} characters) off '
-                               'the tick; the body changes once it is loaded')
-        return True
+        node.get_logger().info(f'loading robot_description ({len(values["robot_description"])} '
+                               'characters) off the tick; the body changes once it is loaded')
 
     def wait(self, timeout: Optional[float] = None) -> bool:
         """Wait until the load is done (at most ``timeout`` s); return whether it is."""

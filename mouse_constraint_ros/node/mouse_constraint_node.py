@@ -261,9 +261,9 @@ class MouseConstraintNode(Node):
 
     def _on_set_parameters(self, changes: List[Parameter]) -> SetParametersResult:
         """Apply a set of changes whole to every part it concerns, or refuse it whole."""
-        refusal = self.body_loads.refusal()  # a new body loads off the tick: ``body_loads``
         values = self._parameter_values(changes)
-        if refusal is None and not self.body_loads.start(values, changes):
+        refusal = self.body_loads.refusal(values, changes)  # a new body loads off the tick
+        if refusal is None:
             try:
                 refusal = self._apply(node_config(values, load=self.body_loads.now), changes)
             except ValueError as error:
