@@ -27,7 +27,7 @@ import sys
 import pytest
 
 from mouse_constraint_ros.node.parameters import DEFAULTS
-from test_support.meshes import bad_bodies, BAD_BODY_NAMES
+from test_support.meshes import bad_bodies, STARTED_BAD_BODY_NAMES
 
 BIN = Path(sys.executable).parent
 NODE = str(BIN / 'mouse_constraint_node')
@@ -175,9 +175,9 @@ def test_arguments_outside_ros_args_are_refused_with_the_ros_args_form(arguments
     assert result.stderr.splitlines() == [line]
 
 
-@pytest.mark.parametrize('name', BAD_BODY_NAMES)
+@pytest.mark.parametrize('name', STARTED_BAD_BODY_NAMES)
 def test_a_bad_urdf_body_is_one_line_and_exit_1(tmp_path, name):
-    """Each bad body of ``bad_bodies`` (XML, link, mesh, inertia, mass, package://): one line."""
+    """Bad bodies of ``bad_bodies`` (XML, link, mesh, geometry, inertia, mass): one line."""
     text, link, words = bad_bodies(tmp_path)[name]
     result = run_node('--params-file', str(params_file(
         tmp_path, f'robot_description: {json.dumps(text)}', f'body_link: {json.dumps(link)}')))

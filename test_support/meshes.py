@@ -22,6 +22,7 @@ exactly ``count`` hull vertices, the benchmark's) and ``open_box`` (a box with a
 """
 
 import math
+import os
 from pathlib import Path
 import sys
 from typing import Dict, Iterable, Optional, Sequence, Tuple
@@ -127,25 +128,51 @@ def box_urdf(mass: float, size: Sequence[float], *, link: str = 'body') -> str:
 # The cases of ``bad_bodies``, for a test's parametrization.
 BAD_BODY_NAMES = ('malformed XML', 'missing link', 'several links, none named',
                   'missing mesh file', 'mesh not closed', 'non-physical inertia', 'zero mass',
-                  'unresolvable package://', 'huge mesh', 'no inertial and no density')
+                  'unresolvable package://', 'huge mesh', 'no inertial and no density',
+                  'empty collision geometry', 'empty visual geometry', 'mesh without filename',
+                  'closed flat mesh', 'scale 0 0 0', 'scale 1 1 0', 'four coplanar points',
+                  'nan scale', 'scale of two values', 'box of two values', 'oversized URDF',
+                  'unexpanded xacro', 'FIFO as mesh', '/dev/zero as mesh',
+                  '<inertia/> without moments', 'rgba of two values')
+# Those the executable is started with (each start takes seconds): the first ones, and those whose
+# failure once came with a traceback or numpy's warnings.
+STARTED_BAD_BODY_NAMES = BAD_BODY_NAMES[:10] + (
+    'empty collision geometry', 'empty visual geometry', 'mesh without filename',
+    'closed flat mesh', 'nan scale')
 
 
 def bad_bodies(folder: Path) -> Dict[str, Tuple[str, str, str]]:
     """
     Return the bad inputs a URDF body is refused for, each as (URDF, body_link, words said).
 
-    The meshes they name are written into ``folder``: a cube with a face missing, and a 100 MB
-    file (sparse: it takes no room on the disk).
+    The meshes they name are written into ``folder``: a cube with a face missing, a 100 MB
+    file (sparse: it takes no room on the disk), a closed triangle (both sides), a closed
+    surface of four points in a plane, a cube, and a FIFO.
     """
     folder = Path(folder)
     write(open_box((0.1, 0.1, 0.1)), folder / 'open.stl')
     with open(folder / 'huge.stl', 'wb') as huge:
         huge.truncate(100 * 10 ** 6)
+    write(trimesh.Trimesh([(0.0, 0.0, 0.0), (0.1, 0.0, 0.0), (0.0, 0.1, 0.0)],
+                          [(0, 1, 2), (0, 2, 1)], process=False), folder / 'flat.stl')
+    # A tetrahedron's four faces with its apex pressed into its base's plane.
+    write(trimesh.Trimesh([(0.0, 0.0, 0.0), (0.1, 0.0, 0.0), (0.0, 0.1, 0.0), (0.03, 0.03, 0.0)],
+                          [(0, 2, 1), (0, 1, 3), (1, 2, 3), (0, 3, 2)], process=False),
+          folder / 'coplanar.stl')
+    write(cube(0.1), folder / 'cube.stl')
+    fifo = folder / 'fifo.stl'
+    if not fifo.exists():
+        os.mkfifo(fifo)
+    cube_mesh = str(folder / 'cube.stl')
     weight = inertial(1.0, (0.01, 0.0, 0.0, 0.01, 0.0, 0.01))
     cube_piece = geometry('box', size=(0.1, 0.1, 0.1))
 
     def mesh(filename: str) -> str:
         return urdf([weight, geometry('mesh', filename=filename)])
+
+    def shaped(filename: str, attributes: str) -> str:
+        return urdf([weight, f'<collision><geometry><mesh filename="{filename}" {attributes}/>'
+                             '</geometry></collision>'])
     cases = {
         'malformed XML': ('<robot name="r"><link name="a">', '',
                           'robot_description is not well-formed XML'),
@@ -166,6 +193,48 @@ def bad_bodies(folder: Path) -> Dict[str, Tuple[str, str, str]]:
         'huge mesh': (mesh(str(folder / 'huge.stl')), '',
                       'is 95.4 MiB, over the limit of 16 MiB'),
         'no inertial and no density': (urdf([cube_piece]), '', 'or set density (kg/m^3)'),
+        'empty collision geometry': (
+            '<robot name="r"><link name="b"><collision><geometry/></collision></link></robot>',
+            '', "link 'b' <collision> needs one <geometry> holding one box, sphere, cylinder or "
+            'mesh'),
+        'empty visual geometry': (urdf([weight, cube_piece, '<visual><geometry/></visual>']), '',
+                                  "link 'body' <visual> needs one <geometry> holding one box"),
+        'mesh without filename': (urdf([weight, '<collision><geometry><mesh/></geometry>'
+                                                '</collision>']), '',
+                                  "link 'body' <collision> <geometry> <mesh> has no filename"),
+        'closed flat mesh': (mesh(str(folder / 'flat.stl')), '',
+                             "link 'body' <collision>: mesh '" + str(folder / 'flat.stl')
+                             + "' has no volume: its points lie in a plane"),
+        'scale 0 0 0': (shaped(cube_mesh, 'scale="0 0 0"'), '',
+                        'at scale 0 0 0 has no volume: its points lie at one point'),
+        'scale 1 1 0': (shaped(cube_mesh, 'scale="1 1 0"'), '',
+                        'at scale 1 1 0 has no volume: its points lie in a plane'),
+        'four coplanar points': (mesh(str(folder / 'coplanar.stl')), '',
+                                 "coplanar.stl' has no volume: its points lie in a plane"),
+        'nan scale': (shaped(cube_mesh, 'scale="nan 1 1"'), '',
+                      '<mesh> scale="nan 1 1" is not finite'),
+        'scale of two values': (shaped(cube_mesh, 'scale="1 2"'), '',
+                                '<mesh> scale="1 2" has 2 values: give x y z factors'),
+        'box of two values': (urdf([weight, '<collision><geometry><box size="1 2"/></geometry>'
+                                            '</collision>']), '',
+                              "link 'body' <collision> <geometry> <box> size=\"1 2\" has 2 "
+                              'values: give three edge lengths'),
+        'oversized URDF': (urdf([weight, cube_piece, '<!--' + 'x' * 5 * 2 ** 20 + '-->']), '',
+                           'robot_description is 5.0 MiB, over the limit of 4 MiB'),
+        'unexpanded xacro': (urdf([weight, '<collision><geometry><box size="${s} 1 1"/>'
+                                           '</geometry></collision>']), '',
+                             'size="${s} 1 1" is xacro: robot_description is read as plain '
+                             'URDF; expand it with xacro first'),
+        'FIFO as mesh': (mesh(str(fifo)), '', 'is not a regular file (a FIFO, a device'),
+        '/dev/zero as mesh': (mesh('/dev/zero'), '', "'/dev/zero' is not a regular file"),
+        '<inertia/> without moments': (
+            urdf(['<inertial><mass value="1"/><inertia/></inertial>', cube_piece]), '',
+            "link 'body' <inertial> <inertia> lacks ixx, ixy, ixz, iyy, iyz, izz"),
+        'rgba of two values': (
+            urdf([weight, cube_piece, '<visual><geometry><box size="0.1 0.1 0.1"/></geometry>'
+                                      '<material name="m"><color rgba="1 0"/></material>'
+                                      '</visual>']), '',
+            "link 'body' <visual> <material> <color> rgba=\"1 0\" has 2 values"),
     }
     assert tuple(cases) == BAD_BODY_NAMES
     return cases

@@ -30,6 +30,7 @@ from typing import Optional, Sequence, Tuple, TYPE_CHECKING
 
 import numpy as np
 
+from .hull import hull_vertices
 from ..physics.algebra import Vector3
 from ..physics.collision import box_corners, CollisionShape, Cylinder, Sphere
 
@@ -53,6 +54,8 @@ class Piece:
     :param uri: the mesh's filename as the URDF names it (kind 'mesh').
     :param color: RGBA in [0, 1] (visuals), or None.
     :param scale: the URDF's ``scale`` of the mesh file (x, y, z), which ``mesh`` has applied.
+    :param hull: a mesh's convex hull vertices in its own frame (``hull.hull_vertices``), or
+        None: found from ``mesh`` when asked.
     """
 
     kind: str
@@ -62,6 +65,7 @@ class Piece:
     uri: str = ''
     color: Optional[Tuple[float, float, float, float]] = None
     scale: Tuple[float, float, float] = (1.0, 1.0, 1.0)
+    hull: Optional[np.ndarray] = None
 
     def local(self, point: Sequence[float]) -> np.ndarray:
         """Return a link-frame point in the piece's frame."""
@@ -160,7 +164,7 @@ class BodyGeometry:
                                           tuple(float(c) for c in axis), piece.size[0],
                                           0.5 * piece.size[1]))
             else:
-                hull = piece.mesh.convex_hull.vertices
+                hull = hull_vertices(piece.mesh.vertices) if piece.hull is None else piece.hull
                 vertices.extend(tuple(float(c) for c in rotation @ v + origin) for v in hull)
         return CollisionShape(tuple(vertices), tuple(spheres), tuple(cylinders))
 
@@ -182,7 +186,7 @@ class BodyGeometry:
     @cached_property
     def hull_points(self) -> np.ndarray:
         """Return the convex hull's vertices of all collision pieces, link frame (n x 3)."""
-        return self.surface(collision=True).convex_hull.vertices
+        return hull_vertices(self.surface(collision=True).vertices)
 
     @cached_property
     def extents(self) -> Tuple[float, float, float]:

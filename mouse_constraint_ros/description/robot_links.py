@@ -21,6 +21,7 @@ route needs the volume a closed mesh bounds and a robot's links carry their ``<i
 """
 
 import dataclasses
+import functools
 import io
 import logging
 from typing import Callable, Dict, List, NamedTuple, Tuple
@@ -28,8 +29,8 @@ from typing import Callable, Dict, List, NamedTuple, Tuple
 import numpy as np
 
 from .body_geometry import BodyGeometry, Piece
-from .mesh_files import ament_share, PackageFinder
-from .urdf_link import _piece
+from .mesh_files import ament_share, MeshFiles, PackageFinder
+from .urdf_link import _piece, _prefixed
 
 
 class RobotLinks(NamedTuple):
@@ -75,12 +76,19 @@ def robot_links(text: str, *, find_package: PackageFinder = ament_share,
     pieces: Dict[str, Tuple[Piece, ...]] = {}
     warnings: List[str] = []
     for link in urdf.robot.links:
+        files = MeshFiles(find_package)
+        where = f'link {link.name!r} <collision>'
+        for element in link.collisions:
+            if element.geometry.mesh is not None:
+                _prefixed(where, files.add, element.geometry.mesh.filename)
+        _prefixed(where, files.read)
         found = []
         for element in link.collisions:
-            piece = _piece(element, link.name, 'collision', find_package, closed=False)
+            piece = _prefixed(where, functools.partial(_piece, closed=False), element,
+                              'collision', files)
             if piece.kind == 'mesh' and not piece.mesh.is_watertight:
-                line = (f'link {link.name!r} <collision> mesh {piece.uri!r} is not a closed '
-                        'surface: its convex hull is taken for grabs')
+                line = (f'{where} mesh {piece.uri!r} is not a closed surface: its convex hull '
+                        'is taken for grabs')
                 warnings.append(line)
                 warn(line)
                 piece = dataclasses.replace(piece, mesh=piece.mesh.convex_hull)

@@ -40,9 +40,16 @@ import numpy as np
 import yourdfpy
 
 from .body_geometry import BodyGeometry, Piece
-from .mesh_files import ament_share, load_mesh, PackageFinder
+from .hull import hull_vertices, HullError
+from .mesh_files import ament_share, MeshFiles, PackageFinder
+from .urdf_checks import check_link, checked_root, link_elements
 from ..physics.algebra import Symmetric3
 from ..physics.body import RigidBody
+from ..physics.collision import MAX_VERTICES
+from ..physics.limits import MAX_DISTANCE
+
+# The longest refusal (characters): an unforeseen error's text is cut there.
+MAX_REASON = 400
 
 
 class BodyModel(NamedTuple):
@@ -65,28 +72,61 @@ def body_model(robot_description: str, body_link: str = '', *, density: float = 
     """
     Return the body of link ``body_link`` of the URDF text; raise ValueError saying what is wrong.
 
+    Whatever goes wrong on the way is a ValueError of one line naming the link and the element
+    being read: an error the checks did not foresee (a parser's or trimesh's) too.
+
     :param robot_description: the URDF (XML text).
     :param body_link: the link's name; empty: the URDF's only link.
     :param density: kg/m^3 for a link without ``<inertial>``; 0: such a link is refused.
     :param find_package: the share directory of a ``package://`` name (the ament index's).
     """
-    link = _link(robot_description, body_link)
-    collisions = tuple(_piece(element, link.name, 'collision', find_package)
-                       for element in link.collisions)
+    where = ['robot_description']
+    try:
+        with np.errstate(all='ignore'):
+            return _body_model(robot_description, body_link, density, find_package, where)
+    except ValueError as error:
+        raise ValueError(' '.join(str(error).split())) from None
+    except Exception as error:  # noqa: B902 - every failure is a refusal, never a traceback
+        raise ValueError(f'{where[0]}: {type(error).__name__}: '
+                         f'{" ".join(str(error).split())}'[:MAX_REASON]) from None
+
+
+def _body_model(text: str, name: str, density: float, find_package: PackageFinder,
+                where: list) -> BodyModel:
+    """Return ``body_model``'s body; ``where[0]`` names the element being read."""
+    link = _link(text, name)
+    where[0] = f'link {link.name!r}'
+    collisions, visuals = link.collisions, link.visuals
     if not collisions:
         raise ValueError(f'link {link.name!r} has no <collision>: the body is grabbed by its '
                          'collision geometry and lands on it; give it one')
-    visuals = tuple(_piece(element, link.name, 'visual', find_package)
-                    for element in link.visuals)
+    files = MeshFiles(find_package)
+    for kind, elements in (('collision', collisions), ('visual', visuals)):
+        for number, element in enumerate(elements):
+            if element.geometry.mesh is not None:
+                where[0] = _where(link.name, kind, number, len(elements))
+                _prefixed(where[0], files.add, element.geometry.mesh.filename)
+    where[0] = f'link {link.name!r}'
+    _prefixed(where[0], files.read)
+    pieces = {}
+    for kind, elements in (('collision', collisions), ('visual', visuals)):
+        built = []
+        for number, element in enumerate(elements):
+            where[0] = _where(link.name, kind, number, len(elements))
+            built.append(_prefixed(where[0], _piece, element, kind, files))
+        pieces[kind] = tuple(built)
+    where[0] = f'link {link.name!r}'
+    _check_hulls(link.name, pieces['collision'])
     if link.inertial is not None:
         mass, inertia, com = _inertial(link)
     elif density > 0.0:
-        mass, inertia, com = _from_density(collisions, density, link.name)
+        mass, inertia, com = _from_density(pieces['collision'], density, link.name)
     else:
         raise ValueError(
             f'link {link.name!r} has no <inertial>: give it one (mass, origin at the COM, '
             'inertia) or set density (kg/m^3) to compute them from its collision geometry')
-    geometry = BodyGeometry(link.name, tuple(float(c) for c in com), collisions, visuals)
+    geometry = BodyGeometry(link.name, tuple(float(c) for c in com), pieces['collision'],
+                            pieces['visual'])
     model = BodyModel(mass, inertia, geometry)
     model.rigid_body()
     return model
@@ -94,27 +134,9 @@ def body_model(robot_description: str, body_link: str = '', *, density: float = 
 
 def _link(text: str, name: str):
     """Return the yourdfpy link ``name`` of the URDF text (the only one when name is empty)."""
-    if not isinstance(text, str) or not text.strip():
-        raise ValueError('robot_description is empty')
-    data = text.encode()
-    try:
-        root = etree.fromstring(data)
-    except etree.XMLSyntaxError as error:
-        raise ValueError(f'robot_description is not well-formed XML: {error}') from None
-    if root.tag != 'robot':
-        raise ValueError(f'robot_description must have a <robot> root, got <{root.tag}>')
-    logger = logging.getLogger('yourdfpy')
-    level = logger.level
-    logger.setLevel(logging.CRITICAL)
-    try:
-        urdf = yourdfpy.URDF.load(io.BytesIO(data), build_scene_graph=False, load_meshes=False,
-                                  load_collision_meshes=False)
-    except (ValueError, KeyError, TypeError, AttributeError) as error:
-        raise ValueError(f'robot_description is not a valid URDF: {type(error).__name__} '
-                         f'{error}') from None
-    finally:
-        logger.setLevel(level)
-    links = [link.name for link in urdf.robot.links]
+    root = checked_root(text)
+    elements = link_elements(root)
+    links = [element.get('name') for element in elements]
     if not links:
         raise ValueError('robot_description has no <link>')
     if not name:
@@ -125,15 +147,41 @@ def _link(text: str, name: str):
     if name not in links:
         raise ValueError(f'body_link {name!r} is not a link of robot_description; its links: '
                          f'{", ".join(links)}')
+    check_link(elements[links.index(name)])
+    logger = logging.getLogger('yourdfpy')
+    level = logger.level
+    logger.setLevel(logging.CRITICAL)
+    try:
+        urdf = yourdfpy.URDF.load(io.BytesIO(etree.tostring(root)), build_scene_graph=False,
+                                  load_meshes=False, load_collision_meshes=False)
+    except Exception as error:  # noqa: B902 - yourdfpy raises many kinds on what it rejects
+        raise ValueError(f'robot_description is not a valid URDF: {type(error).__name__} '
+                         f'{error}') from None
+    finally:
+        logger.setLevel(level)
+    if name not in urdf.link_map:
+        raise ValueError(f'robot_description is not a valid URDF: its parser lost link {name!r}')
     return urdf.link_map[name]
 
 
-def _piece(element, link: str, kind: str, find_package: PackageFinder, *,
-           closed: Optional[bool] = None) -> Piece:
+def _where(link: str, kind: str, number: int, count: int) -> str:
+    """Return how a refusal names the ``number``-th (from 0) of ``count`` <kind> elements."""
+    return f'link {link!r} <{kind}>' + (f' {number + 1}' if count > 1 else '')
+
+
+def _prefixed(where: str, function, *args):
+    """Return ``function(*args)``; a ValueError it raises is prefixed with ``where``."""
+    try:
+        return function(*args)
+    except ValueError as error:
+        raise ValueError(f'{where}: {error}') from None
+
+
+def _piece(element, kind: str, files: MeshFiles, *, closed: Optional[bool] = None) -> Piece:
     """
     Return one ``<collision>`` or ``<visual>`` element as a Piece.
 
-    :param closed: whether a mesh must be watertight; None: a collision mesh must.
+    :param closed: whether a mesh must be a closed surface; None: a collision mesh must.
     """
     transform = np.eye(4) if element.origin is None else np.asarray(element.origin, dtype=float)
     geometry = element.geometry
@@ -141,36 +189,55 @@ def _piece(element, link: str, kind: str, find_package: PackageFinder, *,
     material = getattr(element, 'material', None)
     if material is not None and material.color is not None:
         color = tuple(float(c) for c in material.color.rgba)
-    where = f'link {link!r} <{kind}>'
     if geometry.box is not None:
         size = tuple(float(e) for e in geometry.box.size)
-        _positive(size, where + ' box size')
+        _positive(size, 'box size')
         return Piece('box', transform, size, color=color)
     if geometry.sphere is not None:
         radius = float(geometry.sphere.radius)
-        _positive((radius,), where + ' sphere radius')
+        _positive((radius,), 'sphere radius')
         return Piece('sphere', transform, (radius,), color=color)
     if geometry.cylinder is not None:
         size = (float(geometry.cylinder.radius), float(geometry.cylinder.length))
-        _positive(size, where + ' cylinder radius and length')
+        _positive(size, 'cylinder radius and length')
         return Piece('cylinder', transform, size, color=color)
     if geometry.mesh is not None:
         uri = geometry.mesh.filename
-        try:
-            mesh = load_mesh(uri, scale=geometry.mesh.scale,
-                             closed=kind == 'collision' if closed is None else closed,
-                             find_package=find_package)
-        except ValueError as error:
-            raise ValueError(f'{where}: {error}') from None
         scale = np.broadcast_to(1.0 if geometry.mesh.scale is None else geometry.mesh.scale, 3)
-        return Piece('mesh', transform, mesh=mesh, uri=uri, color=color,
-                     scale=tuple(float(s) for s in scale))
-    raise ValueError(f'{where} has no box, sphere, cylinder or mesh')
+        scale = tuple(float(s) for s in scale)
+        mesh = files.mesh(uri, scale=None if geometry.mesh.scale is None else scale,
+                          closed=kind == 'collision' if closed is None else closed)
+        reach = float(np.abs(mesh.vertices).max())
+        if not reach <= MAX_DISTANCE:
+            raise ValueError(f'mesh {uri!r} at scale {" ".join(f"{s:g}" for s in scale)} '
+                             f'reaches {reach:g} m from its frame, beyond {MAX_DISTANCE:g} m')
+        hull = None
+        if kind == 'collision':
+            try:
+                hull = hull_vertices(mesh.vertices)
+            except HullError as error:
+                shown = '' if geometry.mesh.scale is None else ' at scale ' + ' '.join(
+                    f'{s:g}' for s in scale)
+                raise ValueError(
+                    f'mesh {uri!r}{shown} has no volume: {error}; a collision piece must bound '
+                    'a volume (a sheet is a thin box)') from None
+        return Piece('mesh', transform, mesh=mesh, uri=uri, color=color, scale=scale,
+                     hull=hull)
+    raise ValueError('has no box, sphere, cylinder or mesh')
+
+
+def _check_hulls(link: str, pieces: Tuple[Piece, ...]) -> None:
+    """Refuse collision meshes whose hulls have more vertices together than the floor takes."""
+    count = sum(len(piece.hull) for piece in pieces if piece.hull is not None)
+    if count > MAX_VERTICES:
+        raise ValueError(f'link {link!r}: the hulls of its collision meshes have {count} '
+                         f'vertices together, more than {MAX_VERTICES}: simplify the meshes')
 
 
 def _positive(values: Tuple[float, ...], what: str) -> None:
-    if not all(math.isfinite(v) and v > 0.0 for v in values):
-        raise ValueError(f'{what} must be finite and > 0, got {values}')
+    if not all(math.isfinite(v) and 0.0 < v <= MAX_DISTANCE for v in values):
+        raise ValueError(f'{what} must be finite and > 0 (at most {MAX_DISTANCE:g} m), got '
+                         f'{values}')
 
 
 def _inertial(link) -> Tuple[float, Symmetric3, np.ndarray]:

@@ -22,7 +22,7 @@ the COM (``physics.body_frame``). Without it, the body is the box of ``box_size`
 ``inertia``, whose frame is at its COM.
 """
 
-from typing import Any, Mapping, NamedTuple, Tuple
+from typing import Any, Callable, Mapping, NamedTuple, Optional, Tuple
 
 from ..description import BodyGeometry
 from ..physics import RigidBody
@@ -56,8 +56,24 @@ class Body(NamedTuple):
     name: str
 
 
-def body_from(values: Mapping[str, Any]) -> Body:
-    """Return the body of parameter ``values``; raise ValueError naming the parameter."""
+# Loads the body of (robot_description, body_link, density): ``description.body_model``'s.
+BodyLoader = Callable[[str, str, float], Any]
+
+
+def load_body(description: str, link: str, density: float):
+    """Return ``description.body_model`` of the URDF text, its link and density."""
+    # The parser and trimesh load with the first URDF: the box body runs without them.
+    from ..description import urdf_link
+    return urdf_link.body_model(description, link, density=density)
+
+
+def body_from(values: Mapping[str, Any], load: Optional[BodyLoader] = None) -> Body:
+    """
+    Return the body of parameter ``values``; raise ValueError naming the parameter.
+
+    :param load: loads the URDF link's body (``load_body`` when None; the node keeps the one it
+        loaded, see ``body_loads``).
+    """
     description = values['robot_description']
     if not isinstance(description, str):
         raise ValueError(f'robot_description must be a string, got {shown(description)}')
@@ -69,9 +85,7 @@ def body_from(values: Mapping[str, Any]) -> Body:
         if link:
             raise ValueError(f'body_link {link!r} needs robot_description (a URDF) to name')
         return _box(values)
-    # The parser and trimesh load with the first URDF: the box body runs without them.
-    from ..description.urdf_link import body_model
-    model = body_model(description, link, density=density)
+    model = (load or load_body)(description, link, density)
     geometry = model.geometry
     return Body(model.rigid_body(), geometry, BodyFrame(geometry.com),
                 f'link {geometry.link!r} of mass')

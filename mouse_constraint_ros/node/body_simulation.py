@@ -20,9 +20,10 @@ its kind and its robot: a parameter change that would swap a body for a robot, a
 body, or one robot (its description, base or base pose) for another is refused, in one line.
 """
 
-from typing import Optional
+from typing import Any, Mapping, Optional
 
 from .parameters import NodeConfig
+from .robot_parameters import is_robot, robot_key
 from ..physics import MouseSimulation
 
 
@@ -37,15 +38,23 @@ def simulation_for(config: NodeConfig):
                      joint_positions=robot.joint_positions)
 
 
-def robot_change_refusal(running: NodeConfig, changed: NodeConfig) -> Optional[str]:
-    """Return why the change from ``running`` to ``changed`` cannot apply at run time, or None."""
-    if running.robot is None and changed.robot is None:
+def robot_change_refusal(running: NodeConfig, values: Mapping[str, Any]) -> Optional[str]:
+    """
+    Return why parameter ``values`` cannot apply to the node running ``running``, or None.
+
+    Checked before any URDF is read: a robot's description, base, base pose and tracked link,
+    and the switch between a body and a robot, change with a restart.
+    """
+    wanted = is_robot(values)
+    if running.robot is None:
+        if wanted:
+            return ('a change from a single body to a whole robot (robot_description of several '
+                    'links, no body_link) takes a restart of the node')
         return None
-    if running.robot is None or changed.robot is None:
-        return ('a change between a single body and a whole robot takes a restart of the node '
-                '(robot_description with several links and no body_link is a robot)')
-    if running.robot.robot is not changed.robot.robot:
-        return ("a robot's description, base or base_pose changes with a restart of the node")
-    if running.robot.tracked_link != changed.robot.tracked_link:
-        return 'tracked_link changes with a restart of the node'
+    if not wanted:
+        return ('a change from a whole robot to a single body takes a restart of the node '
+                '(set body_link, or a robot_description of one link, at start)')
+    if robot_key(values) != running.robot.key:
+        return ("a robot's robot_description, base, base_pose and tracked_link change with a "
+                'restart of the node')
     return None

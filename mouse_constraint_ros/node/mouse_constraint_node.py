@@ -22,10 +22,9 @@ the node), paused or running, the rates. ``TargetInput`` and ``WrenchInput`` tak
 ``SimulatorControls`` answers pause, step, reset and release, ``Monitors`` publishes markers and
 /diagnostics, ``AnchorParameter`` sets the node's own anchor for a grab or a reset,
 ``parameters`` validates the configuration and ``parameter_changes`` declares it; ``startup``
-words the refusals. A change of parameters goes whole to every part it concerns.
-
-Start-up refuses what it cannot run with one FATAL line tagged with the node's real name and
-exit 1 (``startup``); unknown keys in the parameters given to the node are warned about.
+words the refusals. A change of parameters goes whole to every part it concerns (a new body
+once ``body_loads`` has loaded it off the tick). Start-up refuses what it cannot run with one
+FATAL line and exit 1 (``startup``); unknown keys given to the node are warned about.
 """
 
 import sys
@@ -46,6 +45,7 @@ from std_msgs.msg import String
 from std_srvs.srv import SetBool, Trigger
 
 from .anchor_parameter import AnchorParameter
+from .body_loads import BodyLoads
 from .body_simulation import robot_change_refusal, simulation_for
 from .monitors import Monitors
 from .parameter_changes import declare, publishing
@@ -136,9 +136,10 @@ class MouseConstraintNode(Node):
         guard_time_source(self, lambda text: self._throttle('clock ignored', lambda: text))
         self._stepped = stepped
         self._loop_ticks = loop_ticks
+        self.body_loads = BodyLoads(self, self._apply)
         try:
             declare(self, PARAMETERS)
-            config = node_config(self._parameter_values())
+            config = node_config(self._parameter_values(), load=self.body_loads.now)
         except ValueError as error:
             self._refuse(str(error))
         self._warn_about_unknown_parameters()
@@ -268,18 +269,26 @@ class MouseConstraintNode(Node):
 
     def _on_set_parameters(self, changes: List[Parameter]) -> SetParametersResult:
         """Apply a set of changes whole to every part it concerns, or refuse it whole."""
-        try:
-            config = node_config(self._parameter_values(changes))
-        except ValueError as error:
-            return SetParametersResult(successful=False, reason=str(error))
+        values = self._parameter_values(changes)
+        # A robot is not swapped at run time (refused before anything loads); a robot's other
+        # changes take the robot loaded at start.
+        refusal = robot_change_refusal(self._config, values)
+        if refusal is None and self._config.robot is None:
+            refusal = self.body_loads.refusal(values, changes)  # a new body loads off the tick
+        if refusal is None:
+            try:
+                refusal = self._apply(node_config(values, load=self.body_loads.now), changes)
+            except ValueError as error:
+                refusal = str(error)
+        return SetParametersResult(successful=not refusal, reason=refusal or '')
+
+    def _apply(self, config: NodeConfig, changes: List[Parameter]) -> Optional[str]:
+        """Apply ``config`` of ``changes`` to every part; return why the clock refuses it."""
         use_sim_time = next((p.value for p in changes if p.name == 'use_sim_time'),
                             self.get_parameter('use_sim_time').value)
         refusal = self._clock_refusal(config, use_sim_time)
         if refusal is not None:
-            return SetParametersResult(successful=False, reason=refusal)
-        refusal = robot_change_refusal(self._config, config)
-        if refusal is not None:
-            return SetParametersResult(successful=False, reason=refusal)
+            return refusal
         previous, self._config = self._config, config
         anchor = config.anchor
         self._anchor.changed(changes, anchor)
@@ -304,7 +313,7 @@ class MouseConstraintNode(Node):
                                           'by the node'.format(*anchor))
         else:
             self.get_logger().info('parameters changed: ' + describe(config))
-        return SetParametersResult(successful=True)
+        return None
 
     def _configure_publishers(self, config: NodeConfig) -> None:
         """Give the state publishers their part of ``config``; say when TF turns on or off."""

@@ -27,7 +27,7 @@ h = 1 / (rate_hz substeps) from 1e-7 s to 1 s (within the core's MIN_STEP..MAX_S
 import math
 from typing import Any, Mapping, NamedTuple, Optional, Tuple
 
-from .body_parameters import body_from, BODY_PARAMETERS, BodyFrame
+from .body_parameters import body_from, BODY_PARAMETERS, BodyFrame, BodyLoader
 from .device_parameters import device_from, DEVICE_PARAMETERS, DeviceConfig
 from .floor_parameters import floor_from, FLOOR_PARAMETERS
 from .frame_parameters import frames_from
@@ -44,8 +44,7 @@ from ..physics.target_motion import TargetMotion
 from ..physics.validation import finite_vector, scalar, shown
 
 # The largest real_time_factor: a million simulated seconds per wall second is beyond what the
-# step can run (some 1e5 ticks per second), so a larger factor only means "as fast as it can",
-# which is written 0.
+# step can run (some 1e5 ticks per second), so a larger factor means "as fast as it can": 0.
 MAX_REAL_TIME_FACTOR = 1e6
 
 
@@ -236,20 +235,21 @@ class NodeConfig(NamedTuple):
         return self.initial_state.world_point(self.settings.constraint.anchor)
 
 
-def node_config(values: Mapping[str, Any]) -> NodeConfig:
+def node_config(values: Mapping[str, Any], *, load: Optional[BodyLoader] = None) -> NodeConfig:
     """
     Return the configuration for parameter ``values``; raise ValueError naming what is wrong.
 
     The message is one line (the node returns it as the reason of a refused ``ros2 param set``
-    and logs it at start-up) and names the parameter as the user set it.
+    and logs it at start-up) and names the parameter as the user set it. ``load``: see
+    ``body_parameters.body_from``.
     """
     try:
-        return _configuration_from(values)
+        return _configuration_from(values, load)
     except ValueError as error:
         raise ValueError(' '.join(str(error).splitlines())) from None
 
 
-def _configuration_from(values: Mapping[str, Any]) -> NodeConfig:
+def _configuration_from(values: Mapping[str, Any], load: Optional[BodyLoader]) -> NodeConfig:
     rate_hz = _bounded('rate_hz', values['rate_hz'])
     substeps = values['substeps']
     # Settings checks that substeps is an integer >= 1; the node also bounds it above.
@@ -259,7 +259,7 @@ def _configuration_from(values: Mapping[str, Any]) -> NodeConfig:
     box_size = finite_vector('box_size', values['box_size'])
     robot = robot_from(values)
     if robot is None:
-        body, geometry, frame, body_name = body_from(values)
+        body, geometry, frame, body_name = body_from(values, load)
     else:
         if values['floor']:
             raise ValueError('floor is not served for a robot (a robot_description of several '

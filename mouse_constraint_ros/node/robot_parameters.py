@@ -55,6 +55,7 @@ class RobotConfig(NamedTuple):
     tracked_link: str
     base_state: BodyState
     joint_positions: Optional[Tuple[float, ...]] = None
+    key: tuple = ()  # ``robot_key`` of the parameters it was made of
 
 
 def is_robot(values: Mapping[str, Any]) -> bool:
@@ -63,6 +64,12 @@ def is_robot(values: Mapping[str, Any]) -> bool:
     if not isinstance(text, str) or not text or values['body_link']:
         return False
     return text.count('<link') > 1
+
+
+def robot_key(values: Mapping[str, Any]) -> tuple:
+    """Return what names a robot in parameter ``values``: what a restart must change."""
+    return (values['robot_description'], values['base'], tuple(values['base_pose']),
+            values['tracked_link'])
 
 
 def robot_from(values: Mapping[str, Any]) -> Optional[RobotConfig]:
@@ -106,7 +113,7 @@ def robot_from(values: Mapping[str, Any]) -> Optional[RobotConfig]:
     elif len(positions) != len(joints):
         raise ValueError(f'initial_joint_positions must have {len(joints)} elements (the '
                          f"robot's joints), got {len(positions)}: {shown(list(positions))}")
-    return RobotConfig(robot, links, tracked, state, positions)
+    return RobotConfig(robot, links, tracked, state, positions, robot_key(values))
 
 
 @functools.lru_cache(maxsize=2)

@@ -155,7 +155,9 @@ def refusal_reason(declaration: ParameterSpec, error: object,
         return reason + (f': write {hint}' if hint else '')
     if declaration.bounds is not None:
         try:
-            node_config({**DEFAULTS, **(values or {}), name: value})
+            # The box as the body: a range is worded alike for any, and no URDF is read again.
+            node_config({**DEFAULTS, **(values or {}), name: value, 'robot_description': '',
+                         'body_link': ''})
         except ValueError as refusal:
             return str(refusal)
         low, high = declaration.bounds

@@ -12,17 +12,20 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""The node's parameters as ``SimulatedBody`` takes them, as keywords."""
+"""The node's parameters as ``SimulatedBody`` takes them, as keywords, and their change."""
 
 from typing import Any
 
 import numpy as np
+from rclpy.parameter import Parameter
 
 from ..node.parameters import DEFAULTS, PARAMETERS
 from ..node.startup import unknown_parameter_warnings
 
 # The harness is the node's clock: these values would take that from it.
 HARNESS_OWNS = {'publish_clock': False, 'use_sim_time': True}
+# Wall seconds a new robot_description may take to load (the node loads it off the tick).
+LOAD_TIMEOUT = 300.0
 
 
 def parameter_value(name: str, value: Any) -> Any:
@@ -71,3 +74,29 @@ def checked_parameters(parameters: dict) -> dict:
             raise ValueError(f'{name}: {values[name]} would take the clock from the '
                              'harness, which steps the node on its simulated time')
     return values
+
+
+def set_parameters(node, values: dict) -> None:
+    """
+    Change the parameters ``values`` of ``node`` all or none; a new body is loaded before return.
+
+    The node loads a new body (``robot_description``, ``body_link``, ``density``) off its tick
+    (``node.body_loads``); here it is waited for, at most ``LOAD_TIMEOUT`` wall seconds, and
+    swapped in or refused, so that the harness's next step runs with it.
+
+    :raises TypeError: an unknown name.
+    :raises ValueError: the node refused the change (or the body), with its reason; a value that
+        would take the clock from the harness.
+    :raises TimeoutError: the body did not load in time.
+    """
+    checked = checked_parameters(values)
+    result = node.set_parameters_atomically(
+        [Parameter(name, value=value) for name, value in checked.items()])
+    if not result.successful:
+        raise ValueError(result.reason)
+    loads = node.body_loads
+    if not loads.wait(LOAD_TIMEOUT):
+        raise TimeoutError(f'the body did not load within {LOAD_TIMEOUT:g} s')
+    reason = loads.finish()
+    if reason is not None:
+        raise ValueError(reason)

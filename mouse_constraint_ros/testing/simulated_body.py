@@ -40,7 +40,7 @@ from sensor_msgs.msg import JointState
 from .errors import HarnessClosed, NeverHeld
 from .harness_checks import (check_context, check_executor, checked_seconds, checked_stamp_ns,
                              checked_ticks, claim_context, predicate_text, release_context)
-from .harness_parameters import checked_parameters
+from .harness_parameters import checked_parameters, set_parameters
 from .lockstep import drain, isolated_context, wait_matched
 from .probe import Probe
 from .readings import body_pose, body_twist, BodyPose, BodyTwist, world_point
@@ -341,14 +341,14 @@ class SimulatedBody:
         """
         Change parameters of the node between steps, all or none (``set_parameters_atomically``).
 
+        A new body, which the node loads off its tick, is swapped in (or refused) before this
+        returns (``harness_parameters.set_parameters``): the next step runs with it.
+
         :raises TypeError: an unknown parameter name.
         :raises ValueError: the node refused the change, with its reason; or the change would
             take the clock from the harness.
+        :raises TimeoutError: the body did not load within ``LOAD_TIMEOUT`` wall seconds.
         """
         self._open('set_parameters')
-        checked = checked_parameters(values)
-        result = self.node.set_parameters_atomically(
-            [Parameter(name, value=value) for name, value in checked.items()])
-        if not result.successful:
-            raise ValueError(result.reason)
+        set_parameters(self.node, values)
         self.drain()
