@@ -35,6 +35,7 @@ from .tick import Tick
 from ..timing.sim_clock import ClockPacer, PacingMeter, SimulatedClock
 from ..timing.tick_grid import MAX_CATCH_UP_SECONDS
 from ..wire.interface import CLOCK_QOS, CLOCK_TOPIC
+from ..wire.messages import set_stamp
 
 
 class ClockTicks:
@@ -110,6 +111,19 @@ class ClockTicks:
         clock = self.sim_clock
         stamp = clock.advance()
         self._tick.run(stamp, clock.ticks if on_grid else None)
+        return stamp
+
+    def skip(self) -> int:
+        """
+        Move the simulated clock on one tick without running it; return its stamp (ns).
+
+        ``/clock`` says so at once. A reset while paused takes it: a state of a stamp of its own.
+        """
+        stamp = self.sim_clock.advance()
+        if self._publisher is not None:
+            message = ClockMessage()
+            set_stamp(message.clock, stamp)
+            self._publisher.publish(message)
         return stamp
 
     def _start_timer(self) -> None:

@@ -107,12 +107,11 @@ class Tick:
         outputs.publish(stamp, robot.joint_positions(), robot.joint_velocities(),
                         robot.joint_efforts(), robot.link_poses() if outputs.tf_on else None)
 
-    def publish_state(self) -> None:
+    def publish_state(self, stamp: int) -> None:
         """
-        Publish the state as it stands, stamped with the latest tick (after a reset); no force.
+        Publish the state as it stands at ``stamp`` (after a reset), the latest stamp; no force.
 
-        The force of that stamp went out with its tick, the tick's reaction; no tick ran since,
-        so there is no other force of that stamp to send (a reset's is zero).
+        No tick ran: there is no reaction to send (a zero force would say the body let go).
         """
-        self._state_publishers.publish(self._record.stamp_ns, self._simulation.state,
-                                       force=False)
+        self._record.stamp_ns = stamp
+        self._state_publishers.publish(stamp, self._simulation.state, force=False)

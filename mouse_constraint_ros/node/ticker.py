@@ -257,8 +257,18 @@ class Ticker:
             self._tick.run(self._node.get_clock().now().nanoseconds)
 
     def publish_state(self) -> None:
-        """Publish the state as it stands, stamped with the latest tick (a reset); no force."""
-        self._tick.publish_state()
+        """
+        Publish the state as it stands (a reset while paused), at a stamp of its own; no force.
+
+        The node as the clock moves its clock on one tick for it (``ClockTicks.skip``); on the
+        node's clock it is the clock's reading, or 1 ns after the latest tick if the clock stands
+        still. A reader keyed by stamp (tf2) drops a state whose stamp repeats one it has.
+        """
+        if self.is_clock:
+            stamp = self._simulated.skip()
+        else:
+            stamp = max(self._node_clock.now_ns(), self.record.stamp_ns + 1)
+        self._tick.publish_state(stamp)
 
     def stop(self) -> None:
         """Stop every tick timer (before shutdown): no tick runs after."""
