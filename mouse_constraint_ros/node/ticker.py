@@ -136,16 +136,17 @@ class Ticker:
 
     def stands_still(self) -> Optional[int]:
         """
-        Return the node's time (ns) while its clock reads the latest tick's stamp, else None.
+        Return the node's time (ns) while its clock reads the latest stamp or before, else None.
 
         A single step (``step_once``) is stamped with the node's clock: one that stands still
         (use_sim_time, a /clock that stopped) would stamp a second state with the stamp of the
-        tick before it. None when the node is the clock: its step moves the clock on.
+        tick before it (or of the reset after it, 1 ns on). None when the node is the clock: its
+        step moves the clock on.
         """
         if self.is_clock or self.record.ticks_run == 0:
             return None
         now = self._node_clock.now_ns()
-        return now if now == self.record.stamp_ns else None
+        return now if now <= self.record.stamp_ns else None
 
     @property
     def timer(self):
