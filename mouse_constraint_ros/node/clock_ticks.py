@@ -101,16 +101,17 @@ class ClockTicks:
         if self._timer is not None:
             self._start_timer()
 
-    def step(self, *, on_grid: bool = True) -> int:
+    def step(self, *, on_grid: bool = True, force_stamp: Optional[int] = None) -> int:
         """
         Run one tick of the simulated clock now; return its stamp (ns).
 
         :param on_grid: publish the state as the publish rate says; False: publish it (a
-            single step asked for by ``~/step``).
+            single step asked for by ``~/step``, a device's tick).
+        :param force_stamp: the force's stamp, if not the tick's (a device pose's).
         """
         clock = self.sim_clock
         stamp = clock.advance()
-        self._tick.run(stamp, clock.ticks if on_grid else None)
+        self._tick.run(stamp, clock.ticks if on_grid else None, force_stamp=force_stamp)
         return stamp
 
     def skip(self) -> int:

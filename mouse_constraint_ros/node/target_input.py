@@ -77,8 +77,8 @@ class TargetInput:
     :param set_anchor: sets the node's ``anchor`` parameter; returns None or why it could not.
     :param refuse: counts and warns about a refused target or grab.
     :param log: logs a line at INFO.
-    :param device_pose: called after each valid pose on ``target_pose`` is taken (the ticker's
-        ``device_tick``: the tick it runs when the device clocks the ticks).
+    :param device_pose: called with its stamp (ns) after each valid pose on ``target_pose`` is
+        taken (the ticker's ``device_tick``: the tick it runs when the device clocks the ticks).
     :param device_clock: the ticker's device clock: while on, it says whether the device is
         silent.
     """
@@ -86,7 +86,7 @@ class TargetInput:
     def __init__(self, *, simulation: MouseSimulation, config: NodeConfig, record: TickRecord,
                  now_ns: Callable[[], int], set_anchor: Callable[[Vector3], Optional[str]],
                  refuse: RefusalLog, log: Callable[[str], None],
-                 device_pose: Callable[[], None] = lambda: None,
+                 device_pose: Callable[[int], None] = lambda _stamp: None,
                  device_clock: Optional[DeviceClock] = None) -> None:
         """Hold the initial anchor when configured to; no user target yet."""
         self._simulation = simulation
@@ -175,7 +175,7 @@ class TargetInput:
             return
         if self._offer(message, self._device.mapping.to_world(point), ''):
             self.last_device_ns = now
-            self._device_pose()
+            self._device_pose(stamp_nanoseconds(message.header.stamp))
 
     def device_age(self, now_ns: int) -> Optional[float]:
         """Return how long ago (s) the last valid pose came (or the first pose), None unheard."""

@@ -73,13 +73,15 @@ class Tick:
         self._record.dt = 1.0 / rate_hz
         self._publish_ticks = PublishTicks(rate_hz, publish_rate_hz)
 
-    def run(self, stamp: int, tick: Optional[int] = None) -> None:
+    def run(self, stamp: int, tick: Optional[int] = None, force_stamp: Optional[int] = None
+            ) -> None:
         """
         Run one tick stamped ``stamp`` (ns).
 
         :param stamp: the tick's time: the stamp of /clock and of the state.
         :param tick: the tick's number on its grid, for ``PublishTicks``; None publishes (a
             single step: ``~/step``, or a caller stepping the node).
+        :param force_stamp: the force's stamp if not ``stamp``: the pose's that ran the tick.
         """
         record = self._record
         self._target.tick()
@@ -96,7 +98,7 @@ class Tick:
         if tick is None or publish_ticks.every_tick or publish_ticks.due(tick):
             publishers = self._state_publishers
             publishers.force_muted = self._target.device_silent(stamp)
-            publishers.publish(stamp, state)
+            publishers.publish(stamp, state, force_stamp=force_stamp)
             if self.robot_outputs is not None:
                 self._publish_robot(stamp)
 
