@@ -99,7 +99,8 @@ def measure(command, answers, trials: int, parameters: dict) -> dict:
     published = data['target_pub_ns']
     found = sorted(result['found'])
     span = (published[-1] - published[0]) / 1e9
-    return {'stamp': [(result['found'][k][0] - published[k]) / period for k in found],
+    return {'stamp': [(result['found'][k][0] - published[k]) / period for k in found
+                      if result['found'][k][0] is not None],
             'receive': [(result['found'][k][1] - published[k]) / period for k in found],
             'published': len(published), 'found': len(found),
             'superseded': result['superseded'], 'unexplained': result['unexplained'],
@@ -130,7 +131,7 @@ def run(quick: bool = False) -> dict:
         total = pooled(results[name])
         for measure_name in ('stamp', 'receive'):
             values = total[measure_name]
-            if name == ECHO and measure_name == 'stamp':
+            if not len(values):
                 continue
             rows.append({'process': name, 'measure': f'{measure_name} - publish',
                          'poses': len(values), 'p50_ticks': float(np.percentile(values, 50)),

@@ -25,6 +25,7 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter
 import yaml
 
+from mouse_constraint_ros.cli import ctl
 from mouse_constraint_ros.node.device_ticks import OwnTicks
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.node.parameters import DEFAULTS, node_config
@@ -34,7 +35,7 @@ from mouse_constraint_ros.testing import SimulatedBody
 from mouse_constraint_ros.timing.device_clock import device_grid_tick, DeviceClock
 from mouse_constraint_ros.timing.tick_grid import TickGrid
 from mouse_constraint_ros.wire.interface import (FORCE_QOS, FORCE_TOPIC, POSE_TOPIC, STATE_QOS,
-                                                 TARGET_POSE_TOPIC, TARGET_QOS)
+                                                 TARGET_POSE_QOS, TARGET_POSE_TOPIC, TARGET_QOS)
 from mouse_constraint_ros.wire.messages import felt_force, set_stamp, stamp_nanoseconds
 from test_support.haptic_device import (DeviceNode, HAND, loop, LOOP_BODY, ORIGIN, PERIOD,
                                         TRIAL_TICKS, WINDOW)
@@ -198,6 +199,63 @@ def test_poses_that_come_together_each_run_their_own_tick():
         assert body.node.ticker.device_clock.ticks == 60
     forces = np.array([force for _, force in listener.forces])
     np.testing.assert_allclose(forces, replayed_forces(hand.sent), rtol=0.0, atol=1e-9)
+
+
+@pytest.mark.ros
+def test_a_burst_of_poses_as_deep_as_the_reader_s_queue_each_runs_its_own_tick():
+    """
+    A stall of the node as long as its queue of poses: every pose queued runs its tick.
+
+    The poses are sent before the node spins, as a device's loop goes on while the node's
+    process is held up; each gets its own force, the reaction of its own tick, in order.
+    """
+    depth = TARGET_POSE_QOS.depth
+    with SimulatedBody(**PRESET) as body:
+        listener = body.add_node(StateListener(context=body.context))
+        hand = body.add_node(Hand(context=body.context, acceleration=(0.0, 0.0, 3.0)))
+        body.step(0)
+        for tick in range(depth):
+            hand.send(tick * T)
+        body.step(0)
+        assert body.node.ticker.device_clock.ticks == depth and len(listener.forces) == depth
+        assert body.node._target.device_lost == 0
+    forces = np.array([force for _, force in listener.forces])
+    np.testing.assert_allclose(forces, replayed_forces(hand.sent), rtol=0.0, atol=1e-9)
+
+
+@pytest.mark.ros
+def test_poses_lost_are_counted_from_the_gaps_in_their_stamps_and_echoed(capfd):
+    """
+    A device at the node's rate whose poses 10-12 and 40 never come: 4 lost, said on /diagnostics.
+
+    ``mouse_ctl echo inputs`` prints the count; the node logs one line when the device falls
+    silent and one when it comes back (a silence is no poses lost).
+    """
+    with SimulatedBody(diagnostics_rate_hz=100.0, **PRESET) as body:
+        node = Node('mouse_ctl', context=body.context)
+        lines = []
+        ctl.create_echo(node, 'inputs', lines.append, print_rate=0.0)
+        body.add_node(node)
+        hand = body.add_node(Hand(context=body.context, acceleration=(0.0, 0.0, 0.0)))
+        body.step(1)
+        for tick in range(60):
+            if tick not in (10, 11, 12, 40):
+                hand.send(tick * T)
+            body.step(0)
+        assert body.node._target.device_lost == 4
+        lines.clear()
+        body.step_until(lambda: any('device poses lost: 4' in line for line in lines),
+                        max_ticks=100_000)
+        body.step(150)
+        assert body.node.ticker.device_clock.silent
+        for tick in range(500, 510):
+            hand.send(tick * T)
+            body.step(0)
+        assert not body.node.ticker.device_clock.silent and body.node._target.device_lost == 4
+    err = capfd.readouterr().err
+    assert err.count('device silent: no valid pose on target_pose for more than '
+                     'device_timeout 0.1 s') == 1
+    assert err.count('device back on target_pose') == 1
 
 
 @pytest.mark.ros
