@@ -44,7 +44,6 @@ one-tick target, is ``bench.device_stream``.
 Standalone: ``python -m bench.force_latency [--quick]`` prints the section as JSON.
 """
 
-import bisect
 from pathlib import Path
 import time
 
@@ -108,10 +107,12 @@ def device_ticks(data: dict, parameters: dict) -> dict:
     Return, per pose the node ticked (``tick_source: target_pose``), its force, and the counts.
 
     A device tick's force carries its pose's stamp: the force of pose k is the one stamped
-    with pose k's stamp, checked by replay: from one of the states the node published just
-    before it came (the tick before its own), the tick with pose k as its target must give the
-    published force to FORCE_TOLERANCE. A force of any other stamp is a tick of the node's own
-    clock (``own``), checked with the target in force; a force no replay gives is counted
+    with pose k's stamp, checked by replay: from the state the node published with the tick
+    before its own, the tick with pose k as its target must give the published force to
+    FORCE_TOLERANCE (the two streams go in step, one state and one force a tick, whatever order
+    the observer took them in). A force of any other stamp is a tick of the node's own clock
+    (``own``), checked with the target in force, or zero (the device silent, after its last
+    pose); a force no replay gives is counted
     ``unexplained``. ``superseded``: poses no force answers (they never reached a tick).
     ``found``: pose index -> (None: the tick's stamp is the grid's, not a time of the pose,
     receive ns).
@@ -123,30 +124,45 @@ def device_ticks(data: dict, parameters: dict) -> dict:
     twists = _decode(data['twist_raw'], data['twist_recv_ns'], TwistStamped)
     forces = _decode(data['force_raw'], data['force_recv_ns'], WrenchStamped)
     targets = [tuple(float(c) for c in point) for point in data['targets']]
-    index = {int(stamp): k for k, stamp in enumerate(data['target_pub_ns'])}
+    index = {int(stamp): k for k, stamp in enumerate(data.get('target_stamp_ns',
+                                                              data['target_pub_ns']))}
     states = sorted(stamp for stamp in poses if stamp in twists)
-    received_states = [poses[stamp][1] for stamp in states]
+    received_states = np.array([poses[stamp][1] for stamp in states])
     current = config.initial_anchor()
     found, unexplained, own = {}, 0, 0
+    expected = None  # where in ``states`` the state before the next force should be
     for stamp, (force, received) in sorted(forces.items(), key=lambda item: item[1][1]):
         k = index.get(stamp)
         if k is None and received < data['target_pub_ns'][0]:
             continue
         target = current if k is None else targets[k]
         measured = (force.wrench.force.x, force.wrench.force.y, force.wrench.force.z)
-        last = bisect.bisect_right(received_states, received)
-        match = False
-        for before in reversed(states[max(0, last - 3):last]):
-            resume(simulation, state_from_messages(poses[before][0], twists[before][0]))
+        if k is None and not any(measured):  # the node's own tick, the device silent
+            own += 1
+            expected = None if expected is None else expected + 1
+            continue
+        if expected is None:  # the first: any state received within 0.2 s of it
+            near = np.flatnonzero(np.abs(received_states - received) < 200_000_000)
+            window = near.tolist()[::-1]
+        else:  # the streams go in step: one state and one force a tick
+            window = sorted(range(max(0, expected - 3), min(len(states), expected + 8)),
+                            key=lambda j: abs(j - expected))
+        match = None
+        for before in window:
+            resume(simulation, state_from_messages(poses[states[before]][0],
+                                                   twists[states[before]][0]))
             simulation.target = target
             simulation.step(dt)
             if max(abs(a - b) for a, b in zip(felt_force(simulation.tick_impulse),
                                               measured)) <= FORCE_TOLERANCE:
-                match = True
+                match = before
                 break
-        if not match:
+        if match is None:
             unexplained += 1
-        elif k is None:
+            expected = None if expected is None else expected + 1
+            continue
+        expected = match + 1
+        if k is None:
             own += 1
         else:
             found[k] = (None, received)

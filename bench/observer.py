@@ -145,7 +145,7 @@ def observe_latency(node: Node, executor, options) -> dict:
     With ``--force`` every force too, and the targets go out as poses on ``target_pose``, as
     a haptic device's driver sends them.
     """
-    poses, twists, forces = [], [], []
+    poses, twists, forces, inputs = [], [], [], {}
     node.create_subscription(PoseStamped, 'pose', lambda raw: poses.append(
         (time.time_ns(), raw)), RECORD_QOS, raw=True)
     node.create_subscription(TwistStamped, 'twist', lambda raw: twists.append(
@@ -154,6 +154,8 @@ def observe_latency(node: Node, executor, options) -> dict:
         node.create_subscription(WrenchStamped, 'force', lambda raw: forces.append(
             (time.time_ns(), raw)), RECORD_QOS, raw=True)
         publisher = node.create_publisher(PoseStamped, 'target_pose', TARGET_QOS)
+        node.create_subscription(DiagnosticArray, '/diagnostics',
+                                 lambda array: inputs.update(_inputs_values(array)), 10)
         message = PoseStamped()
         message.pose.orientation.w = 1.0
         point = message.pose.position
@@ -168,7 +170,7 @@ def observe_latency(node: Node, executor, options) -> dict:
     spin_for(executor, options.warmup)
     generator = random.Random(options.seed)
     center = np.array(options.center)
-    targets, published = [], []
+    targets, published, stamps = [], [], []
     message.header.frame_id = options.frame
     previous = center
     next_time = time.monotonic() + options.gap_min
@@ -185,14 +187,23 @@ def observe_latency(node: Node, executor, options) -> dict:
         previous = target
         point.x, point.y, point.z = (float(c) for c in target)
         now = time.time_ns()
-        message.header.stamp.sec, message.header.stamp.nanosec = divmod(now, 1_000_000_000)
+        # A device at its rate stamps its k-th pose k periods after its first, however late
+        # the publish call comes; else the stamp is the publish time.
+        stamp = (stamps[0] + round(len(stamps) * options.gap_min * 1e9)
+                 if options.nominal_stamps and stamps else now)
+        message.header.stamp.sec, message.header.stamp.nanosec = divmod(stamp, 1_000_000_000)
         publisher.publish(message)
         published.append(now)
+        stamps.append(stamp)
         targets.append(target)
         # On a schedule, as a device's loop keeps its period (from now if a gap behind).
         gap = generator.uniform(options.gap_min, options.gap_max)
         next_time = max(next_time, time.monotonic() - options.gap_max) + gap
-    spin_for(executor, max(options.gap_max, 0.1))  # the last target's answer
+    # The last target's answer, and with --force a report of the node's inputs after it.
+    spin_for(executor, max(options.gap_max, 0.1))
+    if options.force:
+        inputs.clear()
+        spin_until(executor, lambda: inputs, options.inputs_wait)
     say(f'end {time.time_ns()}')
 
     def stacked(records):
@@ -203,13 +214,31 @@ def observe_latency(node: Node, executor, options) -> dict:
     twist_recv, twist_raw = stacked(twists)
     recorded = {
         'target_pub_ns': np.array(published, dtype=np.int64),
+        'target_stamp_ns': np.array(stamps, dtype=np.int64),
         'targets': np.array(targets),
         'pose_recv_ns': pose_recv, 'pose_raw': pose_raw,
         'twist_recv_ns': twist_recv, 'twist_raw': twist_raw,
     }
     if options.force:
         recorded['force_recv_ns'], recorded['force_raw'] = stacked(forces)
+        # The node's own count (its inputs status, -1 without one): poses that ran a tick, lost.
+        recorded['device_ticks'] = np.int64(_leading_int(inputs.get('device ticks (early, late)')))
+        recorded['device_lost'] = np.int64(_leading_int(inputs.get('device poses lost')))
     return recorded
+
+
+def _inputs_values(array: DiagnosticArray) -> dict:
+    """Return the values of the inputs status in ``array`` (none: empty)."""
+    for status in array.status:
+        if status.name.endswith(': inputs'):
+            return {value.key: value.value for value in status.values}
+    return {}
+
+
+def _leading_int(text) -> int:
+    """Return the integer a status value starts with ('1000 (3, 2)': 1000), else -1."""
+    word = (text or '').split(' ')[0]
+    return int(word) if word.isdigit() else -1
 
 
 def observe_exercise(node: Node, executor, options) -> dict:
@@ -337,6 +366,12 @@ def main(argv=None) -> int:
                         help='latency: least distance between successive targets (m)')
     parser.add_argument('--frame', default='world')
     parser.add_argument('--seed', type=int, default=1)
+    parser.add_argument('--nominal-stamps', action='store_true',
+                        help='latency: stamp the k-th target k gap-min after the first, as a '
+                             'device at its rate does, not with its publish time')
+    parser.add_argument('--inputs-wait', type=float, default=3.0,
+                        help="latency --force: how long (s) to wait at the end for the node's "
+                             'inputs status')
     parser.add_argument('--force', action='store_true',
                         help='latency: record the force too; targets as poses on target_pose')
     options = parser.parse_args(argv)
