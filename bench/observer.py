@@ -27,10 +27,8 @@ Three modes, each writing an ``.npz`` file for the bench module to analyse after
 - ``latency``: publish targets (QoS of ``mouse_target``) at random intervals and record every
   ``pose`` and ``twist`` (raw bytes with receive times) and every target with its publish time.
   Which pose first reflects which target is found afterwards (``bench.latency``).
-- ``exercise``: drive every path of the node for a while (``bench.memory``): targets round a
-  circle at a high rate, now and then a bad one (non-finite, foreign frame, beyond the
-  workspace), the ``~/reset`` and ``~/release`` services, a parameter change; subscribe to
-  everything it publishes. Prints ``progress <s>`` every second and writes the counts.
+- ``exercise``: drive every path of the node for a while (``bench.memory``;
+  ``bench.observer_exercise``).
 
 The executor is the EventsExecutor spun with ``spin_once`` (the node's own loop). Both modes
 print ``ready`` once the node's publishers are matched.
@@ -38,7 +36,6 @@ print ``ready`` once the node's publishers are matched.
 
 import argparse
 import contextlib
-import math
 import random
 import struct
 import sys
@@ -48,16 +45,12 @@ from typing import Iterator, Tuple
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped, WrenchStamped
 import numpy as np
-from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue
-from rcl_interfaces.srv import SetParameters
 import rclpy
 from rclpy.experimental import EventsExecutor
 from rclpy.node import Node
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
 from sensor_msgs.msg import JointState
-from std_srvs.srv import Trigger
-from visualization_msgs.msg import MarkerArray
 
 from test_support.ros_harness import spin_until
 
@@ -241,83 +234,6 @@ def _leading_int(text) -> int:
     return int(word) if word.isdigit() else -1
 
 
-def observe_exercise(node: Node, executor, options) -> dict:
-    """Drive the node's paths for ``options.seconds``; return what was sent and received."""
-    counts = {'pose': 0, 'twist': 0, 'markers': 0, 'diagnostics': 0}
-
-    def counter(name):
-        def count(_raw) -> None:
-            counts[name] += 1
-        return count
-
-    for message_type, topic, name in ((PoseStamped, 'pose', 'pose'),
-                                      (TwistStamped, 'twist', 'twist'),
-                                      (MarkerArray, 'mouse_constraint/markers', 'markers'),
-                                      (DiagnosticArray, '/diagnostics', 'diagnostics')):
-        node.create_subscription(message_type, topic, counter(name), RECORD_QOS, raw=True)
-    publisher = node.create_publisher(PointStamped, 'target', TARGET_QOS)
-    reset = node.create_client(Trigger, 'mouse_constraint/reset')
-    release = node.create_client(Trigger, 'mouse_constraint/release')
-    set_parameters = node.create_client(SetParameters, 'mouse_constraint/set_parameters')
-    if not spin_until(executor, lambda: publisher.get_subscription_count() > 0
-                      and reset.service_is_ready() and set_parameters.service_is_ready(), 30.0):
-        raise SystemExit('the node did not show up')
-    say('ready')
-    sent = {'targets': 0, 'bad_targets': 0, 'resets': 0, 'releases': 0, 'parameter_sets': 0}
-    bad = [((math.nan, 0.0, 1.0), options.frame), ((0.0, 0.0, 1.0), 'elsewhere'),
-           ((1e9, 0.0, 0.0), options.frame), ((math.inf, 0.0, 0.0), options.frame)]
-    message = PointStamped()
-    start = time.monotonic()
-    period = 1.0 / options.target_rate
-    next_target = start
-    next_second = start + 1.0
-    while True:
-        now = time.monotonic()
-        elapsed = now - start
-        if elapsed >= options.seconds:
-            break
-        if now >= next_target:
-            next_target += period
-            count = sent['targets'] + sent['bad_targets']
-            if count % options.bad_every == options.bad_every - 1:
-                point, frame = bad[sent['bad_targets'] % len(bad)]
-                sent['bad_targets'] += 1
-            else:
-                angle = 2.0 * math.pi * elapsed / options.period
-                point = (options.center[0] + options.radius * math.cos(angle),
-                         options.center[1] + options.radius * math.sin(angle),
-                         options.center[2])
-                frame = options.frame
-                sent['targets'] += 1
-            message.header.frame_id = frame
-            message.header.stamp.sec, message.header.stamp.nanosec = divmod(
-                time.time_ns(), 1_000_000_000)
-            message.point.x, message.point.y, message.point.z = point
-            publisher.publish(message)
-        if now >= next_second:
-            next_second += 1.0
-            second = int(round(elapsed))
-            if second % 7 == 0:
-                reset.call_async(Trigger.Request())
-                sent['resets'] += 1
-            if second % 11 == 0:
-                release.call_async(Trigger.Request())
-                sent['releases'] += 1
-            if second % 13 == 0:
-                value = ParameterValue(type=ParameterType.PARAMETER_DOUBLE,
-                                       double_value=20.0 if second % 26 else 30.0)
-                set_parameters.call_async(SetParameters.Request(
-                    parameters=[Parameter(name='marker_rate_hz', value=value)]))
-                sent['parameter_sets'] += 1
-            say(f'progress {elapsed:.1f}')
-        executor.spin_once(timeout_sec=max(0.0, min(next_target, next_second)
-                                           - time.monotonic()))
-    spin_for(executor, 0.5)
-    say(f'end {time.time_ns()}')
-    return {**{f'sent_{k}': np.int64(v) for k, v in sent.items()},
-            **{f'received_{k}': np.int64(v) for k, v in counts.items()}}
-
-
 @contextlib.contextmanager
 def observer_node() -> Iterator[Tuple[Node, EventsExecutor]]:
     """Yield the observer's node on its executor; destroy it and shut rclpy down after."""
@@ -375,8 +291,11 @@ def main(argv=None) -> int:
     parser.add_argument('--force', action='store_true',
                         help='latency: record the force too; targets as poses on target_pose')
     options = parser.parse_args(argv)
-    observe = {'rate': observe_rate, 'latency': observe_latency,
-               'exercise': observe_exercise}[options.mode]
+    if options.mode == 'exercise':
+        from bench.observer_exercise import observe_exercise
+        observe = observe_exercise
+    else:
+        observe = {'rate': observe_rate, 'latency': observe_latency}[options.mode]
     with observer_node() as (node, executor):
         np.savez(options.out, **observe(node, executor, options))
     return 0

@@ -35,7 +35,7 @@ from mouse_constraint_ros.testing import SimulatedBody
 from mouse_constraint_ros.timing.device_clock import device_grid_tick, DeviceClock
 from mouse_constraint_ros.timing.tick_grid import TickGrid
 from mouse_constraint_ros.wire.interface import (FORCE_QOS, FORCE_TOPIC, POSE_TOPIC, STATE_QOS,
-                                                 TARGET_POSE_QOS, TARGET_POSE_TOPIC, TARGET_QOS)
+                                                 TARGET_POSE_TOPIC, TARGET_QOS)
 from mouse_constraint_ros.wire.messages import felt_force, set_stamp, stamp_nanoseconds
 from test_support.haptic_device import (DeviceNode, HAND, loop, LOOP_BODY, ORIGIN, PERIOD,
                                         TRIAL_TICKS, WINDOW)
@@ -184,8 +184,8 @@ def test_poses_that_come_together_each_run_their_own_tick():
     """
     Three poses sent before the node spins (a stall of the node's process): three ticks.
 
-    The subscription keeps the sensor-data depth, so a device's poses that queue up while the
-    node is busy each run their tick in order, each force the reaction of its own pose.
+    A device's poses that queue up while the node is busy each run their tick in order, each
+    force the reaction of its own pose.
     """
     with SimulatedBody(**PRESET) as body:
         listener = body.add_node(StateListener(context=body.context))
@@ -202,14 +202,14 @@ def test_poses_that_come_together_each_run_their_own_tick():
 
 
 @pytest.mark.ros
-def test_a_burst_of_poses_as_deep_as_the_reader_s_queue_each_runs_its_own_tick():
+def test_a_burst_of_poses_of_a_tenth_of_a_second_each_runs_its_own_tick():
     """
-    A stall of the node as long as its queue of poses: every pose queued runs its tick.
+    A stall of the node of 0.1 s (device_timeout, the catch-up bound): every pose runs its tick.
 
     The poses are sent before the node spins, as a device's loop goes on while the node's
     process is held up; each gets its own force, the reaction of its own tick, in order.
     """
-    depth = TARGET_POSE_QOS.depth
+    depth = round(0.1 / T)
     with SimulatedBody(**PRESET) as body:
         listener = body.add_node(StateListener(context=body.context))
         hand = body.add_node(Hand(context=body.context, acceleration=(0.0, 0.0, 3.0)))
