@@ -33,9 +33,11 @@ Beside the executable, whose ticks come from its own spin loop, run the node wit
 an rclpy timer (``bench.timer_node``) and the executable with ``tick_source: target_pose``
 (each pose runs one tick at once, its force right after), the three alternating over ROUNDS
 rounds of TRIALS / ROUNDS targets (as ``bench.latency``); each one's percentiles are over all
-its targets. With device ticks each force is matched to its pose by replay (``device_ticks``):
-from the state published with the force before it, the tick with that pose as the target must
-give it, as above (the node's own ticks are held back while poses come). The node sits
+its targets. With device ticks each force carries its pose's stamp and is checked by replay
+(``device_ticks``): from the state published before its tick, the tick with that pose as the
+target must give it, as above (the node's own ticks are held back while poses come); its
+tick's stamp is on the node's grid, one period after the tick before, no time of the pose, so
+only ``receive - publish`` is reported for it. The node sits
 idle between these sparse poses and each wakes it; a device at the node's rate, and its
 one-tick target, is ``bench.device_stream``.
 
@@ -46,7 +48,7 @@ from pathlib import Path
 import time
 
 from bench import ros_process
-from bench.latency import _decode, alternating, CURRENT, GAP_S, MIN_JUMP_M, pooled
+from bench.latency import _decode, alternating, GAP_S, MIN_JUMP_M, pooled
 from bench.latency import QUICK_ROUNDS, QUICK_TRIALS, reflecting_ticks, resume, ROUNDS, SPREAD_M
 from bench.latency import TRIALS
 from geometry_msgs.msg import PoseStamped, TwistStamped, WrenchStamped
@@ -104,11 +106,15 @@ def device_ticks(data: dict, parameters: dict) -> dict:
     """
     Return, per pose the node ticked (``tick_source: target_pose``), its force, and the counts.
 
-    Each force after the first pose is matched by replay: from the state the node published
-    with the force before it, the tick with pose k as its target (k the next pose not yet
-    matched, or a later one published before the force came: the ones between were replaced
-    before the node took them) must give the published force to FORCE_TOLERANCE; else the
-    target in force (a tick of the node's own clock). ``found``: pose index -> (force stamp,
+    A device tick's force carries its pose's stamp: the force of pose k is the one stamped
+    with pose k's stamp, checked by replay: from the state the node published with the tick
+    before its own, the tick with pose k as its target must give the published force to
+    FORCE_TOLERANCE (the two streams go in step, one state and one force a tick, whatever order
+    the observer took them in). A force of any other stamp is a tick of the node's own clock
+    (``own``), checked with the target in force, or zero (the device silent, after its last
+    pose); a force no replay gives is counted
+    ``unexplained``. ``superseded``: poses no force answers (they never reached a tick).
+    ``found``: pose index -> (None: the tick's stamp is the grid's, not a time of the pose,
     receive ns).
     """
     config = node_config(dict(DEFAULTS, **parameters))
@@ -118,39 +124,50 @@ def device_ticks(data: dict, parameters: dict) -> dict:
     twists = _decode(data['twist_raw'], data['twist_recv_ns'], TwistStamped)
     forces = _decode(data['force_raw'], data['force_recv_ns'], WrenchStamped)
     targets = [tuple(float(c) for c in point) for point in data['targets']]
-    published = data['target_pub_ns']
-    stamps = sorted(forces)
-    current, following = config.initial_anchor(), 0
-    found, superseded, unexplained, own = {}, 0, 0, 0
-    for previous, stamp in zip(stamps, stamps[1:]):
-        if stamp < published[0]:
+    index = {int(stamp): k for k, stamp in enumerate(data.get('target_stamp_ns',
+                                                              data['target_pub_ns']))}
+    states = sorted(stamp for stamp in poses if stamp in twists)
+    received_states = np.array([poses[stamp][1] for stamp in states])
+    current = config.initial_anchor()
+    found, unexplained, own = {}, 0, 0
+    expected = None  # where in ``states`` the state before the next force should be
+    for stamp, (force, received) in sorted(forces.items(), key=lambda item: item[1][1]):
+        k = index.get(stamp)
+        if k is None and received < data['target_pub_ns'][0]:
             continue
-        if previous not in poses or previous not in twists:
-            unexplained += 1
-            continue
-        before = state_from_messages(poses[previous][0], twists[previous][0])
-        force, received = forces[stamp]
+        target = current if k is None else targets[k]
         measured = (force.wrench.force.x, force.wrench.force.y, force.wrench.force.z)
-        candidates = [(k, targets[k]) for k in range(following, len(targets))
-                      if published[k] < received] + [(CURRENT, current)]
+        if k is None and not any(measured):  # the node's own tick, the device silent
+            own += 1
+            expected = None if expected is None else expected + 1
+            continue
+        if expected is None:  # the first: any state received within 0.2 s of it
+            near = np.flatnonzero(np.abs(received_states - received) < 200_000_000)
+            window = near.tolist()[::-1]
+        else:  # the streams go in step: one state and one force a tick
+            window = sorted(range(max(0, expected - 3), min(len(states), expected + 8)),
+                            key=lambda j: abs(j - expected))
         match = None
-        for index, target in candidates:
-            resume(simulation, before)
+        for before in window:
+            resume(simulation, state_from_messages(poses[states[before]][0],
+                                                   twists[states[before]][0]))
             simulation.target = target
             simulation.step(dt)
             if max(abs(a - b) for a, b in zip(felt_force(simulation.tick_impulse),
                                               measured)) <= FORCE_TOLERANCE:
-                match = index
+                match = before
                 break
         if match is None:
             unexplained += 1
-        elif match == CURRENT:
+            expected = None if expected is None else expected + 1
+            continue
+        expected = match + 1
+        if k is None:
             own += 1
         else:
-            superseded += match - following
-            found[match] = (stamp, received)
-            current, following = targets[match], match + 1
-    return {'found': found, 'superseded': superseded, 'unexplained': unexplained,
+            found[k] = (None, received)
+            current = target
+    return {'found': found, 'superseded': len(index) - len(found), 'unexplained': unexplained,
             'own': own, 'forces': len(forces), 'poses': len(poses)}
 
 
@@ -175,7 +192,8 @@ def measure(command, parameters: dict, trials: int, ticks=force_ticks) -> dict:
     period = 1e9 / config.rate_hz
     published = data['target_pub_ns']
     found = sorted(result['found'])
-    return {'stamp': [(result['found'][k][0] - published[k]) / period for k in found],
+    return {'stamp': [(result['found'][k][0] - published[k]) / period for k in found
+                      if result['found'][k][0] is not None],
             'receive': [(result['found'][k][1] - published[k]) / period for k in found],
             'published': len(published), 'found': len(found),
             'mismatched': result['mismatched'],

@@ -27,10 +27,8 @@ Three modes, each writing an ``.npz`` file for the bench module to analyse after
 - ``latency``: publish targets (QoS of ``mouse_target``) at random intervals and record every
   ``pose`` and ``twist`` (raw bytes with receive times) and every target with its publish time.
   Which pose first reflects which target is found afterwards (``bench.latency``).
-- ``exercise``: drive every path of the node for a while (``bench.memory``): targets round a
-  circle at a high rate, now and then a bad one (non-finite, foreign frame, beyond the
-  workspace), the ``~/reset`` and ``~/release`` services, a parameter change; subscribe to
-  everything it publishes. Prints ``progress <s>`` every second and writes the counts.
+- ``exercise``: drive every path of the node for a while (``bench.memory``;
+  ``bench.observer_exercise``).
 
 The executor is the EventsExecutor spun with ``spin_once`` (the node's own loop). Both modes
 print ``ready`` once the node's publishers are matched.
@@ -38,7 +36,6 @@ print ``ready`` once the node's publishers are matched.
 
 import argparse
 import contextlib
-import math
 import random
 import struct
 import sys
@@ -48,16 +45,12 @@ from typing import Iterator, Tuple
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped, WrenchStamped
 import numpy as np
-from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue
-from rcl_interfaces.srv import SetParameters
 import rclpy
 from rclpy.experimental import EventsExecutor
 from rclpy.node import Node
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message
 from sensor_msgs.msg import JointState
-from std_srvs.srv import Trigger
-from visualization_msgs.msg import MarkerArray
 
 from test_support.ros_harness import spin_until
 
@@ -145,7 +138,7 @@ def observe_latency(node: Node, executor, options) -> dict:
     With ``--force`` every force too, and the targets go out as poses on ``target_pose``, as
     a haptic device's driver sends them.
     """
-    poses, twists, forces = [], [], []
+    poses, twists, forces, inputs = [], [], [], {}
     node.create_subscription(PoseStamped, 'pose', lambda raw: poses.append(
         (time.time_ns(), raw)), RECORD_QOS, raw=True)
     node.create_subscription(TwistStamped, 'twist', lambda raw: twists.append(
@@ -154,6 +147,8 @@ def observe_latency(node: Node, executor, options) -> dict:
         node.create_subscription(WrenchStamped, 'force', lambda raw: forces.append(
             (time.time_ns(), raw)), RECORD_QOS, raw=True)
         publisher = node.create_publisher(PoseStamped, 'target_pose', TARGET_QOS)
+        node.create_subscription(DiagnosticArray, '/diagnostics',
+                                 lambda array: inputs.update(_inputs_values(array)), 10)
         message = PoseStamped()
         message.pose.orientation.w = 1.0
         point = message.pose.position
@@ -168,7 +163,7 @@ def observe_latency(node: Node, executor, options) -> dict:
     spin_for(executor, options.warmup)
     generator = random.Random(options.seed)
     center = np.array(options.center)
-    targets, published = [], []
+    targets, published, stamps = [], [], []
     message.header.frame_id = options.frame
     previous = center
     next_time = time.monotonic() + options.gap_min
@@ -185,14 +180,23 @@ def observe_latency(node: Node, executor, options) -> dict:
         previous = target
         point.x, point.y, point.z = (float(c) for c in target)
         now = time.time_ns()
-        message.header.stamp.sec, message.header.stamp.nanosec = divmod(now, 1_000_000_000)
+        # A device at its rate stamps its k-th pose k periods after its first, however late
+        # the publish call comes; else the stamp is the publish time.
+        stamp = (stamps[0] + round(len(stamps) * options.gap_min * 1e9)
+                 if options.nominal_stamps and stamps else now)
+        message.header.stamp.sec, message.header.stamp.nanosec = divmod(stamp, 1_000_000_000)
         publisher.publish(message)
         published.append(now)
+        stamps.append(stamp)
         targets.append(target)
         # On a schedule, as a device's loop keeps its period (from now if a gap behind).
         gap = generator.uniform(options.gap_min, options.gap_max)
         next_time = max(next_time, time.monotonic() - options.gap_max) + gap
-    spin_for(executor, max(options.gap_max, 0.1))  # the last target's answer
+    # The last target's answer, and with --force a report of the node's inputs after it.
+    spin_for(executor, max(options.gap_max, 0.1))
+    if options.force:
+        inputs.clear()
+        spin_until(executor, lambda: inputs, options.inputs_wait)
     say(f'end {time.time_ns()}')
 
     def stacked(records):
@@ -203,90 +207,31 @@ def observe_latency(node: Node, executor, options) -> dict:
     twist_recv, twist_raw = stacked(twists)
     recorded = {
         'target_pub_ns': np.array(published, dtype=np.int64),
+        'target_stamp_ns': np.array(stamps, dtype=np.int64),
         'targets': np.array(targets),
         'pose_recv_ns': pose_recv, 'pose_raw': pose_raw,
         'twist_recv_ns': twist_recv, 'twist_raw': twist_raw,
     }
     if options.force:
         recorded['force_recv_ns'], recorded['force_raw'] = stacked(forces)
+        # The node's own count (its inputs status, -1 without one): poses that ran a tick, lost.
+        recorded['device_ticks'] = np.int64(_leading_int(inputs.get('device ticks (early, late)')))
+        recorded['device_lost'] = np.int64(_leading_int(inputs.get('device poses lost')))
     return recorded
 
 
-def observe_exercise(node: Node, executor, options) -> dict:
-    """Drive the node's paths for ``options.seconds``; return what was sent and received."""
-    counts = {'pose': 0, 'twist': 0, 'markers': 0, 'diagnostics': 0}
+def _inputs_values(array: DiagnosticArray) -> dict:
+    """Return the values of the inputs status in ``array`` (none: empty)."""
+    for status in array.status:
+        if status.name.endswith(': inputs'):
+            return {value.key: value.value for value in status.values}
+    return {}
 
-    def counter(name):
-        def count(_raw) -> None:
-            counts[name] += 1
-        return count
 
-    for message_type, topic, name in ((PoseStamped, 'pose', 'pose'),
-                                      (TwistStamped, 'twist', 'twist'),
-                                      (MarkerArray, 'mouse_constraint/markers', 'markers'),
-                                      (DiagnosticArray, '/diagnostics', 'diagnostics')):
-        node.create_subscription(message_type, topic, counter(name), RECORD_QOS, raw=True)
-    publisher = node.create_publisher(PointStamped, 'target', TARGET_QOS)
-    reset = node.create_client(Trigger, 'mouse_constraint/reset')
-    release = node.create_client(Trigger, 'mouse_constraint/release')
-    set_parameters = node.create_client(SetParameters, 'mouse_constraint/set_parameters')
-    if not spin_until(executor, lambda: publisher.get_subscription_count() > 0
-                      and reset.service_is_ready() and set_parameters.service_is_ready(), 30.0):
-        raise SystemExit('the node did not show up')
-    say('ready')
-    sent = {'targets': 0, 'bad_targets': 0, 'resets': 0, 'releases': 0, 'parameter_sets': 0}
-    bad = [((math.nan, 0.0, 1.0), options.frame), ((0.0, 0.0, 1.0), 'elsewhere'),
-           ((1e9, 0.0, 0.0), options.frame), ((math.inf, 0.0, 0.0), options.frame)]
-    message = PointStamped()
-    start = time.monotonic()
-    period = 1.0 / options.target_rate
-    next_target = start
-    next_second = start + 1.0
-    while True:
-        now = time.monotonic()
-        elapsed = now - start
-        if elapsed >= options.seconds:
-            break
-        if now >= next_target:
-            next_target += period
-            count = sent['targets'] + sent['bad_targets']
-            if count % options.bad_every == options.bad_every - 1:
-                point, frame = bad[sent['bad_targets'] % len(bad)]
-                sent['bad_targets'] += 1
-            else:
-                angle = 2.0 * math.pi * elapsed / options.period
-                point = (options.center[0] + options.radius * math.cos(angle),
-                         options.center[1] + options.radius * math.sin(angle),
-                         options.center[2])
-                frame = options.frame
-                sent['targets'] += 1
-            message.header.frame_id = frame
-            message.header.stamp.sec, message.header.stamp.nanosec = divmod(
-                time.time_ns(), 1_000_000_000)
-            message.point.x, message.point.y, message.point.z = point
-            publisher.publish(message)
-        if now >= next_second:
-            next_second += 1.0
-            second = int(round(elapsed))
-            if second % 7 == 0:
-                reset.call_async(Trigger.Request())
-                sent['resets'] += 1
-            if second % 11 == 0:
-                release.call_async(Trigger.Request())
-                sent['releases'] += 1
-            if second % 13 == 0:
-                value = ParameterValue(type=ParameterType.PARAMETER_DOUBLE,
-                                       double_value=20.0 if second % 26 else 30.0)
-                set_parameters.call_async(SetParameters.Request(
-                    parameters=[Parameter(name='marker_rate_hz', value=value)]))
-                sent['parameter_sets'] += 1
-            say(f'progress {elapsed:.1f}')
-        executor.spin_once(timeout_sec=max(0.0, min(next_target, next_second)
-                                           - time.monotonic()))
-    spin_for(executor, 0.5)
-    say(f'end {time.time_ns()}')
-    return {**{f'sent_{k}': np.int64(v) for k, v in sent.items()},
-            **{f'received_{k}': np.int64(v) for k, v in counts.items()}}
+def _leading_int(text) -> int:
+    """Return the integer a status value starts with ('1000 (3, 2)': 1000), else -1."""
+    word = (text or '').split(' ')[0]
+    return int(word) if word.isdigit() else -1
 
 
 @contextlib.contextmanager
@@ -337,11 +282,20 @@ def main(argv=None) -> int:
                         help='latency: least distance between successive targets (m)')
     parser.add_argument('--frame', default='world')
     parser.add_argument('--seed', type=int, default=1)
+    parser.add_argument('--nominal-stamps', action='store_true',
+                        help='latency: stamp the k-th target k gap-min after the first, as a '
+                             'device at its rate does, not with its publish time')
+    parser.add_argument('--inputs-wait', type=float, default=3.0,
+                        help="latency --force: how long (s) to wait at the end for the node's "
+                             'inputs status')
     parser.add_argument('--force', action='store_true',
                         help='latency: record the force too; targets as poses on target_pose')
     options = parser.parse_args(argv)
-    observe = {'rate': observe_rate, 'latency': observe_latency,
-               'exercise': observe_exercise}[options.mode]
+    if options.mode == 'exercise':
+        from bench.observer_exercise import observe_exercise
+        observe = observe_exercise
+    else:
+        observe = {'rate': observe_rate, 'latency': observe_latency}[options.mode]
     with observer_node() as (node, executor):
         np.savez(options.out, **observe(node, executor, options))
     return 0

@@ -18,19 +18,25 @@ import copy
 import math
 from pathlib import Path
 
-from geometry_msgs.msg import PoseStamped
+from geometry_msgs.msg import PoseStamped, WrenchStamped
 import numpy as np
 import pytest
 from rclpy.node import Node
+from rclpy.parameter import Parameter
 import yaml
 
+from mouse_constraint_ros.cli import ctl
+from mouse_constraint_ros.node.device_ticks import OwnTicks
+from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.node.parameters import DEFAULTS, node_config
 from mouse_constraint_ros.physics import MouseSimulation
 from mouse_constraint_ros.physics.coupling_stability import Device, largest_stable_stiffness
 from mouse_constraint_ros.testing import SimulatedBody
-from mouse_constraint_ros.timing.device_clock import DeviceClock
-from mouse_constraint_ros.wire.interface import TARGET_POSE_TOPIC, TARGET_QOS
-from mouse_constraint_ros.wire.messages import felt_force, set_stamp
+from mouse_constraint_ros.timing.device_clock import device_grid_tick, DeviceClock
+from mouse_constraint_ros.timing.tick_grid import TickGrid
+from mouse_constraint_ros.wire.interface import (FORCE_QOS, FORCE_TOPIC, POSE_TOPIC, STATE_QOS,
+                                                 TARGET_POSE_TOPIC, TARGET_QOS)
+from mouse_constraint_ros.wire.messages import felt_force, set_stamp, stamp_nanoseconds
 from test_support.haptic_device import (DeviceNode, HAND, loop, LOOP_BODY, ORIGIN, PERIOD,
                                         TRIAL_TICKS, WINDOW)
 from test_support.haptic_listener import StateListener
@@ -57,6 +63,46 @@ def test_the_device_clock_holds_the_own_ticks_back_for_the_timeout_and_classes_i
     assert not clock.own_tick() and not clock.silent
     clock.configure(on=False, rate_hz=1000.0, timeout=0.005)
     assert clock.own_tick() and not clock.silent
+
+
+def test_a_device_tick_is_the_one_after_the_latest_unless_it_lags_past_the_catch_up_bound():
+    assert device_grid_tick(due=500, following=450, max_lag=100) == 450  # behind: catching up
+    assert device_grid_tick(due=500, following=520, max_lag=100) == 520  # ahead: a fast device
+    assert device_grid_tick(due=500, following=399, max_lag=100) == 500  # lost: dropped
+
+
+class RecordedTicks:
+    """Stands in for the node's ``Tick``: records the stamps it runs."""
+
+    def __init__(self) -> None:
+        """Run none yet."""
+        self.stamps = []
+
+    def run(self, stamp: int, tick=None, force_stamp=None) -> None:
+        """Record ``stamp``."""
+        self.stamps.append(stamp)
+
+
+def test_the_node_s_own_ticks_go_on_after_the_device_s_without_repeating_one():
+    """
+    A device that ran ahead of the clock: the own ticks start after its latest.
+
+    The ticks it ran are no silence; the six after it (past the 5 ms timeout) are held back.
+    """
+    grid = TickGrid.for_rate(1000.0)
+    grid.restart(0)
+    clock = DeviceClock()
+    clock.configure(on=True, rate_hz=1000.0, timeout=0.005)
+    ticks = RecordedTicks()
+    own = OwnTicks(ticks, clock, lambda: grid)
+    clock.take(0)
+    own.device_ran(grid.origin, 20)  # the device's ticks reached tick 20 at tick 0's time
+    for tick in range(1, 31):
+        own.run(grid.stamp(tick), tick)
+    assert ticks.stamps == [grid.stamp(tick) for tick in range(27, 31)]
+    grid.restart(5_000)  # a new grid (a resume, a clock that jumped): its ticks all run
+    own.run(grid.stamp(3), 3)
+    assert ticks.stamps[-1] == 3_005_000
 
 
 class Hand(Node):
@@ -100,6 +146,8 @@ def test_each_pose_runs_one_tick_and_gets_its_force_m_g_minus_a_on_every_tick(ac
     """
     1000 poses, each answered by exactly one force, of the tick that pose ran (no tick between).
 
+    The state's stamps go one period a tick, the force carries the stamp of the pose it answers.
+
     The forces are those of the body stepped with each pose as the target of its own tick, to
     1e-9 N (d = 0: the loop the stability analysis has), so no tick's force carries another
     tick's error. Each is within 1 % of m (g - a) on every tick once the coupling's own
@@ -119,8 +167,9 @@ def test_each_pose_runs_one_tick_and_gets_its_force_m_g_minus_a_on_every_tick(ac
             stamps.append(round(body.time * 1e9))
             assert len(listener.forces) == tick + 1
         assert body.node.ticker.device_clock.ticks == 1000
-    assert [stamp for stamp, _ in listener.forces] == stamps
+    assert [stamp for stamp, _ in listener.poses] == stamps
     assert np.all(np.diff(stamps) == round(T * 1e9))
+    assert [stamp for stamp, _ in listener.forces] == [round(k * T * 1e9) for k in range(1000)]
     forces = np.array([force for _, force in listener.forces])
     np.testing.assert_allclose(forces, replayed_forces(hand.sent), rtol=0.0, atol=1e-9)
     expected = PRESET['mass'] * (np.array([0.0, 0.0, -G]) - acceleration)
@@ -135,8 +184,8 @@ def test_poses_that_come_together_each_run_their_own_tick():
     """
     Three poses sent before the node spins (a stall of the node's process): three ticks.
 
-    The subscription keeps the sensor-data depth, so a device's poses that queue up while the
-    node is busy each run their tick in order, each force the reaction of its own pose.
+    A device's poses that queue up while the node is busy each run their tick in order, each
+    force the reaction of its own pose.
     """
     with SimulatedBody(**PRESET) as body:
         listener = body.add_node(StateListener(context=body.context))
@@ -150,6 +199,63 @@ def test_poses_that_come_together_each_run_their_own_tick():
         assert body.node.ticker.device_clock.ticks == 60
     forces = np.array([force for _, force in listener.forces])
     np.testing.assert_allclose(forces, replayed_forces(hand.sent), rtol=0.0, atol=1e-9)
+
+
+@pytest.mark.ros
+def test_a_burst_of_poses_of_a_tenth_of_a_second_each_runs_its_own_tick():
+    """
+    A stall of the node of 0.1 s (device_timeout, the catch-up bound): every pose runs its tick.
+
+    The poses are sent before the node spins, as a device's loop goes on while the node's
+    process is held up; each gets its own force, the reaction of its own tick, in order.
+    """
+    depth = round(0.1 / T)
+    with SimulatedBody(**PRESET) as body:
+        listener = body.add_node(StateListener(context=body.context))
+        hand = body.add_node(Hand(context=body.context, acceleration=(0.0, 0.0, 3.0)))
+        body.step(0)
+        for tick in range(depth):
+            hand.send(tick * T)
+        body.step(0)
+        assert body.node.ticker.device_clock.ticks == depth and len(listener.forces) == depth
+        assert body.node._target.device_lost == 0
+    forces = np.array([force for _, force in listener.forces])
+    np.testing.assert_allclose(forces, replayed_forces(hand.sent), rtol=0.0, atol=1e-9)
+
+
+@pytest.mark.ros
+def test_poses_lost_are_counted_from_the_gaps_in_their_stamps_and_echoed(capfd):
+    """
+    A device at the node's rate whose poses 10-12 and 40 never come: 4 lost, said on /diagnostics.
+
+    ``mouse_ctl echo inputs`` prints the count; the node logs one line when the device falls
+    silent and one when it comes back (a silence is no poses lost).
+    """
+    with SimulatedBody(diagnostics_rate_hz=100.0, **PRESET) as body:
+        node = Node('mouse_ctl', context=body.context)
+        lines = []
+        ctl.create_echo(node, 'inputs', lines.append, print_rate=0.0)
+        body.add_node(node)
+        hand = body.add_node(Hand(context=body.context, acceleration=(0.0, 0.0, 0.0)))
+        body.step(1)
+        for tick in range(60):
+            if tick not in (10, 11, 12, 40):
+                hand.send(tick * T)
+            body.step(0)
+        assert body.node._target.device_lost == 4
+        lines.clear()
+        body.step_until(lambda: any('device poses lost: 4' in line for line in lines),
+                        max_ticks=100_000)
+        body.step(150)
+        assert body.node.ticker.device_clock.silent
+        for tick in range(500, 510):
+            hand.send(tick * T)
+            body.step(0)
+        assert not body.node.ticker.device_clock.silent and body.node._target.device_lost == 4
+    err = capfd.readouterr().err
+    assert err.count('device silent: no valid pose on target_pose for more than '
+                     'device_timeout 0.1 s') == 1
+    assert err.count('device back on target_pose') == 1
 
 
 @pytest.mark.ros
@@ -251,3 +357,43 @@ def test_a_device_clocking_in_the_wrong_frame_runs_no_tick_and_feels_nothing_aft
     norms = np.linalg.norm([force for _, force in listener.forces], axis=1)
     assert len(norms) == 300
     assert np.all(norms[:100] > 0.9 * PRESET['mass'] * G) and np.all(norms[101:] == 0.0)
+
+
+@pytest.mark.ros
+def test_on_the_node_s_clock_device_ticks_are_stamped_on_its_grid_and_forces_with_their_pose(ros):
+    """
+    Poses sent three at a time at the pace of their forces' return, on the node's own clock.
+
+    Each pose runs one tick stamped on the node's grid, one period after the tick before, so
+    every gap between published stamps is a whole number of periods; the force of each pose
+    carries that pose's stamp (off the grid, as a device's clock stamps), so the device knows it.
+    The poses come faster than one a period: the device's ticks run ahead of the clock, and
+    once it is silent the node's own ticks go on after them.
+    """
+    period = round(T * 1e9)
+    ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
+        Parameter(name, value=value) for name, value in PRESET.items()]))
+    poses, forces = [], []
+    ros.probe.create_subscription(PoseStamped, POSE_TOPIC, poses.append, STATE_QOS)
+    ros.probe.create_subscription(WrenchStamped, FORCE_TOPIC, forces.append, FORCE_QOS)
+    publisher = ros.probe.create_publisher(PoseStamped, TARGET_POSE_TOPIC, TARGET_QOS)
+    assert ros.spin_until(lambda: forces and publisher.get_subscription_count() > 0)
+    sent = []
+    message = PoseStamped()
+    message.pose.position.x, message.pose.position.y, message.pose.position.z = START
+    message.pose.orientation.w = 1.0
+    for burst in range(100):
+        for k in range(3 * burst, 3 * burst + 3):
+            stamp = 1_700_000_000_123_456_789 + k * 1_000_321
+            set_stamp(message.header.stamp, stamp)
+            publisher.publish(message)
+            sent.append(stamp)
+        assert ros.spin_until(lambda: stamp_nanoseconds(forces[-1].header.stamp) == stamp)
+    # Silent: the node's own ticks run again, after the device's (which may have run ahead of
+    # the clock), none repeating or going back on one of them.
+    published = len(poses)
+    assert ros.spin_until(lambda: len(poses) > published + 50)
+    force_stamps = [stamp_nanoseconds(force.header.stamp) for force in forces]
+    assert [s for s in force_stamps if s in set(sent)] == sent
+    steps = np.diff([stamp_nanoseconds(pose.header.stamp) for pose in poses])
+    assert np.all(steps > 0) and np.all(steps % period == 0), sorted(set(steps % period))

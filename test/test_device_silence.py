@@ -124,6 +124,12 @@ def test_the_inputs_status_counts_by_reason_and_warns_while_refusals_come_or_the
     assert values['device ticks (early, late)'] == 'off: tick_source clock'
     clocked = input_status('/n: inputs', '/n', report._replace(device_ticks=(1000, 3, 2)))
     assert {v.key: v.value for v in clocked.values}['device ticks (early, late)'] == '1000 (3, 2)'
+    assert values['device poses lost'] == 'off: tick_source clock'
+    lost = input_status('/n: inputs', '/n', report._replace(
+        new_refusals=0, device_silent=False, device_lost=7, new_lost=3))
+    assert lost.level == b'\x01'
+    assert lost.message == '3 device poses lost since the last report (gaps in their stamps)'
+    assert {v.key: v.value for v in lost.values}['device poses lost'] == '7'
 
 
 def test_the_start_says_where_to_hold_the_device_in_both_frames():

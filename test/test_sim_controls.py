@@ -273,6 +273,19 @@ def test_pause_without_publish_clock_holds_the_physics_and_restarts_the_grid(ros
     assert after[-1] - after[0] <= wall * S
 
 
+def test_a_reset_while_paused_on_the_node_s_clock_has_a_stamp_of_its_own(ros):
+    """On the node's clock, paused: ~/reset's pose is stamped after the paused tick's."""
+    start_node(ros, rate_hz=200.0, marker_rate_hz=0.0)
+    poses = ros.collect(PoseStamped, 'pose', depth=10000)
+    assert ros.spin_until(lambda: len(poses) > 10)
+    assert ros.call(SetBool, '/mouse_constraint/pause', SetBool.Request(data=True)).success
+    ros.drain()
+    held = len(poses)
+    assert ros.call(Trigger, '/mouse_constraint/reset', Trigger.Request()).success
+    assert ros.spin_until(lambda: len(poses) > held)
+    assert stamp_ns(poses[held].header.stamp) > stamp_ns(poses[held - 1].header.stamp)
+
+
 def test_pause_step_and_resume_in_lockstep(simulated_body_factory):
     """
     ~/pause from another node: ticks run no physics, the clock stands still; ~/step: one tick.
@@ -305,7 +318,13 @@ def test_pause_step_and_resume_in_lockstep(simulated_body_factory):
 
 
 def test_a_reset_while_paused_publishes_the_state_it_leaves(simulated_body_factory):
-    """Paused with the body fallen: ~/reset publishes the initial pose at once, no tick run."""
+    """
+    Paused with the body fallen: ~/reset publishes the initial pose at once, no tick run.
+
+    The reset's state has a stamp of its own, one tick after the paused tick's (the simulated
+    clock moves on to it, /clock says so): a reader keyed by stamp, as tf2 is, takes it rather
+    than dropping it as a repeat; the ticks after the resume go on from it.
+    """
     body = simulated_body_factory(rate_hz=200.0, hold_initial_anchor=False)
     caller = body.add_node(Node('caller', context=body.context))
     pause = caller.create_client(SetBool, '/mouse_constraint/pause')
@@ -322,15 +341,24 @@ def test_a_reset_while_paused_publishes_the_state_it_leaves(simulated_body_facto
     reset = poses[-1]
     assert (reset.pose.position.x, reset.pose.position.y, reset.pose.position.z) == (
         0.0, 0.0, 1.0)
-    assert reset.header.stamp == fallen.message.header.stamp
+    period = round(1e9 / 200.0)
+    paused_stamp = stamp_ns(fallen.message.header.stamp)
+    assert stamp_ns(reset.header.stamp) == paused_stamp + period
+    assert round(body.time * 1e9) == paused_stamp + period
+    future = pause.call_async(SetBool.Request(data=False))
+    body.drain()
+    assert future.result().success
+    body.step(3)
+    stamps = [stamp_ns(pose.header.stamp) for pose in poses[count - 1:]]
+    assert np.all(np.diff(stamps) == period) and len(stamps) == 5
 
 
-def test_a_reset_while_paused_publishes_no_second_force_of_the_stamp(simulated_body_factory):
+def test_a_reset_while_paused_publishes_no_force(simulated_body_factory):
     """
-    With publish_force: the reset's state goes out at the paused tick's stamp, without a force.
+    With publish_force: the reset's state goes out at a stamp of its own, without a force.
 
-    The force of that stamp went out with its tick; a zero force of the same stamp after it
-    would tell a device that the tick's reaction was nothing.
+    No tick ran: there is no reaction to send, and a zero force would tell a device that the
+    body let go.
     """
     body = simulated_body_factory(rate_hz=200.0, publish_force=True)
     caller = body.add_node(Node('caller', context=body.context))
@@ -347,7 +375,7 @@ def test_a_reset_while_paused_publishes_no_second_force_of_the_stamp(simulated_b
     body.reset()
     assert len(poses) == 41 and len(forces) == 40
     assert forces[-1].wrench.force.z == weight
-    assert poses[-1].header.stamp == forces[-1].header.stamp
+    assert stamp_ns(poses[-1].header.stamp) > stamp_ns(forces[-1].header.stamp)
 
 
 def test_a_step_on_a_clock_that_stands_still_is_refused(ros):

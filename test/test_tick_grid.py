@@ -116,3 +116,13 @@ def test_the_clock_and_drop_texts_say_what_happened_and_when():
         'time skipped is no dropped tick')
     assert drop_text(1000.0, 3, 40, 'why') == (
         'cannot keep 1000 Hz: dropped 3 ticks (40 in all): why; simulated time falls behind')
+
+
+@pytest.mark.parametrize('rate', [1000.0, 300.0, 7.0, 1234.5])
+def test_the_tick_at_a_reading_and_after_a_stamp_are_those_of_the_grid(rate):
+    grid = TickGrid.for_rate(rate)
+    grid.restart(123_456_789)
+    for tick in range(-3, 2000):
+        stamp = grid.stamp(tick)
+        assert grid.tick_at(stamp) == tick and grid.tick_at(stamp - 1) == tick - 1
+        assert grid.tick_after(stamp) == tick + 1 and grid.tick_after(stamp - 1) == tick

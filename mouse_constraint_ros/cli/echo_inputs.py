@@ -16,9 +16,10 @@
 ``mouse_ctl echo inputs``: the node's inputs status from /diagnostics, a line per report.
 
 The node reports, at ``diagnostics_rate_hz``, how many inputs it refused, by reason, the last
-one's line and whether a device on ``target_pose`` is heard or silent (its force then zero):
-``monitoring.input_diagnostics``. ``InputsPrinter`` picks the status of one node (its fully
-qualified name) out of each ``DiagnosticArray`` and prints it; the other nodes' are skipped.
+one's line, whether a device on ``target_pose`` is heard or silent (its force then zero) and,
+when it clocks the ticks, how many of its poses were lost: ``monitoring.input_diagnostics``.
+``InputsPrinter`` picks the status of one node (its fully qualified name) out of each
+``DiagnosticArray`` and prints it; the other nodes' are skipped.
 """
 
 from typing import Callable

@@ -19,8 +19,9 @@ A device whose poses are all refused (another frame, not finite, outside the wor
 nothing, and before ``device_timeout`` it would still feel the held body's force; this status
 says so to whoever reads /diagnostics (``mouse_ctl echo inputs``): how many inputs were refused,
 by reason, the last one's line, the device's state and, when it clocks the ticks, how many it
-ran and how many came early or late. It is WARN while inputs are being
-refused (some since the last report) or the device is silent (its force is then zero).
+ran, how many came early or late, and how many it sent that never came (the gaps in their
+stamps: ``inputs.pose_gaps``). It is WARN while inputs are being refused or poses lost (some
+since the last report) or the device is silent (its force is then zero).
 """
 
 from typing import Mapping, NamedTuple, Optional
@@ -45,6 +46,10 @@ class InputReport(NamedTuple):
     device_timeout: float
     # With tick_source target_pose: the ticks the device's poses ran, early and late ones.
     device_ticks: Optional[tuple] = None
+    # With tick_source target_pose: the device's poses lost (gaps in their stamps), in all and
+    # since the last report.
+    device_lost: Optional[int] = None
+    new_lost: int = 0
 
 
 def device_state(report: InputReport) -> str:
@@ -67,6 +72,9 @@ def input_status(name: str, hardware_id: str, report: InputReport) -> Diagnostic
     if report.new_refusals:
         problems.append(f'{report.new_refusals} inputs refused since the last report, the last '
                         f'{report.last_line}')
+    if report.new_lost:
+        problems.append(f'{report.new_lost} device poses lost since the last report (gaps in '
+                        'their stamps)')
     if report.device_silent:
         problems.append(f'device {device_state(report)}')
     by_key = ', '.join(f'{key} {count}' for key, count in sorted(report.by_key.items()))
@@ -78,6 +86,8 @@ def input_status(name: str, hardware_id: str, report: InputReport) -> Diagnostic
         KeyValue(key='device timeout (s)', value=f'{report.device_timeout:g}'),
         KeyValue(key='device ticks (early, late)', value='off: tick_source clock'
                  if report.device_ticks is None else '{} ({}, {})'.format(*report.device_ticks)),
+        KeyValue(key='device poses lost', value='off: tick_source clock'
+                 if report.device_lost is None else str(report.device_lost)),
     ]
     return DiagnosticStatus(level=WARN if problems else OK, name=name, hardware_id=hardware_id,
                             message='; '.join(problems) if problems else (

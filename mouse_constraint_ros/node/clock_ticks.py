@@ -35,6 +35,7 @@ from .tick import Tick
 from ..timing.sim_clock import ClockPacer, PacingMeter, SimulatedClock
 from ..timing.tick_grid import MAX_CATCH_UP_SECONDS
 from ..wire.interface import CLOCK_QOS, CLOCK_TOPIC
+from ..wire.messages import set_stamp
 
 
 class ClockTicks:
@@ -100,16 +101,30 @@ class ClockTicks:
         if self._timer is not None:
             self._start_timer()
 
-    def step(self, *, on_grid: bool = True) -> int:
+    def step(self, *, on_grid: bool = True, force_stamp: Optional[int] = None) -> int:
         """
         Run one tick of the simulated clock now; return its stamp (ns).
 
         :param on_grid: publish the state as the publish rate says; False: publish it (a
-            single step asked for by ``~/step``).
+            single step asked for by ``~/step``, a device's tick).
+        :param force_stamp: the force's stamp, if not the tick's (a device pose's).
         """
         clock = self.sim_clock
         stamp = clock.advance()
-        self._tick.run(stamp, clock.ticks if on_grid else None)
+        self._tick.run(stamp, clock.ticks if on_grid else None, force_stamp=force_stamp)
+        return stamp
+
+    def skip(self) -> int:
+        """
+        Move the simulated clock on one tick without running it; return its stamp (ns).
+
+        ``/clock`` says so at once. A reset while paused takes it: a state of a stamp of its own.
+        """
+        stamp = self.sim_clock.advance()
+        if self._publisher is not None:
+            message = ClockMessage()
+            set_stamp(message.clock, stamp)
+            self._publisher.publish(message)
         return stamp
 
     def _start_timer(self) -> None:

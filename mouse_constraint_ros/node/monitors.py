@@ -71,6 +71,7 @@ class Monitors:
         self._state_publishers = state_publishers
         self._refusals = refusals
         self._reported_refusals = 0
+        self._reported_lost = 0
         self._marker_publisher = node.create_publisher(MarkerArray, MARKERS_TOPIC, MONITOR_DEPTH)
         self._diagnostics_publisher = node.create_publisher(
             DiagnosticArray, DIAGNOSTICS_TOPIC, MONITOR_DEPTH)
@@ -196,11 +197,15 @@ class Monitors:
         refusals, target, clock = self._refusals, self._target, self._ticker.device_clock
         new, self._reported_refusals = (refusals.count - self._reported_refusals,
                                         refusals.count)
+        lost = target.device_lost
+        new_lost, self._reported_lost = (0, 0) if lost is None else (
+            lost - self._reported_lost, lost)
         return input_status(name, hardware_id, InputReport(
             refused=refusals.count, by_key=dict(refusals.by_key), last_line=refusals.last_line,
             new_refusals=new, device_age=target.device_age(now),
             device_silent=target.device_silent(now), device_timeout=self._config.device.timeout,
-            device_ticks=(clock.ticks, clock.early, clock.late) if clock.on else None))
+            device_ticks=(clock.ticks, clock.early, clock.late) if clock.on else None,
+            device_lost=lost, new_lost=new_lost))
 
     def _simulator_status(self, name: str, hardware_id: str, now: int):
         config, ticker = self._config, self._ticker

@@ -18,8 +18,8 @@ The node's simulator services: ``~/pause``, ``~/step``, ``~/reset`` and ``~/rele
 Pause, resume and the single step are the ``Ticker``'s: pausing holds every driver of the tick,
 resuming catches nothing up, ``~/step`` runs one tick while paused. ``~/reset`` restores the
 configured anchor (through the node's own ``anchor`` parameter), the initial state and the
-initial hold, and drops the wrench; while paused it publishes the state it leaves at once. The
-replies are ``service_replies``'.
+initial hold, and drops the wrench; while paused it publishes the state it leaves at once, at
+a stamp of its own (``Ticker.publish_state``). The replies are ``service_replies``'.
 """
 
 from typing import Callable, Optional
@@ -92,7 +92,7 @@ class SimulatorControls:
         self._wrench.clear()
         if self._ticker.paused:
             # No tick will publish it until the node runs again: every subscriber shows the
-            # old pose meanwhile. Published at once, stamped with the latest tick.
+            # old pose meanwhile. Published at once, at a stamp of its own.
             self._ticker.publish_state()
         response.success = True
         response.message = reset_reply(self._hold_initial_anchor())

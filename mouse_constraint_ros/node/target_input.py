@@ -32,7 +32,9 @@ a reset or a new configuration takes the target that waits first, in the order t
 A pose on ``target_pose`` is a device's: in ``device_frame_id`` (empty: ``frame_id``), mapped
 into ``frame_id`` (``device_scale``, ``device_pose``) before the gate's finite and workspace
 checks. Once a pose came, the device is silent while no valid pose came for ``device_timeout``
-(``device_silent``): the force it is sent is then zero.
+(``device_silent``): the force it is sent is then zero, and the node logs a line when it
+falls silent and when it comes back. When it clocks the ticks, the poses it sent that never
+came are counted from the gaps in their stamps (``device_lost``, ``inputs.pose_gaps``).
 
 A user target older than ``target_timeout`` is let go at the first tick after (``expire``).
 Every refusal goes to the node's ``RefusalLog``: a throttled warning, counted.
@@ -48,6 +50,7 @@ from .tick_record import TickRecord
 from ..inputs.grab import Grab, grab
 from ..inputs.input_timeouts import input_age, target_release_text, timed_out
 from ..inputs.one_per_tick import OnePerTick
+from ..inputs.pose_gaps import back_text, PoseGaps, silent_text
 from ..inputs.target_gate import apart, Refusal, TargetGate
 from ..inputs.target_stamps import TargetTiming
 from ..inputs.throttle import RefusalLog
@@ -77,8 +80,8 @@ class TargetInput:
     :param set_anchor: sets the node's ``anchor`` parameter; returns None or why it could not.
     :param refuse: counts and warns about a refused target or grab.
     :param log: logs a line at INFO.
-    :param device_pose: called after each valid pose on ``target_pose`` is taken (the ticker's
-        ``device_tick``: the tick it runs when the device clocks the ticks).
+    :param device_pose: called with its stamp (ns) after each valid pose on ``target_pose`` is
+        taken (the ticker's ``device_tick``: the tick it runs when the device clocks the ticks).
     :param device_clock: the ticker's device clock: while on, it says whether the device is
         silent.
     """
@@ -86,7 +89,7 @@ class TargetInput:
     def __init__(self, *, simulation: MouseSimulation, config: NodeConfig, record: TickRecord,
                  now_ns: Callable[[], int], set_anchor: Callable[[Vector3], Optional[str]],
                  refuse: RefusalLog, log: Callable[[str], None],
-                 device_pose: Callable[[], None] = lambda: None,
+                 device_pose: Callable[[int], None] = lambda _stamp: None,
                  device_clock: Optional[DeviceClock] = None) -> None:
         """Hold the initial anchor when configured to; no user target yet."""
         self._simulation = simulation
@@ -106,6 +109,9 @@ class TargetInput:
         # Whether a pose came on target_pose, and when the last valid one came (ns).
         self.device_heard = False
         self.last_device_ns = 0
+        # The device's poses lost (gaps in their stamps), and since when it is silent (ns).
+        self._gaps = PoseGaps()
+        self._silent_since: Optional[int] = None
         self.configure(config)
         self.hold_initial_anchor()
 
@@ -121,6 +127,8 @@ class TargetInput:
         self._device_gate = TargetGate(config.device.pose_frame(config.frame_id), math.inf)
         self._device = config.device
         self._timeout = config.target_timeout
+        self._gaps.configure(on=config.device.tick_source == 'target_pose',
+                             rate_hz=config.rate_hz, timeout=config.device.timeout)
 
     @property
     def gate(self) -> TargetGate:
@@ -168,6 +176,8 @@ class TargetInput:
         now = self._now_ns()
         if not self.device_heard:
             self.device_heard, self.last_device_ns = True, now
+        stamp = stamp_nanoseconds(message.header.stamp)
+        self._gaps.take(stamp)
         point = point_from_pose(message)
         refusal = self._device_gate.refusal(message.header.frame_id, point)
         if refusal is not None:
@@ -175,11 +185,16 @@ class TargetInput:
             return
         if self._offer(message, self._device.mapping.to_world(point), ''):
             self.last_device_ns = now
-            self._device_pose()
+            self._device_pose(stamp)
 
     def device_age(self, now_ns: int) -> Optional[float]:
         """Return how long ago (s) the last valid pose came (or the first pose), None unheard."""
         return input_age(self.last_device_ns, now_ns) if self.device_heard else None
+
+    @property
+    def device_lost(self) -> Optional[int]:
+        """Return the device's poses lost so far (``PoseGaps``), None unless it clocks ticks."""
+        return self._gaps.lost if self._gaps.on else None
 
     def device_silent(self, now_ns: int) -> bool:
         """
@@ -187,13 +202,24 @@ class TargetInput:
 
         Once the device's poses clock the ticks, its silence is counted in the node's own ticks
         held back since its last pose (``DeviceClock.silent``): on a simulated clock the node's
-        time stands still without ticks. Before (every pose refused), in the node's time.
+        time stands still without ticks. Before (every pose refused), in the node's time. The
+        node logs a line when the device falls silent, and one when it comes back.
         """
         clock = self._device_clock
         if clock is not None and clock.heard:
-            return clock.silent
-        return self.device_heard and timed_out(self.last_device_ns, now_ns,
-                                               self._device.timeout)
+            silent = clock.silent
+        else:
+            silent = self.device_heard and timed_out(self.last_device_ns, now_ns,
+                                                     self._device.timeout)
+        if silent != (self._silent_since is not None):
+            now = self._now_ns()
+            if silent:
+                self._silent_since = now
+                self._log(silent_text(self._device.timeout))
+            else:
+                self._log(back_text(input_age(self._silent_since, now)))
+                self._silent_since = None
+        return silent
 
     def tick(self) -> None:
         """Take the newest target that waited for this tick, if one did (``OnePerTick``)."""

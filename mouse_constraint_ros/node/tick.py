@@ -73,13 +73,15 @@ class Tick:
         self._record.dt = 1.0 / rate_hz
         self._publish_ticks = PublishTicks(rate_hz, publish_rate_hz)
 
-    def run(self, stamp: int, tick: Optional[int] = None) -> None:
+    def run(self, stamp: int, tick: Optional[int] = None, force_stamp: Optional[int] = None
+            ) -> None:
         """
         Run one tick stamped ``stamp`` (ns).
 
         :param stamp: the tick's time: the stamp of /clock and of the state.
         :param tick: the tick's number on its grid, for ``PublishTicks``; None publishes (a
             single step: ``~/step``, or a caller stepping the node).
+        :param force_stamp: the force's stamp if not ``stamp``: the pose's that ran the tick.
         """
         record = self._record
         self._target.tick()
@@ -96,7 +98,7 @@ class Tick:
         if tick is None or publish_ticks.every_tick or publish_ticks.due(tick):
             publishers = self._state_publishers
             publishers.force_muted = self._target.device_silent(stamp)
-            publishers.publish(stamp, state)
+            publishers.publish(stamp, state, force_stamp=force_stamp)
             if self.robot_outputs is not None:
                 self._publish_robot(stamp)
 
@@ -107,14 +109,13 @@ class Tick:
         outputs.publish(stamp, robot.joint_positions(), robot.joint_velocities(),
                         robot.joint_efforts(), robot.link_poses() if outputs.tf_on else None)
 
-    def publish_state(self) -> None:
+    def publish_state(self, stamp: int) -> None:
         """
-        Publish the state as it stands, stamped with the latest tick (after a reset); no force.
+        Publish the state as it stands at ``stamp`` (after a reset), the latest stamp; no force.
 
-        The force of that stamp went out with its tick, the tick's reaction; no tick ran since,
-        so there is no other force of that stamp to send (a reset's is zero).
+        No tick ran: there is no reaction to send (a zero force would say the body let go).
         """
-        self._state_publishers.publish(self._record.stamp_ns, self._simulation.state,
-                                       force=False)
+        self._record.stamp_ns = stamp
+        self._state_publishers.publish(stamp, self._simulation.state, force=False)
         if self.robot_outputs is not None:
-            self._publish_robot(self._record.stamp_ns)
+            self._publish_robot(stamp)

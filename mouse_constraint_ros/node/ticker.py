@@ -23,8 +23,9 @@ node is the clock: it publishes ``/clock`` and its stamps are the simulated time
 
 With ``tick_source: target_pose`` the device clocks the ticks (``timing.device_clock``): each
 valid pose runs one tick at once (``device_tick``: a tick of the simulated clock when the node
-is the clock, else one stamped with the node's time), and the driver's own ticks are held back
-while poses come, and run again after ``device_timeout`` without one. A paced simulated clock
+is the clock, else the tick of its clock's grid one period after the latest), its force stamped
+with the pose's stamp; the driver's own ticks are held back while poses come, and run again
+after ``device_timeout`` without one. A paced simulated clock
 (``publish_clock`` without a caller) keeps its own ticks: it paces simulated time itself.
 
 ``Ticker`` answers every question about time the node's parts ask: what time it is, whether
@@ -43,11 +44,13 @@ from rclpy.clock import Clock, ClockType
 from rclpy.node import Node
 
 from .clock_ticks import ClockTicks
+from .device_ticks import OwnTicks
 from .parameters import NodeConfig
 from .tick import Tick
 from .tick_loop import NodeClockTicks
 from .tick_record import TickRecord
-from ..timing.device_clock import DeviceClock
+from ..timing.device_clock import DEVICE_LAG_CAUSE, DeviceClock
+from ..timing.tick_grid import drop_text
 
 # Period (s, steady clock) of the check that a clock the node waits for has started.
 CLOCK_WATCH_PERIOD = 1.0
@@ -89,6 +92,7 @@ class Ticker:
         self._stepped = stepped
         self._warn = warn
         self._tick: Optional[Tick] = None
+        self._own: Optional[OwnTicks] = None
         self.device_clock = DeviceClock()
         self._node_clock = NodeClockTicks(node, self, record, warn=warn, loop=loop)
         self._simulated = ClockTicks(node, self, rate_hz=config.rate_hz,
@@ -136,16 +140,17 @@ class Ticker:
 
     def stands_still(self) -> Optional[int]:
         """
-        Return the node's time (ns) while its clock reads the latest tick's stamp, else None.
+        Return the node's time (ns) while its clock reads the latest stamp or before, else None.
 
         A single step (``step_once``) is stamped with the node's clock: one that stands still
         (use_sim_time, a /clock that stopped) would stamp a second state with the stamp of the
-        tick before it. None when the node is the clock: its step moves the clock on.
+        tick before it (or of the reset after it, 1 ns on). None when the node is the clock: its
+        step moves the clock on.
         """
         if self.is_clock or self.record.ticks_run == 0:
             return None
         now = self._node_clock.now_ns()
-        return now if now == self.record.stamp_ns else None
+        return now if now <= self.record.stamp_ns else None
 
     @property
     def timer(self):
@@ -245,20 +250,46 @@ class Ticker:
         self._simulated.step()
         return True
 
-    def device_tick(self) -> None:
-        """Run one tick now for a device pose just taken, when the device clocks the ticks."""
+    def device_tick(self, pose_stamp_ns: int) -> None:
+        """
+        Run one tick now for a device pose just taken, when the device clocks the ticks.
+
+        Stamped one period after the latest tick (of the simulated clock when the node is the
+        clock, else on its clock's grid: ``device_grid_tick``); its force carries the pose's
+        stamp, ``pose_stamp_ns``.
+        """
         clock = self.device_clock
         if not clock.on or self.paused or self._tick is None:
             return
         clock.take(time.monotonic_ns())
         if self.is_clock:
-            self._simulated.step(on_grid=False)
+            self._simulated.step(on_grid=False, force_stamp=pose_stamp_ns)
         else:
-            self._tick.run(self._node.get_clock().now().nanoseconds)
+            self._tick.run(self._device_stamp(), force_stamp=pose_stamp_ns)
+
+    def _device_stamp(self) -> int:
+        """Return the stamp of a device tick on the node's clock's grid; count ticks dropped."""
+        record = self.record
+        stamp, dropped = self._own.device_stamp(self._node_clock.now_ns(), record)
+        if dropped:
+            record.drop(dropped, DEVICE_LAG_CAUSE)
+            self._warn('rate', lambda: drop_text(self.rate_hz, dropped, record.dropped_ticks,
+                                                 DEVICE_LAG_CAUSE))
+        return stamp
 
     def publish_state(self) -> None:
-        """Publish the state as it stands, stamped with the latest tick (a reset); no force."""
-        self._tick.publish_state()
+        """
+        Publish the state as it stands (a reset while paused), at a stamp of its own; no force.
+
+        The node as the clock moves its clock on one tick for it (``ClockTicks.skip``); on the
+        node's clock it is the clock's reading, or 1 ns after the latest tick if the clock stands
+        still. A reader keyed by stamp (tf2) drops a state whose stamp repeats one it has.
+        """
+        if self.is_clock:
+            stamp = self._simulated.skip()
+        else:
+            stamp = max(self._node_clock.now_ns(), self.record.stamp_ns + 1)
+        self._tick.publish_state(stamp)
 
     def stop(self) -> None:
         """Stop every tick timer (before shutdown): no tick runs after."""
@@ -280,8 +311,8 @@ class Ticker:
         else:
             self.driver = Driver.NODE_CLOCK
             self._simulated.stop()
-            self._node_clock.start(_OwnTicks(self._tick, self.device_clock), config.rate_hz,
-                                   config.publish_rate_hz)
+            self._own = OwnTicks(self._tick, self.device_clock, lambda: self._node_clock.grid)
+            self._node_clock.start(self._own, config.rate_hz, config.publish_rate_hz)
 
     def _watch_clock(self) -> None:
         waiting = self.waiting_for_clock()
@@ -289,17 +320,3 @@ class Ticker:
             self._warn('clock', lambda: (
                 f'waiting for {waiting}: use_sim_time is true and no clock message has come; '
                 'no tick runs until one does'))
-
-
-class _OwnTicks:
-    """The node clock's ticks, each run unless the device clocks the ticks now."""
-
-    def __init__(self, tick: Tick, device_clock: DeviceClock) -> None:
-        """Run ``tick`` when ``device_clock`` lets the node's own tick run."""
-        self._tick = tick
-        self._own_tick = device_clock.own_tick
-
-    def run(self, stamp: int, tick: Optional[int] = None) -> None:
-        """Run the tick ``stamp`` unless the device holds it back."""
-        if self._own_tick():
-            self._tick.run(stamp, tick)

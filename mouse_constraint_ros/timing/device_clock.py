@@ -18,8 +18,11 @@ Ticks a device clocks: one per device pose, and the node's own ticks held back w
 With ``tick_source: target_pose`` each valid pose on ``target_pose`` runs one tick at once (dt
 from ``rate_hz``), its force published right after: the pose -> force round trip is one hop
 each way plus the tick, and the loop is the one the stability analysis has, with no tick of
-delay. The node's own clock (its timer, or a caller's steps) keeps its grid: each of its ticks
-is held back while the device ticks, and counts as dt of silence; once the silence exceeds
+delay. The tick is stamped on the node's grid one period after the latest tick
+(``device_grid_tick``), so the stamps advance with the physics; its force carries the pose's
+own stamp, by which the device knows the force of each pose it sent. The node's own clock
+(its timer, or a caller's steps) keeps its grid: each of its ticks is held back while the
+device ticks, and counts as dt of silence; once the silence exceeds
 ``device_timeout`` the node's own ticks run again, holding the last target, until a pose comes.
 Before the first pose the node's own ticks run.
 
@@ -27,6 +30,23 @@ Each device tick is classed by the wall time since the previous one: early below
 late beyond one and a half (a device at the node's rate sends one pose per tick). Plain
 integers only; the ticker owns it.
 """
+
+# Why a device tick dropped ticks: the device's ticks fell behind the node's clock.
+DEVICE_LAG_CAUSE = ("the device's ticks fell more than the catch-up bound behind the node's "
+                    'clock (poses lost, or a device slower than rate_hz)')
+
+
+def device_grid_tick(due: int, following: int, max_lag: int) -> int:
+    """
+    Return the tick of the node's grid a device tick runs as, on the node's clock.
+
+    The one after the latest tick (``following``): the stamps advance with the physics, one
+    period a tick. Once that falls more than ``max_lag`` ticks behind the latest tick due on
+    the node's clock (``due``), the clock's: the ticks between are dropped, as the node's own
+    clock drops the ticks beyond its catch-up bound.
+    """
+    return due if due - following > max_lag else following
+
 
 # A device tick this much of dt after the previous one is on time; outside, early or late.
 ON_TIME = (0.5, 1.5)

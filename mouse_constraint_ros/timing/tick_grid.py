@@ -100,6 +100,14 @@ class TickGrid:
         """Return the time of ``tick`` in nanoseconds, t0 + floor(tick dt)."""
         return self._origin + tick * self._numerator // self._denominator
 
+    def tick_at(self, now: int) -> int:
+        """Return the latest tick due at ``now`` (ns): the last whose stamp is not after it."""
+        return self.tick_after(now) - 1
+
+    def tick_after(self, stamp: int) -> int:
+        """Return the first tick whose stamp is after ``stamp`` (ns)."""
+        return -(-(stamp - self._origin + 1) * self._denominator // self._numerator)
+
     def restart(self, now: int) -> None:
         """Put tick 0 at ``now``; it is due at once."""
         self._origin = now

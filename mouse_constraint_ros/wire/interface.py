@@ -70,10 +70,13 @@ FORCE_ARRAY_TOPIC = 'force_array'
 # A target as a pose (PoseStamped: its position), as haptic device drivers publish their
 # handle. BEST_EFFORT: drivers publish with sensor QoS (BEST_EFFORT) or RELIABLE, and a
 # BEST_EFFORT reader matches both, where a RELIABLE one leaves a BEST_EFFORT writer unmatched.
-# Depth 5, the sensor-data profile's: with tick_source target_pose, poses that queue while the
-# node is busy each run their own tick; on the node's clock a tick takes the newest of them.
+# Depth 200, 0.2 s of a device's poses at 1 kHz: with tick_source target_pose, poses that queue
+# while the node is held up (a loaded machine deschedules it for tens of milliseconds) each run
+# their own tick, in order, none lost; twice device_timeout's default and the catch-up bound,
+# so that a node that cannot keep up answers at most that late, not ever later. On the node's
+# clock a tick takes the newest of them.
 TARGET_POSE_TOPIC = 'target_pose'
-TARGET_POSE_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5,
+TARGET_POSE_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=200,
                              reliability=ReliabilityPolicy.BEST_EFFORT)
 WRENCH_TOPIC = 'wrench'
 PAUSE_SERVICE = '~/pause'

@@ -33,7 +33,8 @@ Odometry (``odom``): nav_msgs/Odometry with the pose in ``frame_id`` and the twi
 ``body_frame_id`` (``body_frame_twist``), zero covariances: the state is exact.
 
 Force (``force``, with ``publish_force``): the force the pointer feels over the tick, in N
-in ``frame_id``, with the pose's stamp, one per pose: minus the joint's impulse summed over
+in ``frame_id``, one per pose, with the pose's stamp (when a device's pose ran the tick, that
+pose's stamp): minus the joint's impulse summed over
 the tick's substeps, over dt (``messages.felt_force``), so that m (v' - v) = (-F + m g +
 F_wrench) dt holds for every tick without linear damping and floor contact (they change the
 momentum too, and are no force on the hand). Zero with no target held. Its torque is zero: the
@@ -193,12 +194,15 @@ class StatePublishers:
         """Return the TF broadcaster's ``sendTransform``, or None while TF is off."""
         return self._send_transform
 
-    def publish(self, stamp_ns: int, state: BodyState, *, force: bool = True) -> None:
+    def publish(self, stamp_ns: int, state: BodyState, *, force: bool = True,
+                force_stamp: Optional[int] = None) -> None:
         """
         Publish the pose, twist and, where on, the transform, odometry and force.
 
         :param force: False: no force, whatever ``publish_force`` says (a state published out
             of a tick has no reaction of its own to send).
+        :param force_stamp: the force's stamp (ns) if not ``stamp_ns``: that of the device's
+            pose that ran the tick.
         """
         if self._to_link is not None:
             state = self._to_link(state)
@@ -230,7 +234,7 @@ class StatePublishers:
                 fill_odometry(self._odometry, state)
                 self.odometry_publisher.publish(self._odometry)
         if force and (self._send_wrench or self._send_array):
-            self._publish_force(stamp_ns)
+            self._publish_force(stamp_ns if force_stamp is None else force_stamp)
 
     def _publish_force(self, stamp_ns: int) -> None:
         """Publish the force of the tick, mapped to the device, on each of its topics."""
