@@ -53,6 +53,8 @@ HEAVY = ('yourdfpy', 'trimesh', 'scipy.spatial', 'matplotlib', 'mcap', 'pinocchi
 URDF_LIBRARIES = {'yourdfpy', 'trimesh', 'scipy.spatial'}
 IMPORT_LINE = re.compile(r'^import time:\s+\d+ \|\s+\d+ \|\s*(\S+)\s*$', re.MULTILINE)
 BODIES = ('box', 'urdf')
+SCRIPTS = ('mouse_constraint_node', 'mouse_view', 'mouse_marker', 'mouse_record', 'mouse_target',
+           'mouse_wrench', 'mouse_ctl')
 TIMEOUT = 60.0
 ZSTD_MAGIC = b'\x28\xb5\x2f\xfd'
 
@@ -212,3 +214,13 @@ def test_a_command_loads_none_of_them(node, command):
     ros = node[2]
     log = _run(ros, [str(BIN / command[0]), *command[1:]], command[0])
     assert loaded(log) == set()
+
+
+@pytest.mark.parametrize('script', SCRIPTS)
+def test_help_loads_none_of_them_nor_viser(script):
+    """``--help`` prints and exits: no heavy library, nor the view's web server."""
+    result = subprocess.run([str(BIN / script), '--help'], capture_output=True, text=True,
+                            env=_environment(), cwd=ROOT, timeout=TIMEOUT)
+    assert result.returncode == 0 and 'usage: ' + script in result.stdout, result.stderr[-3000:]
+    assert loaded(result.stderr) == set()
+    assert not re.search(r'\|\s*viser$', result.stderr, re.MULTILINE)
