@@ -99,7 +99,8 @@ def test_a_parameter_request_asks_when_ready_again_when_told_and_takes_the_answe
 
     The silent node's service is ready and never answers: the request goes again after
     ``again`` s of its clock unanswered, and at once on ``ask_again``. A node that answers
-    comes: the next request is answered, its values taken, and nothing is asked any more.
+    comes: the next request is answered, its values taken, and nothing is asked any more. An
+    answer without the parameters asked for says why, as ``fetch_parameters`` would.
     """
     clock = FakeClock()
     types = {'anchor': ParameterType.PARAMETER_DOUBLE_ARRAY}
@@ -107,8 +108,10 @@ def test_a_parameter_request_asks_when_ready_again_when_told_and_takes_the_answe
         client = ros.probe.create_client(GetParameters, '/mouse_constraint/get_parameters')
         request = ParameterRequest(client, target_node='/mouse_constraint', types=types,
                                    again=2.0, clock=clock)
-        assert request.asked == 0
+        assert request.asked == 0 and request.unanswered(2.0) == (
+            'no parameter service /mouse_constraint/get_parameters after 2 s')
         assert ros.spin_until(lambda: request.poll() or request.asked == 1)
+        assert request.unanswered(2.0) == '/mouse_constraint/get_parameters did not answer in 2 s'
         clock.now += 1.9
         assert not request.poll() and request.asked == 1
         clock.now += 0.1
@@ -126,6 +129,11 @@ def test_a_parameter_request_asks_when_ready_again_when_told_and_takes_the_answe
     clock.now += 10.0
     request.ask_again()
     assert request.poll() and request.asked == asked
+    wrong = ParameterRequest(client, target_node='/mouse_constraint',
+                             types={'anchor': ParameterType.PARAMETER_BOOL})
+    assert ros.spin_until(wrong.poll, timeout=10.0)
+    assert wrong.values is None and wrong.unanswered(2.0) == (
+        '/mouse_constraint has no bool parameter anchor')
 
 
 def test_a_call_unanswered_for_its_timeout_is_given_up(ros):

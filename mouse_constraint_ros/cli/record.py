@@ -208,30 +208,23 @@ def _wait_for_start(node: Recorder, executor, stop: StopRequest,
         answered = request.poll()
         return posed and (answered or options.anchor is not None)
 
-    try:
-        if not wait_until(executor, stop, ready, deadline=time.monotonic() + options.timeout):
-            if options.anchor is None and request.values is None:
-                service = request.client.srv_name
-                reason = (f'{service} did not answer in {options.timeout:g} s' if request.asked
-                          else f'no parameter service {service} after {options.timeout:g} s')
-                logger.error(f'{reason}: is the node running (same ROS_DOMAIN_ID and namespace, '
-                             '--node)? Or give --anchor X Y Z')
-            else:
-                logger.error(f'no pose on {node.topic_name(POSE_TOPIC)} after '
-                             f'{options.timeout:g} s')
-            return None
-        if options.anchor is None:
-            logger.info(f'anchor {request.values["anchor"]} m (body frame) from {options.node}')
-            return request.values
-        wait_until(executor, stop, request.poll,
-                   deadline=time.monotonic() + min(options.timeout, ANCHOR_FETCH_SECONDS))
-    except RuntimeError as error:
-        logger.error(str(error))
+    came = wait_until(executor, stop, ready, deadline=time.monotonic() + options.timeout)
+    if options.anchor is None and request.values is None:
+        logger.error(f'{request.unanswered(options.timeout)}: is the node running (same '
+                     'ROS_DOMAIN_ID and namespace, --node)? Or give --anchor X Y Z')
         return None
+    if not came:
+        logger.error(f'no pose on {node.topic_name(POSE_TOPIC)} after {options.timeout:g} s')
+        return None
+    if options.anchor is None:
+        logger.info(f'anchor {request.values["anchor"]} m (body frame) from {options.node}')
+        return request.values
+    seconds = min(options.timeout, ANCHOR_FETCH_SECONDS)
+    wait_until(executor, stop, request.poll, deadline=time.monotonic() + seconds)
     anchor = {'anchor': tuple(options.anchor)}
     if request.values is None:
-        logger.info(f"no answer from {request.client.srv_name}: the node's rates and initial "
-                    'pose are not known')
+        logger.info(f"{request.unanswered(seconds)}: the node's rates and initial pose are not "
+                    'known')
         return anchor
     return {**request.values, **anchor}
 

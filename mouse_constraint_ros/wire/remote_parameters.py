@@ -126,19 +126,25 @@ class ParameterRequest:
         self._future = None
         self._sent_at: Optional[float] = None
         self.values: Optional[Dict[str, object]] = None
+        self.error: Optional[str] = None  # why an answer came without the values
         self.asked = 0
 
     def poll(self) -> bool:
         """
         Take the answer if it came, else ask when it is time; return whether it has come.
 
-        :raises RuntimeError: the answer has not the parameters asked for.
+        An answer without the parameters asked for (another count or type) leaves ``values``
+        None and says why in ``error``.
         """
-        if self.values is not None:
+        if self.values is not None or self.error is not None:
             return True
         if self._future is not None and self._future.done():
-            self.values = parameter_values(self._future.result(), target_node=self.target_node,
-                                           types=self._types, optional=self._optional)
+            try:
+                self.values = parameter_values(
+                    self._future.result(), target_node=self.target_node, types=self._types,
+                    optional=self._optional)
+            except RuntimeError as error:
+                self.error = str(error)
             return True
         if self.client.service_is_ready() and (
                 self._sent_at is None or self._clock() - self._sent_at >= self._again):
@@ -147,9 +153,17 @@ class ParameterRequest:
 
     def ask_again(self) -> None:
         """Send the request again now, unless it was answered or the service is not seen."""
-        if self.values is None and self.client.service_is_ready() and not (
+        if self.client.service_is_ready() and not (
                 self._future is not None and self._future.done()):
             self._send()
+
+    def unanswered(self, seconds: float) -> str:
+        """Return why there are no values after ``seconds`` of asking, in the words of errors."""
+        if self.error is not None:
+            return self.error
+        if self.asked:
+            return f'{self.client.srv_name} did not answer in {seconds:g} s'
+        return f'no parameter service {self.client.srv_name} after {seconds:g} s'
 
     def _send(self) -> None:
         if self._future is not None:
