@@ -58,6 +58,8 @@ SUITE = [
     ('force_latency', 'target pose published -> first force reflecting it, config/haptic.yaml'),
     ('device_stream', "a device at the node's rate: each pose -> its force, against an echo"),
     ('discovery', 'mouse_ctl release against the node, with and without its Fast DDS profile'),
+    ('help_time', "each console script's --help against a bare import of rclpy and messages"),
+    ('first_output', 'from a start to the first output: a bare publisher, the node, the recorder'),
     ('soak', '10 min simulated at 1 kHz, the core directly'),
     ('flood', 'target floods at the 1 kHz node: 5 000/s plain, unbounded, hostile'),
     ('flood_rate', 'the 500 Hz node under a 5 000/s flood, run after run: the rate each held'),

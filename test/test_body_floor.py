@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mouse_constraint_ros.description import body_model
+from mouse_constraint_ros.description.urdf_link import body_model
 from mouse_constraint_ros.physics import BodyState, MouseConstraint, MouseSimulation, Settings
 from mouse_constraint_ros.physics.floor import Floor
 from test_support.meshes import geometry, mug, urdf, write

@@ -29,8 +29,9 @@ import pytest
 from scipy.spatial.transform import Rotation
 from visualization_msgs.msg import Marker, MarkerArray
 
-from mouse_constraint_ros.description import body_model, BodyGeometry
+from mouse_constraint_ros.description import BodyGeometry
 from mouse_constraint_ros.description.body_geometry import Piece
+from mouse_constraint_ros.description.urdf_link import body_model
 from mouse_constraint_ros.monitoring.body_markers import (compose, drawn_pieces, mesh_resource,
                                                           placed)
 from mouse_constraint_ros.monitoring.markers import BODY_COLOR, marker_array, SPHERE_FRACTION

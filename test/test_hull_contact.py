@@ -29,7 +29,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from mouse_constraint_ros.description import body_model
+from mouse_constraint_ros.description.urdf_link import body_model
 from mouse_constraint_ros.physics import BodyState, MouseConstraint, MouseSimulation, Settings
 from mouse_constraint_ros.physics import floor_contact, normal_block
 from mouse_constraint_ros.physics.floor import Floor

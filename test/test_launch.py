@@ -99,7 +99,7 @@ def test_colcon_installs_the_launch_rviz_and_config_files(install):
 
 def test_the_installed_mug_finds_its_package_mesh(install, monkeypatch):
     """With the install's ament index, package://mouse_constraint_ros/config/mug.stl resolves."""
-    from mouse_constraint_ros.description import body_model
+    from mouse_constraint_ros.description.urdf_link import body_model
     monkeypatch.setenv('AMENT_PREFIX_PATH', str(install))
     text = (share(install) / 'config' / 'mug.urdf').read_text()
     model = body_model(text, density=2400.0)

@@ -32,7 +32,8 @@ from rcl_interfaces.msg import ParameterType, ParameterValue
 from scipy.spatial.transform import Rotation
 from visualization_msgs.msg import InteractiveMarkerFeedback, Marker
 
-from mouse_constraint_ros.description import body_model, BodyGeometry
+from mouse_constraint_ros.description import BodyGeometry
+from mouse_constraint_ros.description.urdf_link import body_model
 from mouse_constraint_ros.marker.drag import MarkerDrag
 from mouse_constraint_ros.marker.node import MouseMarkerNode
 from mouse_constraint_ros.marker.updates import (body_marker, MARKER_NAME, pose_message,

@@ -42,10 +42,11 @@ PYTHON_KEYS = {'numpy': 'python3-numpy', 'yaml': 'python3-yaml', 'scipy': 'pytho
 OPTIONAL = {'mcap', 'pytest'}
 # No rosdep key: viser serves ``mouse_view`` alone (and the tests of the view skip without it);
 # package.xml names it in a comment and the ROS-native route installs it with pip
-# (requirements/view.txt). websockets and msgspec come with it: the view bounds viser's
-# websocket server, and the view's tests speak its protocol.
+# (requirements/view.txt). websockets, msgspec and zstandard come with it: the view bounds
+# viser's websocket server, and the view's tests speak its protocol and read its compressed
+# frames.
 # yourdfpy (the URDF parser) has no rosdep key either: package.xml says to pip-install it.
-UNKEYED = {'viser', 'websockets', 'msgspec', 'yourdfpy'}
+UNKEYED = {'viser', 'websockets', 'msgspec', 'zstandard', 'yourdfpy'}
 
 
 def imported(paths) -> set:

@@ -23,8 +23,9 @@ from rcl_interfaces.msg import ParameterType, ParameterValue
 from scipy.spatial.transform import Rotation
 import trimesh
 
-from mouse_constraint_ros.description import body_model, BodyGeometry
+from mouse_constraint_ros.description import BodyGeometry
 from mouse_constraint_ros.description.body_geometry import lone_box
+from mouse_constraint_ros.description.urdf_link import body_model
 from mouse_constraint_ros.node.body_parameters import GEOMETRY_PARAMETERS
 from mouse_constraint_ros.pointer.body_shape import BodyShape, ray_body_hit
 from mouse_constraint_ros.pointer.geometry import local_point, Pose, ray_box_hit, world_point

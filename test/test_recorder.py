@@ -845,6 +845,45 @@ def test_a_recorder_killed_outright_leaves_what_it_recorded(harness, tmp_path):
     assert {row['stamp_ns'] for row in rows} <= set(poses)
 
 
+def csv_rows_now(path: Path) -> list:
+    """Return the rows of a CSV being written: its complete lines, none while it is not there."""
+    try:
+        text = path.read_text()
+    except FileNotFoundError:
+        return []
+    lines = [line for line in text[:text.rfind('\n') + 1].splitlines()
+             if not line.startswith('#')]
+    return list(csv.DictReader(lines))
+
+
+def test_a_recorder_killed_after_its_first_row_keeps_every_row_it_had_written(harness, tmp_path):
+    """
+    SIGKILL 2 s after the first row appeared in the CSV: the rows in the file then are kept.
+
+    The wait is on the file, read from this process: the first row there (the recorder writes it
+    to the operating system as it comes), then the rows there just before the kill.
+    """
+    path = tmp_path / 'first.csv'
+    process, lines, reader = start_recorder('-d', '60', '-o', str(path.with_suffix('')),
+                                            '--timeout', '20')
+    try:
+        deadline = time.monotonic() + 60.0
+        while not (first := csv_rows_now(path)):
+            assert process.poll() is None and time.monotonic() < deadline, ''.join(lines)
+            harness.spin_for(0.05)
+        harness.spin_for(2.0)
+        before = csv_rows_now(path)
+        process.send_signal(signal.SIGKILL)
+        process.wait(timeout=10)
+    finally:
+        if process.poll() is None:
+            process.kill()
+        reader.join(timeout=5.0)
+    kept = csv_rows_now(path)
+    assert kept[:len(before)] == before and before[:len(first)] == first
+    assert float(before[-1]['time']) > float(first[-1]['time'])
+
+
 def damped_node(ros, namespace: str) -> MouseConstraintNode:
     """Return a node in ``namespace`` at RATE with ANCHOR, damped, without monitors."""
     return MouseConstraintNode(context=ros.context, namespace=namespace, parameter_overrides=[

@@ -29,7 +29,7 @@ import pytest
 from scipy.spatial import ConvexHull
 from scipy.spatial.transform import Rotation
 
-from mouse_constraint_ros.description import body_model
+from mouse_constraint_ros.description.urdf_link import body_model
 from mouse_constraint_ros.physics import BodyState
 from mouse_constraint_ros.recording.body_outline import body_hull, outline
 from mouse_constraint_ros.recording.capture import fetch_start, Recorder

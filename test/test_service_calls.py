@@ -23,6 +23,7 @@ clients alike, so that none keeps a pending request for each call.
 import time
 
 from rcl_interfaces.msg import ParameterDescriptor, ParameterType
+from rcl_interfaces.srv import GetParameters
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from std_srvs.srv import Trigger
@@ -31,7 +32,7 @@ from mouse_constraint_ros.marker.node import MouseMarkerNode
 from mouse_constraint_ros.pointer.node_follower import ASK_AGAIN_SECONDS as ASK_PARAMETERS
 from mouse_constraint_ros.pointer.service_calls import GIVE_UP_SECONDS, ServiceCalls
 from mouse_constraint_ros.timing.spin import ASK_AGAIN_SECONDS, call_until_answered, StopRequest
-from mouse_constraint_ros.wire.remote_parameters import fetch_parameters
+from mouse_constraint_ros.wire.remote_parameters import fetch_parameters, ParameterRequest
 from test_support.silent_node import FakeClock, silent_node
 
 
@@ -90,6 +91,49 @@ def test_fetch_parameters_gives_the_values_of_the_types_asked_for(ros):
         assert str(error) == '/holder has no bool parameter rate_hz'
     else:
         raise AssertionError('a double read as a bool')
+
+
+def test_a_parameter_request_asks_when_ready_again_when_told_and_takes_the_answer(ros):
+    """
+    A ParameterRequest asks again after ``again`` s, or when told to; answered, no more.
+
+    The silent node's service is ready and never answers: the request goes again after
+    ``again`` s of its clock unanswered, and at once on ``ask_again``. A node that answers
+    comes: the next request is answered, its values taken, and nothing is asked any more. An
+    answer without the parameters asked for says why, as ``fetch_parameters`` would.
+    """
+    clock = FakeClock()
+    types = {'anchor': ParameterType.PARAMETER_DOUBLE_ARRAY}
+    with silent_node():
+        client = ros.probe.create_client(GetParameters, '/mouse_constraint/get_parameters')
+        request = ParameterRequest(client, target_node='/mouse_constraint', types=types,
+                                   again=2.0, clock=clock)
+        assert request.asked == 0 and request.unanswered(2.0) == (
+            'no parameter service /mouse_constraint/get_parameters after 2 s')
+        assert ros.spin_until(lambda: request.poll() or request.asked == 1)
+        assert request.unanswered(2.0) == '/mouse_constraint/get_parameters did not answer in 2 s'
+        clock.now += 1.9
+        assert not request.poll() and request.asked == 1
+        clock.now += 0.1
+        assert not request.poll() and request.asked == 2
+        request.ask_again()
+        assert request.asked == 3 and len(client._pending_requests) == 1
+    ros.add(Node('mouse_constraint', context=ros.context, parameter_overrides=[
+        Parameter('anchor', value=[0.1, 0.2, 0.3])],
+        automatically_declare_parameters_from_overrides=True))
+    asked = request.asked
+    clock.now += 2.0
+    assert ros.spin_until(request.poll, timeout=10.0)
+    assert request.values == {'anchor': (0.1, 0.2, 0.3)} and request.asked > asked
+    asked = request.asked
+    clock.now += 10.0
+    request.ask_again()
+    assert request.poll() and request.asked == asked
+    wrong = ParameterRequest(client, target_node='/mouse_constraint',
+                             types={'anchor': ParameterType.PARAMETER_BOOL})
+    assert ros.spin_until(wrong.poll, timeout=10.0)
+    assert wrong.values is None and wrong.unanswered(2.0) == (
+        '/mouse_constraint has no bool parameter anchor')
 
 
 def test_a_call_unanswered_for_its_timeout_is_given_up(ros):

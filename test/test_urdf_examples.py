@@ -30,7 +30,7 @@ import trimesh
 import yaml
 
 from mouse_constraint_ros.cli.urdf_params import main, params_text
-from mouse_constraint_ros.description import body_model
+from mouse_constraint_ros.description.urdf_link import body_model
 from mouse_constraint_ros.node.parameters import DEFAULTS, node_config
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -25,7 +25,7 @@ node's configuration (start-up, ``ros2 param set``) and by the harness, never wi
 import pytest
 import trimesh
 
-from mouse_constraint_ros.description import body_model
+from mouse_constraint_ros.description.urdf_link import body_model
 from mouse_constraint_ros.node.parameters import DEFAULTS, node_config
 from mouse_constraint_ros.node.startup import StartupRefusal
 from test_support.meshes import bad_bodies, BAD_BODY_NAMES

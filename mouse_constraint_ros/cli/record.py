@@ -52,6 +52,7 @@ import datetime
 import math
 from pathlib import Path
 import sys
+import time
 from typing import Dict, List, Optional
 
 import rclpy
@@ -62,12 +63,12 @@ from rclpy.utilities import remove_ros_args
 
 from .help_text import plain_text
 from ..recording.body_outline import body_hull
-from ..recording.capture import capture, fetch_start, Progress, Recorder, wait_for_first_pose
+from ..recording.capture import capture, Progress, Recorder, start_request
 from ..recording.figure import write_figure
 from ..recording.outputs import check_writable, describe_os_error, output_paths
 from ..recording.recording_files import RecordingFiles
-from ..timing.spin import Interrupted, SpinEnd, StopRequest
-from ..wire.interface import NODE_NAME
+from ..timing.spin import Interrupted, SpinEnd, StopRequest, wait_until
+from ..wire.interface import NODE_NAME, POSE_TOPIC
 
 # The exit status when a stop comes before the first pose: nothing was recorded.
 INTERRUPTED_STATUS = 130
@@ -152,16 +153,9 @@ def main(args: Optional[List[str]] = None) -> int:
         # Set before the first pose: what comes while the node is asked is held to it too.
         node.duration_ns = round(options.duration * 1e9)
         with StopRequest() as stop:
-            start = None if options.anchor is not None else _fetch(node, executor, stop, options)
-            if start is None and options.anchor is None:
+            start = _wait_for_start(node, executor, stop, options)
+            if start is None:
                 return 1
-            try:
-                wait_for_first_pose(node, executor, stop, timeout=options.timeout)
-            except RuntimeError as error:
-                logger.error(str(error))
-                return 1
-            if options.anchor is not None:
-                start = _start_with_anchor(node, executor, stop, options)
             try:
                 options.output.parent.mkdir(parents=True, exist_ok=True)
                 files.start(start, topic_names=node.topic_names(),
@@ -191,39 +185,50 @@ def main(args: Optional[List[str]] = None) -> int:
         rclpy.try_shutdown()
 
 
-def _fetch(node: Recorder, executor, stop: StopRequest,
-           options: argparse.Namespace) -> Optional[Dict[str, object]]:
-    """Return the recorded node's parameters at the start, None when it does not answer."""
+def _wait_for_start(node: Recorder, executor, stop: StopRequest,
+                    options: argparse.Namespace) -> Optional[Dict[str, object]]:
+    """
+    Return the recorded node's parameters once they and the first pose came; None, logged, else.
+
+    The parameters are asked for from the start, alongside the wait for the first pose
+    (``start_request``), and asked again when it comes: the node has matched the recorder by
+    then, and its answer comes back at once. ``--anchor`` gives the anchor and needs no answer:
+    once the poses come, the node that publishes them, if it is one, is being discovered, and
+    its answer is waited for ``ANCHOR_FETCH_SECONDS`` at most; without it (poses from a bag, a
+    node of another name) its rates and initial pose are not known, and the grid is taken from
+    the rows (``missing_ticks``).
+    """
     logger = node.get_logger()
-    try:
-        start = fetch_start(node, executor, stop, target_node=options.node,
-                            timeout=options.timeout)
-    except RuntimeError as error:
-        logger.error(f'{error}: is the node running (same ROS_DOMAIN_ID and namespace, '
-                     '--node)? Or give --anchor X Y Z')
+    request = start_request(node, options.node)
+    posed = False
+
+    def ready() -> bool:
+        nonlocal posed
+        if not posed and node.first_pose_ns is not None:
+            posed = True
+            request.ask_again()
+        answered = request.poll()
+        return posed and (answered or options.anchor is not None)
+
+    came = wait_until(executor, stop, ready, deadline=time.monotonic() + options.timeout)
+    if options.anchor is None and request.values is None:
+        logger.error(f'{request.unanswered(options.timeout)}: is the node running (same '
+                     'ROS_DOMAIN_ID and namespace, --node)? Or give --anchor X Y Z')
         return None
-    logger.info(f'anchor {start["anchor"]} m (body frame) from {options.node}')
-    return start
-
-
-def _start_with_anchor(node: Recorder, executor, stop: StopRequest,
-                       options: argparse.Namespace) -> Dict[str, object]:
-    """
-    Return ``--anchor`` and the recorded node's other parameters, when it answers in time.
-
-    The poses came, so the node that publishes them, if it is one, is being discovered: its
-    parameter service is waited for ``ANCHOR_FETCH_SECONDS`` at most. Without an answer (poses
-    from a bag, a node of another name) its rates and initial pose are not known, and the grid
-    is taken from the rows (``missing_ticks``).
-    """
+    if not came:
+        logger.error(f'no pose on {node.topic_name(POSE_TOPIC)} after {options.timeout:g} s')
+        return None
+    if options.anchor is None:
+        logger.info(f'anchor {request.values["anchor"]} m (body frame) from {options.node}')
+        return request.values
+    seconds = min(options.timeout, ANCHOR_FETCH_SECONDS)
+    wait_until(executor, stop, request.poll, deadline=time.monotonic() + seconds)
     anchor = {'anchor': tuple(options.anchor)}
-    try:
-        start = fetch_start(node, executor, stop, target_node=options.node,
-                            timeout=min(options.timeout, ANCHOR_FETCH_SECONDS))
-    except RuntimeError as error:
-        node.get_logger().info(f"{error}: the node's rates and initial pose are not known")
+    if request.values is None:
+        logger.info(f"{request.unanswered(seconds)}: the node's rates and initial pose are not "
+                    'known')
         return anchor
-    return {**start, **anchor}
+    return {**request.values, **anchor}
 
 
 def finish_outputs(node: Recorder, files: RecordingFiles, options: argparse.Namespace,

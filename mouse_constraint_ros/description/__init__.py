@@ -20,25 +20,11 @@ The body from a URDF link (``robot_description``): its inertia, collision and vi
 convex collision pieces (``physics.collision``); the grab, the view and the markers take its
 surfaces. No ROS here beyond ``ament_index_python`` for ``package://`` paths.
 
-The parser and trimesh are imported with the first URDF (PEP 562): a node with the box body
-neither loads them nor holds their memory.
+``urdf_link`` imports the parser and trimesh, so it is imported where a URDF is first read, in
+the function that reads it (docs/architecture.md, "Heavy libraries"): a process with the box
+body neither loads them nor holds their memory.
 """
-
-import importlib
-from typing import Any
 
 from .body_geometry import BodyGeometry
 
-__all__ = ['BodyGeometry', 'body_model', 'BodyModel']
-
-
-def __getattr__(name: str) -> Any:
-    """Import ``urdf_link`` when ``body_model`` or ``BodyModel`` is first asked for."""
-    if name in ('body_model', 'BodyModel'):
-        return getattr(importlib.import_module('.urdf_link', __name__), name)
-    raise AttributeError(f'module {__name__!r} has no attribute {name!r}')
-
-
-def __dir__() -> list:
-    """List the public names, imported or not."""
-    return sorted(__all__)
+__all__ = ['BodyGeometry']

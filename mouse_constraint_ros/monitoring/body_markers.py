@@ -45,7 +45,6 @@ from urllib.parse import urlparse
 
 from geometry_msgs.msg import Point
 import numpy as np
-from scipy.spatial.transform import Rotation
 from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import Marker
 
@@ -103,6 +102,7 @@ def transform_pose(transform: np.ndarray) -> Tuple[Vector3, Quaternion]:
     rotation = transform[:3, :3]
     if not (rotation - np.eye(3)).any():
         return position, IDENTITY
+    from scipy.spatial.transform import Rotation  # a turned piece's: the box has none
     return position, tuple(float(c) for c in Rotation.from_matrix(rotation).as_quat())
 
 

@@ -27,10 +27,6 @@ the third.
 from typing import Callable, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
-from scipy.spatial import ConvexHull, QhullError
-from scipy.spatial.transform import Rotation
-
-from ..description import body_model
 
 
 def body_hull(parameters: Mapping[str, object],
@@ -44,6 +40,7 @@ def body_hull(parameters: Mapping[str, object],
     description = parameters.get('robot_description')
     if not description:
         return None
+    from ..description.urdf_link import body_model  # the parser: a URDF body's figure only
     try:
         geometry = body_model(description, str(parameters.get('body_link', '')),
                               density=float(parameters.get('density', 0.0))).geometry
@@ -68,6 +65,8 @@ def outline(hull: np.ndarray, position: Sequence[float], orientation: Sequence[f
     :param orientation: its orientation (x, y, z, w).
     :param axes: the two world axes drawn, e.g. (0, 1) from above.
     """
+    from scipy.spatial import ConvexHull, QhullError  # a URDF body's figure only
+    from scipy.spatial.transform import Rotation
     world = Rotation.from_quat(orientation).apply(hull) + np.asarray(position, dtype=float)
     flat = world[:, list(axes)]
     try:

@@ -23,8 +23,8 @@ that change a parameter the rows follow (``received.NODE_PARAMETERS``: a ``grab`
 grabbed point the node's anchor) and the service events of its ``~/reset`` and ``~/release``,
 in the same stream, so that the rows follow the node's anchor and target from the moment they
 changed. ``fetch_start`` reads those parameters at the start from the recorded node's parameter
-service, ``wait_for_first_pose`` and ``capture`` spin it (``spin.spin_until``) while
-``Progress`` draws the progress line.
+service, and ``start_request`` asks for them without waiting, while the first pose is waited
+for; ``capture`` spins it (``spin.spin_until``) while ``Progress`` draws the progress line.
 """
 
 import math
@@ -33,6 +33,7 @@ import time
 from typing import Callable, Dict, List, Optional, TextIO
 
 from rcl_interfaces.msg import ParameterEvent
+from rcl_interfaces.srv import GetParameters
 from rclpy.executors import Executor
 from rclpy.node import Node
 from rclpy.qos import HistoryPolicy, qos_profile_parameter_events, QoSProfile, ReliabilityPolicy
@@ -44,10 +45,10 @@ from .received import (BODY_PARAMETERS, COUNTED_TOPICS, header_stamp, MESSAGE_TY
                        NODE_PARAMETERS, parameter_changes, PARAMETER_EVENTS_TOPIC, Received,
                        service_event_topic, SERVICE_EVENTS, TOPICS)
 from ..timing.guarded_time_source import guard_time_source
-from ..timing.spin import spin_until, SpinEnd, StopRequest, wait_until
+from ..timing.spin import spin_until, SpinEnd, StopRequest
 from ..wire.interface import (JOINT_STATES_TOPIC, NODE_NAME, POSE_TOPIC, SERVICE_EVENT_QOS,
                               TWIST_TOPIC)
-from ..wire.remote_parameters import fetch_parameters
+from ..wire.remote_parameters import fetch_parameters, ParameterRequest
 
 # Deep RELIABLE queues: a burst of caught-up ticks must not overwrite unread messages.
 RECORD_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
@@ -89,6 +90,10 @@ class Recorder(Node):
         self.pose_seen_at = time.monotonic()
         self.recording = True
         self._clock = self.get_clock()
+        # Made before the subscriptions: a participant announces its readers in order, so once
+        # a pose came the recorded node has matched this client's reader of answers too, and an
+        # answer asked for then is not lost (``start_request``).
+        self.parameter_client = self.create_client(GetParameters, f'{target_node}/get_parameters')
         self.subscriptions_by_topic = {
             key: self.create_subscription(message_type, key, self._receiver(key), RECORD_QOS,
                                           raw=True)
@@ -207,17 +212,17 @@ def fetch_start(node: Node, executor: Executor, stop: StopRequest, *, target_nod
                             timeout=timeout, optional=set(types) - {'anchor'})
 
 
-def wait_for_first_pose(node: Recorder, executor: Executor, stop: StopRequest, *,
-                        timeout: float) -> None:
+def start_request(node: Recorder, target_node: str) -> ParameterRequest:
     """
-    Spin until the first pose has come, which starts the recorded time.
+    Return the request of ``fetch_start``'s parameters on the recorder's own client, not yet sent.
 
-    :raises RuntimeError: saying so after ``timeout`` seconds.
-    :raises Interrupted: when ``stop`` is requested first.
+    The recorder polls it while it waits for the first pose (``ParameterRequest.poll``), and
+    asks again when that pose comes (``ParameterRequest.ask_again``): an answer to a request
+    sent before may have gone to a client the node had not matched yet.
     """
-    if not wait_until(executor, stop, lambda: node.first_pose_ns is not None,
-                      deadline=time.monotonic() + timeout):
-        raise RuntimeError(f'no pose on {node.topic_name(POSE_TOPIC)} after {timeout:g} s')
+    types = {**NODE_PARAMETERS, **BODY_PARAMETERS}
+    return ParameterRequest(node.parameter_client, target_node=target_node, types=types,
+                            optional=set(types) - {'anchor'})
 
 
 def progress_bar(elapsed: float, duration: float, counts: Dict[str, int],

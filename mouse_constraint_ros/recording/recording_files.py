@@ -18,10 +18,10 @@ A recording's files, written while it records: the CSV row by row, the MCAP chun
 ``RecordingFiles`` takes each message as the recorder receives it. Until ``start`` (the first
 pose came and the recorded node's parameters are known) it keeps them; then it writes what it
 kept and, from there on, each message to the MCAP file and each row to the CSV as ``RowStream``
-completes it, and every ``FLUSH_SECONDS`` hands both files' bytes to the operating system. A
-recorder killed with SIGKILL leaves the rows and the messages of all but its last half second
-or so; ``close`` writes the rest, the CSV's trailer and the MCAP's summary, and the figure is
-drawn from the rows it kept.
+completes it, and hands both files' bytes to the operating system with the first row and then
+every ``FLUSH_SECONDS``. A recorder killed with SIGKILL leaves the rows and the messages of all
+but its last half second or so; ``close`` writes the rest, the CSV's trailer and the MCAP's
+summary, and the figure is drawn from the rows it kept.
 
 Its memory stays flat however long it records: the rows are written and let go, but for the
 bounded, evenly thinned set the figure is drawn from (``FigureRows``); the ticks missing on the
@@ -116,10 +116,13 @@ class RecordingFiles:
 
     def _write(self, rows: List[Row]) -> None:
         if rows:
+            first = not self.figure_rows.count
             self._csv.write(rows, self._rows.joint_names)
             for row in rows:
                 self.figure_rows.add(row)
                 self.ticks.add(row.stamp_ns)
+            if first:
+                self.flush()  # the first rows at once: a recorder killed from here on keeps them
 
     def flush(self) -> None:
         """Hand both files' bytes to the operating system."""

@@ -34,7 +34,6 @@ from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
 from .node import MouseViewNode
-from .scene import ViewScene
 from .server import HIGHEST_PORT, ServeError, start
 from ..timing.spin import Interrupted, NodeRun
 
@@ -93,6 +92,7 @@ def main(args: Optional[List[str]] = None) -> int:
     """Serve the view until Ctrl-C, SIGTERM or SIGHUP; exit 0 then, 2 on bad arguments."""
     argv = sys.argv if args is None else args
     options = build_parser().parse_args(remove_ros_args(argv)[1:])
+    from .scene import ViewScene  # viser's page: not for --help
     rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
     with NodeRun() as run:
         try:

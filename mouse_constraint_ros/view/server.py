@@ -49,14 +49,14 @@ import logging
 import socket
 import threading
 import time
-from typing import Collection, Iterator, Optional, Set
+from typing import Collection, Iterator, Optional, Set, TYPE_CHECKING
 import urllib.parse
-
-import viser
-import websockets.asyncio.server
 
 from ..inputs.throttle import Throttle
 from ..timing.spin import Interrupted, StopRequest
+
+if TYPE_CHECKING:
+    import viser
 
 # The largest message a page may send (bytes): the view's are a few hundred.
 MAX_MESSAGE_BYTES = 256 * 1024
@@ -162,6 +162,7 @@ class _ThrottledLog(logging.Filter):
 @contextlib.contextmanager
 def _guarded_websockets(host: str, allowed: Collection[str]) -> Iterator[None]:
     """Serve websockets with the view's bounds while viser starts (see the module)."""
+    import websockets.asyncio.server  # with viser, when the server starts: not for --help
     original = websockets.asyncio.server.serve
     names = machine_names(host)
 
@@ -192,7 +193,8 @@ def refuse_share_url(*_args, **_kwargs) -> None:
     return None
 
 
-def _viser_server(host: str, port: int, allowed: Collection[str]) -> viser.ViserServer:
+def _viser_server(host: str, port: int, allowed: Collection[str]) -> 'viser.ViserServer':
+    import viser  # when the server starts: not for --help
     with _guarded_websockets(host, allowed):
         server = viser.ViserServer(host=host, port=port, label='mouse_constraint',
                                    verbose=False)
@@ -208,7 +210,7 @@ def _viser_server(host: str, port: int, allowed: Collection[str]) -> viser.Viser
 
 def start(host: str, port: int, *, allowed: Collection[str] = (),
           stop: Optional[StopRequest] = None,
-          timeout: float = START_SECONDS) -> viser.ViserServer:
+          timeout: float = START_SECONDS) -> 'viser.ViserServer':
     """
     Start the viser server on ``host``:``port`` (or the next free port), the viewer only.
 
