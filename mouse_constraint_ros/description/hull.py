@@ -27,8 +27,12 @@ A point set without volume (a point, points on a line or in a plane) has no hull
 says which.
 """
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-from scipy.spatial import ConvexHull, QhullError
+
+if TYPE_CHECKING:
+    from scipy.spatial import ConvexHull
 
 # A hull thinner than this fraction of its extent counts as flat: its volume is below
 # (extent^3 FLAT) (a sheet of float rounding, not a solid).
@@ -72,8 +76,9 @@ def hull_vertices(points: np.ndarray) -> np.ndarray:
     return points[np.sort(chosen[hull.vertices])]
 
 
-def _hull(points: np.ndarray) -> ConvexHull:
+def _hull(points: np.ndarray) -> 'ConvexHull':
     """Return Qhull's hull of ``points``, joggled where it meets a precision problem."""
+    from scipy.spatial import ConvexHull, QhullError  # a URDF body's: the box runs without
     try:
         return ConvexHull(points, qhull_options='Q0')
     except QhullError:
