@@ -20,6 +20,9 @@ A ``package://name/path`` is looked up with ``ament_index_python`` (the share di
 no base (``robot_description`` is text, not a file) and are refused with the two forms that
 work. trimesh reads the file, bounded: at most ``MAX_MESH_BYTES`` on disk and
 ``MAX_MESH_FACES`` triangles, so a stray 100 MB scan cannot stall the node at start.
+
+This package finds its own ``package://`` files where the index does not list it
+(``own_share``).
 """
 
 import os
@@ -28,6 +31,8 @@ from urllib.parse import unquote, urlparse
 
 import numpy as np
 import trimesh
+
+from .own_share import own_share, PACKAGE
 
 # The largest mesh file read (bytes) and the most triangles kept: a collision mesh is a
 # simplified surface; a scan of millions of triangles is decimated first (e.g. in MeshLab).
@@ -39,7 +44,21 @@ PackageFinder = Callable[[str], str]
 
 
 def ament_share(package: str) -> str:
-    """Return the share directory of ``package`` from the ament index, or raise LookupError."""
+    """
+    Return the share directory of ``package`` from the ament index, or raise LookupError.
+
+    This package finds its own where the index does not list it (``own_share``).
+    """
+    try:
+        return _indexed_share(package)
+    except LookupError:
+        share = own_share() if package == PACKAGE else None
+        if share is None:
+            raise
+        return share
+
+
+def _indexed_share(package: str) -> str:
     try:
         from ament_index_python.packages import (get_package_share_directory,
                                                  PackageNotFoundError)
