@@ -52,8 +52,8 @@ from .parameters import node_config, NodeConfig, PARAMETERS
 from .simulator_controls import SimulatorControls
 # CLOCK_LOOP and StartupRefusal: importable from the node, where its refusals come from.
 from .startup import (CLOCK_LOOP, clock_loop, describe, hold_here,  # noqa: F401
-                      rcl_reason, requested_logger_name, StartupRefusal,
-                      unknown_parameter_warnings)
+                      override_refusal, rcl_reason, requested_logger_name,
+                      StartupRefusal, unknown_parameter_warnings)
 from .target_input import TargetInput
 from .tick import Tick
 from .tick_record import TickRecord
@@ -315,6 +315,11 @@ def main(args: Optional[List[str]] = None) -> int:
     if asks_for_help(sys.argv if args is None else args):
         print(usage_text())
         return 0
+    refusal = override_refusal(sys.argv if args is None else args)
+    if refusal is not None:
+        name = requested_logger_name(sys.argv if args is None else args, NODE_NAME)
+        rclpy.logging.get_logger(name).fatal(f'cannot start: {refusal}')
+        return 1
     # rcl logs "Failed to parse global arguments" of its own before it raises; the FATAL line
     # below says it all, and with the reason.
     quiet = rclpy.logging.LoggingSeverity.FATAL
