@@ -41,6 +41,7 @@ import yourdfpy
 
 from .body_geometry import BodyGeometry, Piece
 from .mesh_files import ament_share, load_mesh, PackageFinder
+from .xml_declaration import as_xml_1_0
 from ..physics.algebra import Symmetric3
 from ..physics.body import RigidBody
 
@@ -96,7 +97,7 @@ def _link(text: str, name: str):
     """Return the yourdfpy link ``name`` of the URDF text (the only one when name is empty)."""
     if not isinstance(text, str) or not text.strip():
         raise ValueError('robot_description is empty')
-    data = text.encode()
+    data = as_xml_1_0(text).encode()  # pybullet's URDFs declare version 0.0
     try:
         root = etree.fromstring(data)
     except etree.XMLSyntaxError as error:

@@ -60,6 +60,7 @@ from .tick_record import TickRecord
 from .ticker import Ticker
 from .usage import asks_for_help, refuse_unknown_arguments, usage_text
 from .wrench_input import WrenchInput
+from ..description.xml_declaration import version_note
 from ..inputs.target_gate import Refusal
 from ..inputs.throttle import RefusalLog, Throttle
 from ..physics import MouseSimulation
@@ -190,6 +191,8 @@ class MouseConstraintNode(Node):
 
     def _publish_description(self, text: str) -> None:
         """Offer ``robot_description`` on its topic (latched) when it is set, as RViz reads it."""
+        if text and version_note(text):
+            self.get_logger().warning(version_note(text))
         if text:
             self._description.publish(String(data=text))
 
