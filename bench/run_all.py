@@ -22,7 +22,10 @@ Usage, from the repository's root: ``python -m bench.run_all [--quick] [--only N
 Each entry of ``SUITE`` names a module of this package whose ``run(quick)`` returns a section
 (see ``bench.common``). A new benchmark is one more module and one more entry. A section that
 raises is reported as failed and the rest still run; the peers (PyBullet, MuJoCo) are optional
-and their rows are skipped when they are not installed.
+and their rows are skipped when they are not installed (``make bench`` installs them,
+requirements/bench/; run directly, ``python -m bench.run_all`` says when they are missing). Each
+section records the date, commit and peers of the run that measured it; one kept from an earlier
+run (``--only``) is marked so in results.md.
 """
 
 import argparse
@@ -110,8 +113,12 @@ def main(argv=None) -> int:
     machine = common.machine_info()
     print(f'machine: {machine["cpu"]}, {machine["cores"]} cores, Python {machine["python"]}, '
           f'numpy {machine["numpy"]}, peers {machine["peers"]}', flush=True)
+    missing = [name for name, version in machine['peers'].items() if 'not installed' in version]
+    if missing:
+        print(f'peers not installed here: {", ".join(missing)}; their rows are skipped '
+              '(make bench installs requirements/bench/)', flush=True)
     sections = {}
-    measured = {'date': machine['date'], 'commit': machine['commit']}
+    measured = {'date': machine['date'], 'commit': machine['commit'], 'peers': machine['peers']}
     for name, description in SUITE:
         if only and name not in only:
             continue
