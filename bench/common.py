@@ -199,7 +199,7 @@ def measured_line(measured: dict, run: Optional[dict] = None) -> str:
     Return the line under a section that says which run measured it.
 
     A section kept from an earlier run than ``run`` (the header's date and commit) says so,
-    with that run's peers where it recorded them: its rows are not the header's run.
+    with that run's peers and CPU where it recorded them: its rows are not the header's run.
     """
     when = f'{measured["date"]} (commit {measured["commit"]}'
     peers = measured.get('peers')
@@ -207,6 +207,8 @@ def measured_line(measured: dict, run: Optional[dict] = None) -> str:
         return f'_Measured on {when})._'
     recorded = ('peers ' + ', '.join(f'{name} {version}' for name, version in peers.items())
                 if peers else 'its peers not recorded')
+    if measured.get('cpu'):
+        recorded += f', CPU {measured["cpu"]}'
     return f"_Kept from an earlier run than the header's: measured on {when}; {recorded})._"
 
 

@@ -75,21 +75,26 @@ def kept_sections(path: Path, fresh: dict) -> dict:
     Return the sections of the results.json at ``path`` with ``fresh`` ones in their place.
 
     In SUITE's order; a kept section without its own date takes the date and commit of the run
-    that wrote the file.
+    that wrote the file, and one of that run takes its peers and CPU (from the file's header).
     """
     try:
         previous = json.loads(path.read_text())
     except (OSError, ValueError):
         return fresh
-    when = {'date': previous.get('machine', {}).get('date', '?'),
-            'commit': previous.get('machine', {}).get('commit', '?')}
+    machine = previous.get('machine', {})
+    when = {'date': machine.get('date', '?'), 'commit': machine.get('commit', '?')}
     merged = {}
     for name, _ in SUITE:
         if name in fresh:
             merged[name] = fresh[name]
         elif name in previous.get('sections', {}):
             merged[name] = dict(previous['sections'][name])
-            merged[name].setdefault('measured', when)
+            measured = dict(merged[name].get('measured', when))
+            if (measured['date'], measured['commit']) == (when['date'], when['commit']):
+                # Measured by the run the old file's header describes: its peers and CPU.
+                measured.setdefault('peers', machine.get('peers'))
+                measured.setdefault('cpu', machine.get('cpu'))
+            merged[name]['measured'] = {k: v for k, v in measured.items() if v is not None}
     return merged
 
 
@@ -118,7 +123,8 @@ def main(argv=None) -> int:
         print(f'peers not installed here: {", ".join(missing)}; their rows are skipped '
               '(make bench installs requirements/bench/)', flush=True)
     sections = {}
-    measured = {'date': machine['date'], 'commit': machine['commit'], 'peers': machine['peers']}
+    measured = {'date': machine['date'], 'commit': machine['commit'], 'peers': machine['peers'],
+                'cpu': machine['cpu']}
     for name, description in SUITE:
         if only and name not in only:
             continue

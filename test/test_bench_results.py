@@ -91,3 +91,21 @@ def test_the_shipped_results_mark_every_section_not_of_the_header_s_run():
         own = (measured['date'], measured['commit']) == (machine['date'], machine['commit'])
         assert own or "_Kept from an earlier run than the header's: measured on " \
             f"{measured['date']} (commit {measured['commit']};" in text, name
+
+
+def test_a_kept_section_of_the_old_header_s_run_takes_its_peers_and_cpu(tmp_path):
+    """The old file's header says the peers and CPU of the sections measured with it."""
+    names = [name for name, _ in SUITE]
+    old = {'machine': {'date': 'd1', 'commit': 'c1', 'cpu': 'Xeon',
+                       'peers': {'pybullet': 'not installed (skipped)'}},
+           'sections': {names[0]: {'title': 'of d1', 'measured': {'date': 'd1', 'commit': 'c1'}},
+                        names[1]: {'title': 'of d0', 'measured': {'date': 'd0', 'commit': 'c0'}}}}
+    path = tmp_path / 'results.json'
+    path.write_text(json.dumps(old))
+    merged = kept_sections(path, {})
+    assert merged[names[0]]['measured'] == {'date': 'd1', 'commit': 'c1', 'cpu': 'Xeon',
+                                            'peers': {'pybullet': 'not installed (skipped)'}}
+    assert merged[names[1]]['measured'] == {'date': 'd0', 'commit': 'c0'}
+    line = common.measured_line(merged[names[0]]['measured'], {'date': 'd2', 'commit': 'c2'})
+    assert line == ("_Kept from an earlier run than the header's: measured on d1 (commit c1; "
+                    'peers pybullet not installed (skipped), CPU Xeon)._')
