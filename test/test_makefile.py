@@ -385,3 +385,21 @@ def test_make_test_runs_every_tier_and_sums_them_up_at_the_end(failing, tmp_path
                            '  system: 1 passed in 0.2 s', '  alone: 1 passed in 0.2 s',
                            '  FAILED test/test_fake.py::test_broken',
                            'make test: 1 of 3 tiers failed: unit-ros'], out
+
+
+def test_a_tier_left_without_a_test_by_a_filter_is_no_failure(tmp_path, capsys):
+    """Exit 5 of pytest (none selected, e.g. PYTEST_ARGS='-k name'): said, not a failure."""
+    from test_support import tier_summary
+
+    report = ('<testsuites><testsuite name="pytest" tests="{}" failures="0" errors="0" '
+              'skipped="0" time="1.0"></testsuite></testsuites>')
+    for name, status, tests in (('1-unit-ros', 0, 2), ('2-system', 5, 0)):
+        (tmp_path / f'{name}.status').write_text(f'{status}\n')
+        (tmp_path / f'{name}.xml').write_text(report.format(tests))
+    assert tier_summary.main(['tier_summary', str(tmp_path)]) == 0
+    assert capsys.readouterr().out.splitlines() == [
+        'make test, every tier:', '  unit-ros: 2 passed in 1.0 s',
+        '  system: no tests ran in 1.0 s (none selected)', 'make test: all 2 tiers passed']
+    (tmp_path / '1-unit-ros.status').write_text('2\n')  # interrupted: no report of failures
+    assert tier_summary.main(['tier_summary', str(tmp_path)]) == 1
+    assert capsys.readouterr().out.splitlines()[-1] == 'make test: 1 of 2 tiers failed: unit-ros'

@@ -19,13 +19,17 @@ The closing lines of ``make test``: every tier's outcome, the failed tests of al
 folder, ``NAME.status`` (pytest's exit status) and ``NAME.xml`` (its JUnit report). ``python -m
 test_support.tier_summary FOLDER`` then prints a line per tier in the order they ran (its
 totals, as pytest's closing line gives them), the failed tests of every tier, and exits 1
-when any tier failed: a failure in the first tier no longer hides the tiers after it.
+when any tier failed: a failure in the first tier no longer hides the tiers after it. A tier
+that a ``-k`` of ``PYTEST_ARGS`` leaves without a test (pytest's exit 5) is no failure.
 """
 
 from pathlib import Path
 import sys
 from typing import List, Tuple
 from xml.etree import ElementTree
+
+# pytest's exit status when no test was selected (e.g. PYTEST_ARGS='-k name' leaves a tier none).
+NONE_SELECTED = 5
 
 
 def tier_report(status_file: Path) -> Tuple[int, str, List[str]]:
@@ -69,6 +73,9 @@ def main(argv: List[str]) -> int:
     for status_file in statuses:
         status, totals, failed = tier_report(status_file)
         name = status_file.stem.split('-', 1)[-1]
+        if status == NONE_SELECTED:
+            print(f'  {name}: {totals} (none selected)')
+            continue
         print(f'  {name}: {totals}' + (f' (exit {status})' if status else ''))
         if status:
             failed_tiers.append(name)
