@@ -299,8 +299,10 @@ def override_refusal(args: Sequence[str]) -> Optional[str]:
             continue
         try:
             parsed = yaml.safe_load(value)
-        except yaml.YAMLError as error:
-            return override_reason(name, f'not YAML: {getattr(error, "problem", None) or error}')
+        except (yaml.scanner.ScannerError, yaml.parser.ParserError) as error:
+            return override_reason(name, f'not YAML: {error.problem}')
+        except yaml.YAMLError:  # a tag PyYAML does not build: rcl decides
+            continue
         if isinstance(parsed, dict):
             return override_reason(name, 'a mapping, not a value')
     return None
