@@ -302,8 +302,10 @@ def test_grab_on_the_shipped_mug_with_no_workspace(ros, monkeypatch):
     monkeypatch.delenv('AMENT_PREFIX_PATH', raising=False)
     node = mug_node(ros, (ROOT / 'config' / 'mug.urdf').read_text())
     point = (HANDLE[0], HANDLE[1], HANDLE[2] + 0.3)
+    # The command reads the mesh too (trimesh): a loaded machine takes its time.
     result = run_while_spinning(ros, [str(BIN / 'mouse_target'), '--grab',
-                                      *(repr(c) for c in point)])
+                                      *(repr(c) for c in point), '--timeout', str(LONG)],
+                                timeout=2 * LONG)
     assert result.returncode == 0 and 'Traceback' not in result.stderr, result.stderr
     assert ros.spin_until(lambda: node.simulation.target == point)
 
@@ -326,7 +328,8 @@ def test_grab_on_a_mesh_this_machine_cannot_find_goes_out_unchecked(ros, monkeyp
     point = (HANDLE[0], HANDLE[1], HANDLE[2] + 0.3)
     environment = {k: v for k, v in os.environ.items() if k != 'AMENT_PREFIX_PATH'}
     result = run_while_spinning(ros, [str(BIN / 'mouse_target'), '--grab',
-                                      *(repr(c) for c in point)], env=environment)
+                                      *(repr(c) for c in point), '--timeout', str(LONG)],
+                                timeout=2 * LONG, env=environment)
     assert result.returncode == 0 and 'Traceback' not in result.stderr, result.stderr
     [warning] = [line for line in result.stderr.splitlines() if line.startswith('[WARN]')]
     assert "cannot check the grab against the body here: link 'mug' <collision>: mesh " \
