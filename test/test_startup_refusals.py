@@ -22,6 +22,7 @@ Each case is a params file a user could write; the node is started as ``ros2 run
 import json
 import os
 from pathlib import Path
+import select
 import signal
 import subprocess
 import sys
@@ -122,7 +123,9 @@ def test_the_shipped_urdfs_start_as_a_p_override(name, extra):
                                 '-p', f'body_link:={name}', *extra], env=environment,
                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     try:
-        first = process.stdout.readline()
+        # Its first line, or none by the deadline (a hang fails here instead of blocking).
+        ready = select.select([process.stdout], [], [], 120.0)[0]
+        first = process.stdout.readline() if ready else ''
     finally:
         process.send_signal(signal.SIGINT)
         rest, _ = process.communicate(timeout=60)
