@@ -3,7 +3,8 @@
 #   make venv   create/update .venv (only when requirements/setup files changed)
 #   make test   run the test suite with pytest, every tier in turn: unit and ros (a worker per
 #               core), the system tests that wait on their processes (two workers per core),
-#               then those marked alone, and browser when /usr/bin/chromium is there
+#               then those marked alone, and browser when /usr/bin/chromium is there; each tier
+#               runs whatever the one before did, and the last lines sum up every tier
 #   make test-unit  only the unit tier (pure code, no rclpy context, no process)
 #   make test-browser  only the browser tier (headless chromium on mouse_view)
 #   make test-loaded   make test RUNS times (3) while a process keeps a core busy
@@ -93,12 +94,21 @@ ALONE := $(if $(HAS_CHROMIUM),alone or browser,alone and not browser)
 NO_BROWSER := browser tier skipped: no $(CHROMIUM)
 NO_BROWSER += (apt-get install chromium, then make test-browser)
 
+# Every tier runs, whatever the tiers before it did: each line leaves the tier's exit status and
+# JUnit report in $(TIERS), and the last line prints each tier's totals and the failed tests of
+# all of them, and fails if any tier failed (test_support/tier_summary.py).
+# $(call tier,NAME,MARKERS,OPTIONS): one tier's pytest run.
 # -rs: every skipped test is listed with its reason, so a user sees what was not tested and why.
+TIERS := $(VENV)/test-tiers
+tier = $(VPY) -m pytest test/ -q -rs -m '$(2)' $(3) --junitxml=$(TIERS)/$(1).xml $(PYTEST_ARGS); \
+  echo $$? > $(TIERS)/$(1).status
 test: venv
-	$(VPY) -m pytest test/ -q -rs -m 'not system and not browser' $(PARALLEL) $(PYTEST_ARGS)
-	$(VPY) -m pytest test/ -q -rs -m 'system and not alone' $(SYSTEM_PARALLEL) $(PYTEST_ARGS)
+	rm -rf $(TIERS); mkdir -p $(TIERS)
+	$(call tier,1-unit-ros,not system and not browser,$(PARALLEL))
+	$(call tier,2-system,system and not alone,$(SYSTEM_PARALLEL))
 	$(if $(HAS_CHROMIUM),,@echo '$(NO_BROWSER)')
-	$(VPY) -m pytest test/ -q -rs -m '$(ALONE)' $(PYTEST_ARGS)
+	$(call tier,3-$(if $(HAS_CHROMIUM),alone-browser,alone),$(ALONE),)
+	$(VPY) -m test_support.tier_summary $(TIERS)
 
 test-browser: venv
 	$(VPY) -m pytest test/ -q -m browser $(PYTEST_ARGS)

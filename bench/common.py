@@ -194,8 +194,30 @@ def _cell(value, spec: str) -> str:
     return format(value, spec) if spec and not isinstance(value, str) else str(value)
 
 
-def section_markdown(section: dict) -> str:
-    """Return one section as markdown: heading, paragraph, table and notes."""
+def measured_line(measured: dict, run: Optional[dict] = None) -> str:
+    """
+    Return the line under a section that says which run measured it.
+
+    A section kept from an earlier run than ``run`` (the header's date and commit) says so,
+    with that run's peers and CPU where it recorded them: its rows are not the header's run.
+    """
+    when = f'{measured["date"]} (commit {measured["commit"]}'
+    peers = measured.get('peers')
+    if run is None or (measured['date'], measured['commit']) == (run['date'], run['commit']):
+        return f'_Measured on {when})._'
+    recorded = ('peers ' + ', '.join(f'{name} {version}' for name, version in peers.items())
+                if peers else 'its peers not recorded')
+    if measured.get('cpu'):
+        recorded += f', CPU {measured["cpu"]}'
+    return f"_Kept from an earlier run than the header's: measured on {when}; {recorded})._"
+
+
+def section_markdown(section: dict, run: Optional[dict] = None) -> str:
+    """
+    Return one section as markdown: heading, paragraph, table and notes.
+
+    :param run: the date and commit of the run that writes the file, to mark an older section.
+    """
     lines = [f'## {section["title"]}', '']
     if section.get('text'):
         lines += [section['text'], '']
@@ -216,8 +238,7 @@ def section_markdown(section: dict) -> str:
     if 'elapsed_s' in section:
         lines += [f'_Section run time: {section["elapsed_s"]:.0f} s._', '']
     if 'measured' in section:
-        measured = section['measured']
-        lines += [f'_Measured on {measured["date"]} (commit {measured["commit"]})._', '']
+        lines += [measured_line(section['measured'], run), '']
     return '\n'.join(lines)
 
 
@@ -235,7 +256,8 @@ def results_markdown(results: dict) -> str:
         f'- CPU: {machine["cpu"]}, {machine["cores"]} cores ({machine["cores_usable"]} usable)',
         f'- {machine["python_implementation"]} {machine["python"]}, numpy {machine["numpy"]}, '
         f'scipy {machine["scipy"]}, rclpy {machine.get("rclpy", "-")}',
-        f'- Peers: {peers}',
+        f'- Peers in this run: {peers}; a section kept from an earlier run (`--only`) says so '
+        'under it, with its own date, commit and peers',
         f'- Platform: {machine["platform"]}; load average at start (1, 5, 15 min): '
         + ', '.join(f'{x:.2f}' for x in machine['load_average_at_start']),
         f'- Suite run time: {results["elapsed_s"]:.0f} s'
@@ -246,7 +268,7 @@ def results_markdown(results: dict) -> str:
         if 'error' in section:
             lines += [f'## {name}', '', f'Failed: `{section["error"]}`', '']
         else:
-            lines.append(section_markdown(section))
+            lines.append(section_markdown(section, machine))
     return '\n'.join(lines).rstrip() + '\n'
 
 

@@ -22,7 +22,10 @@ Usage, from the repository's root: ``python -m bench.run_all [--quick] [--only N
 Each entry of ``SUITE`` names a module of this package whose ``run(quick)`` returns a section
 (see ``bench.common``). A new benchmark is one more module and one more entry. A section that
 raises is reported as failed and the rest still run; the peers (PyBullet, MuJoCo) are optional
-and their rows are skipped when they are not installed.
+and their rows are skipped when they are not installed (``make bench`` installs them,
+requirements/bench/; run directly, ``python -m bench.run_all`` says when they are missing). Each
+section records the date, commit and peers of the run that measured it; one kept from an earlier
+run (``--only``) is marked so in results.md.
 """
 
 import argparse
@@ -75,21 +78,26 @@ def kept_sections(path: Path, fresh: dict) -> dict:
     Return the sections of the results.json at ``path`` with ``fresh`` ones in their place.
 
     In SUITE's order; a kept section without its own date takes the date and commit of the run
-    that wrote the file.
+    that wrote the file, and one of that run takes its peers and CPU (from the file's header).
     """
     try:
         previous = json.loads(path.read_text())
     except (OSError, ValueError):
         return fresh
-    when = {'date': previous.get('machine', {}).get('date', '?'),
-            'commit': previous.get('machine', {}).get('commit', '?')}
+    machine = previous.get('machine', {})
+    when = {'date': machine.get('date', '?'), 'commit': machine.get('commit', '?')}
     merged = {}
     for name, _ in SUITE:
         if name in fresh:
             merged[name] = fresh[name]
         elif name in previous.get('sections', {}):
             merged[name] = dict(previous['sections'][name])
-            merged[name].setdefault('measured', when)
+            measured = dict(merged[name].get('measured', when))
+            if (measured['date'], measured['commit']) == (when['date'], when['commit']):
+                # Measured by the run the old file's header describes: its peers and CPU.
+                measured.setdefault('peers', machine.get('peers'))
+                measured.setdefault('cpu', machine.get('cpu'))
+            merged[name]['measured'] = {k: v for k, v in measured.items() if v is not None}
     return merged
 
 
@@ -113,8 +121,13 @@ def main(argv=None) -> int:
     machine = common.machine_info()
     print(f'machine: {machine["cpu"]}, {machine["cores"]} cores, Python {machine["python"]}, '
           f'numpy {machine["numpy"]}, peers {machine["peers"]}', flush=True)
+    missing = [name for name, version in machine['peers'].items() if 'not installed' in version]
+    if missing:
+        print(f'peers not installed here: {", ".join(missing)}; their rows are skipped '
+              '(make bench installs requirements/bench/)', flush=True)
     sections = {}
-    measured = {'date': machine['date'], 'commit': machine['commit']}
+    measured = {'date': machine['date'], 'commit': machine['commit'], 'peers': machine['peers'],
+                'cpu': machine['cpu']}
     for name, description in SUITE:
         if only and name not in only:
             continue

@@ -22,7 +22,9 @@ SIGINT, even started with SIGINT ignored (a background job of a script); and bot
 
 import argparse
 import math
+import os
 from pathlib import Path
+import shutil
 import signal
 import subprocess
 import sys
@@ -46,10 +48,10 @@ RADIUS = 2.0
 LONG = 60.0
 
 
-def run_while_spinning(ros, command, timeout=30.0) -> subprocess.CompletedProcess:
+def run_while_spinning(ros, command, timeout=30.0, env=None) -> subprocess.CompletedProcess:
     """Run ``command`` to completion while the in-process nodes spin; return its result."""
     process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                               text=True)
+                               text=True, env=env)
     try:
         assert ros.spin_until(lambda: process.poll() is not None, timeout=timeout), command
     finally:
@@ -272,6 +274,68 @@ def test_grab_within_the_margin_is_published_and_taken(ros, resting_node):
     assert result.returncode == 0, result.stderr
     assert ros.spin_until(lambda: resting_node.simulation.target == point)
     assert resting_node.get_parameter('anchor').value[0] == pytest.approx(point[0], abs=1e-6)
+
+
+ROOT = Path(__file__).resolve().parent.parent
+# The handle's outer face of the shipped mug, in its link frame (config/mug.yaml's anchor).
+HANDLE = (0.052, 0.0, 0.05)
+
+
+def mug_node(ros, description: str) -> MouseConstraintNode:
+    """Start the mug of ``description`` in-process, its link frame held at (0, 0, 0.3)."""
+    return ros.add(MouseConstraintNode(context=ros.context, parameter_overrides=[
+        Parameter('rate_hz', value=100.0), Parameter('robot_description', value=description),
+        Parameter('body_link', value='mug'), Parameter('density', value=2400.0),
+        Parameter('initial_position', value=[0.0, 0.0, 0.3]),
+        Parameter('gravity', value=[0.0, 0.0, 0.0]),
+        Parameter('hold_initial_anchor', value=False),
+        Parameter('marker_rate_hz', value=0.0), Parameter('diagnostics_rate_hz', value=0.0)]))
+
+
+def test_grab_on_the_shipped_mug_with_no_workspace(ros, monkeypatch):
+    """
+    No AMENT_PREFIX_PATH in the node's process nor mouse_target's: the mug's mesh is found.
+
+    A second terminal has no ``make run`` environment: the package finds its own
+    ``package://mouse_constraint_ros/`` files, and the grab on the handle is checked and taken.
+    """
+    monkeypatch.delenv('AMENT_PREFIX_PATH', raising=False)
+    node = mug_node(ros, (ROOT / 'config' / 'mug.urdf').read_text())
+    point = (HANDLE[0], HANDLE[1], HANDLE[2] + 0.3)
+    # The command reads the mesh too (trimesh): a loaded machine takes its time.
+    result = run_while_spinning(ros, [str(BIN / 'mouse_target'), '--grab',
+                                      *(repr(c) for c in point), '--timeout', str(LONG)],
+                                timeout=2 * LONG)
+    assert result.returncode == 0 and 'Traceback' not in result.stderr, result.stderr
+    assert ros.spin_until(lambda: node.simulation.target == point)
+
+
+def test_grab_on_a_mesh_this_machine_cannot_find_goes_out_unchecked(ros, monkeypatch, tmp_path):
+    """
+    The node's mesh is another package's, unknown where mouse_target runs: one line, published.
+
+    mouse_target cannot build the body's shape to check the grab; it says so in one warning
+    line (no traceback) and publishes the grab, which the node, which has the mesh, takes.
+    """
+    index = tmp_path / 'share' / 'ament_index' / 'resource_index' / 'packages'
+    index.mkdir(parents=True)
+    (index / 'cups').touch()
+    (tmp_path / 'share' / 'cups').mkdir()
+    shutil.copy(ROOT / 'config' / 'mug.stl', tmp_path / 'share' / 'cups' / 'mug.stl')
+    monkeypatch.setenv('AMENT_PREFIX_PATH', str(tmp_path))
+    node = mug_node(ros, (ROOT / 'config' / 'mug.urdf').read_text().replace(
+        'package://mouse_constraint_ros/config/mug.stl', 'package://cups/mug.stl'))
+    point = (HANDLE[0], HANDLE[1], HANDLE[2] + 0.3)
+    environment = {k: v for k, v in os.environ.items() if k != 'AMENT_PREFIX_PATH'}
+    result = run_while_spinning(ros, [str(BIN / 'mouse_target'), '--grab',
+                                      *(repr(c) for c in point), '--timeout', str(LONG)],
+                                timeout=2 * LONG, env=environment)
+    assert result.returncode == 0 and 'Traceback' not in result.stderr, result.stderr
+    [warning] = [line for line in result.stderr.splitlines() if line.startswith('[WARN]')]
+    assert "cannot check the grab against the body here: link 'mug' <collision>: mesh " \
+           "'package://cups/mug.stl' cannot be resolved" in warning
+    assert warning.endswith('publishing it unchecked')
+    assert ros.spin_until(lambda: node.simulation.target == point)
 
 
 def test_subscribers_waits_for_that_many_and_says_how_many_matched(ros, node):

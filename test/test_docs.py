@@ -232,3 +232,20 @@ def test_every_benchmark_the_pages_name_is_in_make_bench():
              for name in re.findall(r'python -m bench\.(\w+)', page.read_text())}
     assert len(named) > 10
     assert not {(str(page), name) for page, name in named if name not in suite}
+
+
+def test_readme_places_anchor_initial_position_and_pose_in_the_link_frame_of_a_urdf():
+    """
+    With a URDF, anchor, initial_position and pose are of the link frame (docs/bodies.md).
+
+    README's table and conventions say so: the body frame is the box's COM, a URDF's link frame.
+    """
+    text = README.read_text()
+    section = text.split('### Parameters', 1)[1].split('\n## ', 1)[0]
+    rows = {row.split('|')[1].strip(' `'): row for row in section.splitlines()
+            if row.startswith('| `')}
+    for name in ('anchor', 'initial_position'):
+        assert "a URDF's link frame" in rows[name] and 'COM position' not in rows[name], name
+    conventions = ' '.join(text.split('Conventions: ', 1)[1].split('`twist`', 1)[0].split())
+    assert '`pose` is the position and orientation' in conventions
+    assert "a URDF's link frame" in conventions and 'whose origin is the COM' not in conventions

@@ -118,23 +118,40 @@ def loop_node(ros):
 
 
 def test_a_node_served_by_its_loop_ticks_at_its_rate_with_no_rclpy_timer(loop_node):
-    """loop_ticks: the ticks are run_due's; 0.5 s of wall time holds the rate's ticks."""
+    """
+    loop_ticks: the ticks are run_due's, on the rate's grid, none before its time.
+
+    The loop runs until 100 ticks ran: their stamps lie on the 5 ms grid, the last not after
+    the node's clock, and every grid tick between the first and the last was run or counted as
+    dropped (a process kept off the core past the catch-up bound drops ticks, and says so).
+    How many ticks a second the executable sustains is the machine's: ``make bench``
+    (``bench.node_rate``).
+    """
     node, executor = loop_node
     ticker = node.ticker
+    record = ticker.record
     assert ticker.driver is Driver.NODE_CLOCK and type(ticker.timer) is LoopTimer
     assert ticker.timer.timer_period_ns == 5 * MS
     assert not node.timers or all(t.timer_period_ns != 5 * MS for t in node.timers)
     # Unpaced, nobody runs the ticks.
     spin_until(executor, StopRequest(), deadline=time.monotonic() + 0.1)
-    assert ticker.record.ticks_run == 0
-    start = time.monotonic()
-    ran_before = ticker.record.ticks_run
-    spin_until(executor, StopRequest(), deadline=start + 0.5, pace=ticker.run_due)
-    elapsed = time.monotonic() - start
-    ran = ticker.record.ticks_run - ran_before
-    # Every tick of the grid in the window, give or take the window's two ends.
-    assert abs(ran - 200.0 * elapsed) <= 2, (ran, elapsed)
-    assert ticker.record.dropped_ticks == 0
+    assert record.ticks_run == 0
+
+    def run_until(ticks: int) -> None:
+        ended = spin_until(executor, StopRequest(), deadline=time.monotonic() + 60.0,
+                           condition=lambda: record.ticks_run >= ticks, pace=ticker.run_due)
+        assert ended is SpinEnd.CONDITION
+
+    run_until(1)
+    first, ran_before = record.stamp_ns, record.ticks_run
+    handled_before = record.ticks_run + record.dropped_ticks
+    run_until(ran_before + 100)
+    now = node.get_clock().now().nanoseconds
+    span = record.stamp_ns - first
+    ran = record.ticks_run - ran_before
+    handled = record.ticks_run + record.dropped_ticks - handled_before
+    assert span % (5 * MS) == 0 and record.stamp_ns <= now
+    assert ran * 5 * MS <= span <= handled * 5 * MS, (ran, handled, span)
 
 
 def test_a_late_loop_call_runs_its_tick_before_the_messages_queued_meanwhile(ros):

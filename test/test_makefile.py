@@ -322,3 +322,84 @@ def test_make_run_starts_the_shipped_mug_with_its_package_mesh():
         rest, _ = process.communicate(timeout=30)
     assert process.returncode == -signal.SIGINT, out + rest
     assert b'Traceback' not in out + rest, out + rest
+
+
+# A stand-in for the venv's python: ``-m pytest`` prints a closing line and writes a JUnit
+# report, failing the tier whose marker expression is FAILING; anything else runs for real.
+FAKE_PYTEST = """#!{python}
+import os, sys
+arguments = sys.argv[1:]
+if arguments[:2] != ['-m', 'pytest']:
+    os.execv(sys.executable, [sys.executable, *arguments])
+markers = arguments[arguments.index('-m', 2) + 1]
+report = next((a.split('=', 1)[1] for a in arguments if a.startswith('--junitxml=')), None)
+failing = markers == {failing!r}
+cases = '<testcase classname="test.test_fake" name="test_fine" time="0.1"/>'
+if failing:
+    cases += ('<testcase classname="test.test_fake" name="test_broken" time="0.1">'
+              '<failure message="assert 3 &lt;= 2"/></testcase>')
+with open(report or os.devnull, 'w') as out:
+    out.write('<testsuites><testsuite name="pytest" tests="%d" failures="%d" errors="0" '
+              'skipped="0" time="0.2">%s</testsuite></testsuites>'
+              % (1 + failing, int(failing), cases))
+print('ran tier', markers)
+print('1 failed, 1 passed in 0.20s' if failing else '1 passed in 0.10s')
+sys.exit(1 if failing else 0)
+"""
+
+
+@pytest.mark.system
+@pytest.mark.parametrize('failing', ['not system and not browser', None])
+def test_make_test_runs_every_tier_and_sums_them_up_at_the_end(failing, tmp_path):
+    """
+    A failed tier does not stop the others: each runs, the last lines name what failed.
+
+    The recipe runs for real with a venv whose pytest fails the unit and ros tier (or none):
+    the system and the alone tiers still run, then each tier's totals and the failed test are
+    printed, and make exits non-zero; with none failing it exits 0.
+    """
+    venv = tmp_path / 'venv'
+    (venv / 'bin').mkdir(parents=True)
+    python = venv / 'bin' / 'python'
+    python.write_text(FAKE_PYTEST.format(python=sys.executable, failing=failing))
+    python.chmod(0o755)
+    (venv / '.stamp').touch()  # newer than the requirements: nothing to install
+    result = subprocess.run(['make', '--no-print-directory', 'test', f'VENV={venv}',
+                             'CHROMIUM=/nonexistent/chromium'], cwd=ROOT,
+                            stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                            timeout=120)
+    out = result.stdout
+    tiers = re.findall(r'^ran tier (.*)$', out, re.MULTILINE)
+    assert tiers == ['not system and not browser', 'system and not alone',
+                     'alone and not browser'], out + result.stderr
+    summary = out[out.index('make test, every tier:'):].splitlines()
+    if failing is None:
+        assert result.returncode == 0, out + result.stderr
+        assert summary == ['make test, every tier:', '  unit-ros: 1 passed in 0.2 s',
+                           '  system: 1 passed in 0.2 s', '  alone: 1 passed in 0.2 s',
+                           'make test: all 3 tiers passed']
+    else:
+        assert result.returncode != 0
+        assert summary == ['make test, every tier:',
+                           '  unit-ros: 1 failed, 1 passed in 0.2 s (exit 1)',
+                           '  system: 1 passed in 0.2 s', '  alone: 1 passed in 0.2 s',
+                           '  FAILED test/test_fake.py::test_broken',
+                           'make test: 1 of 3 tiers failed: unit-ros'], out
+
+
+def test_a_tier_left_without_a_test_by_a_filter_is_no_failure(tmp_path, capsys):
+    """Exit 5 of pytest (none selected, e.g. PYTEST_ARGS='-k name'): said, not a failure."""
+    from test_support import tier_summary
+
+    report = ('<testsuites><testsuite name="pytest" tests="{}" failures="0" errors="0" '
+              'skipped="0" time="1.0"></testsuite></testsuites>')
+    for name, status, tests in (('1-unit-ros', 0, 2), ('2-system', 5, 0)):
+        (tmp_path / f'{name}.status').write_text(f'{status}\n')
+        (tmp_path / f'{name}.xml').write_text(report.format(tests))
+    assert tier_summary.main(['tier_summary', str(tmp_path)]) == 0
+    assert capsys.readouterr().out.splitlines() == [
+        'make test, every tier:', '  unit-ros: 2 passed in 1.0 s',
+        '  system: no tests ran in 1.0 s (none selected)', 'make test: all 2 tiers passed']
+    (tmp_path / '1-unit-ros.status').write_text('2\n')  # interrupted: no report of failures
+    assert tier_summary.main(['tier_summary', str(tmp_path)]) == 1
+    assert capsys.readouterr().out.splitlines()[-1] == 'make test: 1 of 2 tiers failed: unit-ros'

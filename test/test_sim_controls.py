@@ -31,6 +31,7 @@ from rclpy.parameter import Parameter
 from rosgraph_msgs.msg import Clock
 from std_srvs.srv import SetBool, Trigger
 
+from mouse_constraint_ros.node import clock_ticks
 from mouse_constraint_ros.node.mouse_constraint_node import (CLOCK_LOOP, MouseConstraintNode,
                                                              StartupRefusal)
 from mouse_constraint_ros.timing.sim_clock import SimulatedClock
@@ -426,24 +427,53 @@ def test_publish_clock_with_use_sim_time_is_refused(ros):
     assert not node.get_clock().ros_time_is_active
 
 
-def test_the_factor_changes_at_run_time_without_a_jump(ros):
-    """ros2 param set real_time_factor: /clock goes on from where it stood, at the new pace."""
+class SetWall:
+    """The steady clock the node's pacing reads (ns): it stands until the test moves it."""
+
+    def __init__(self, now: int) -> None:
+        self.now = now
+        self.reads = 0
+
+    def monotonic_ns(self) -> int:
+        self.reads += 1
+        return self.now
+
+
+def test_the_factor_changes_at_run_time_without_a_jump(ros, monkeypatch):
+    """
+    ros2 param set real_time_factor: /clock goes on from where it stood, at the new pace.
+
+    In lockstep with the wall clock the pacing reads, which the test moves: each step of it
+    makes the ticks due, and the test spins until /clock shows the last of them. At factor 1,
+    80 ms of wall time are 80 ms of /clock; after the change, 1 s of wall time is 3 s of
+    /clock on from the value it stood at, every value 4 ms after the one before.
+    """
+    wall = SetWall(10 * S)
+    monkeypatch.setattr(clock_ticks, 'time', wall)
     start_node(ros, publish_clock=True, rate_hz=250.0, real_time_factor=1.0,
                marker_rate_hz=0.0)
     clocks = ros.collect(Clock, '/clock', depth=10000)
-    assert ros.spin_until(lambda: len(clocks) > 10)
+
+    def step_wall(wall_ns: int, clock_ns: int) -> None:
+        wall.now += wall_ns
+        assert ros.spin_until(lambda: clocks and stamp_ns(clocks[-1].clock) == clock_ns), (
+            wall.now, stamp_ns(clocks[-1].clock) if clocks else None)
+
+    assert ros.spin_until(lambda: wall.reads > 0)  # the pacing starts at this wall time
+    step_wall(80 * MS, 80 * MS)
     client = ros.probe.create_client(SetParameters, '/mouse_constraint/set_parameters')
     assert client.wait_for_service(timeout_sec=5.0)
     value = ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=3.0)
     future = client.call_async(SetParameters.Request(parameters=[
         ParameterMessage(name='real_time_factor', value=value)]))
     assert ros.spin_until(future.done) and future.result().results[0].successful
-    changed, started = len(clocks), time.monotonic()
-    ros.spin_for(1.0)
-    wall = time.monotonic() - started
+    reads = wall.reads
+    assert ros.spin_until(lambda: wall.reads > reads)  # paced anew from this wall time
+    for k in range(1, 51):
+        step_wall(20 * MS, 80 * MS + k * 60 * MS)
     values = np.array([stamp_ns(c.clock) for c in clocks])
     np.testing.assert_array_equal(np.diff(values), 4 * MS)
-    assert (values[-1] - values[changed - 1]) * 1e-9 == pytest.approx(3.0 * wall, rel=0.1)
+    assert values[-1] == 80 * MS + 3 * S
 
 
 @pytest.mark.system

@@ -21,7 +21,8 @@ import pytest
 from rclpy.parameter import Parameter
 
 from mouse_constraint_ros.node.parameters import DEFAULTS, node_config, PARAMETERS
-from mouse_constraint_ros.node.startup import (CLOCK_LOOP, clock_loop, describe, rcl_reason,
+from mouse_constraint_ros.node.startup import (CLOCK_LOOP, clock_loop, describe,
+                                               override_refusal, rcl_reason,
                                                refusal_reason, requested_logger_name, type_hint,
                                                TYPE_NAMES, unknown_parameter_warnings, value_type,
                                                yaml_text)
@@ -162,3 +163,35 @@ def test_rcls_reason_loses_its_source_locations_and_gains_the_fix():
     assert reason.endswith('e.g. [0.2, 0.0, 0.05])')
     assert rcl_reason(RuntimeError('Error opening YAML file, at ./x.c:1')).endswith(
         '(no such file, or not readable)')
+
+
+URDF_WITH_A_COMMENT = ('<?xml version="1.0"?>\n<!-- A box. Run it: make run -->\n'
+                       '<robot name="r"><link name="b"/></robot>')
+
+
+def test_an_override_rcl_cannot_take_is_named_with_the_way_round():
+    """
+    -p robot_description:="$(cat f.urdf)" with ': ' in a comment: the cause and the params file.
+
+    rcl reads the value as YAML, which makes it a mapping or an error; a value that is text,
+    a number or a list passes, and so does the same name outside -p.
+    """
+    args = ['mouse_constraint_node', '--ros-args', '-p', 'body_link:=b',
+            '-p', f'robot_description:={URDF_WITH_A_COMMENT}']
+    reason = override_refusal(args)
+    assert reason.startswith("Couldn't parse parameter override rule: -p robot_description:=...")
+    assert "rcl reads an override's value as YAML, where ': ' and ' #' are not text" in reason
+    assert 'make run URDF=path/to.urdf' in reason and '--params-file out.yaml' in reason
+    assert '\n' not in reason
+    mapping = override_refusal(['n', '--ros-args', '-p', 'frame_id:=a: b'])
+    assert '-p frame_id:=... (a mapping, not a value;' in mapping
+    assert mapping.endswith('or use --params-file')
+    for fine in ('frame_id:=odom', 'gravity:=[0.0, 0.0, -1.0]', "frame_id:='a: b'",
+                 f'robot_description:={URDF_WITH_A_COMMENT.replace(": ", " ")}'):
+        assert override_refusal(['n', '--ros-args', '-p', fine]) is None, fine
+    assert override_refusal(['n', '--ros-args', '-r', 'a:=b: c']) is None
+    # What rcl says when it refuses one itself: the same line.
+    error = RuntimeError("failed to initialize rcl: Couldn't parse parameter override rule: "
+                         f"'-p robot_description:={URDF_WITH_A_COMMENT[:60]}, at ./a.c:1")
+    assert rcl_reason(error).startswith(
+        "Couldn't parse parameter override rule: -p robot_description:=... (rcl cannot parse it;")

@@ -20,7 +20,10 @@ Each case is a params file a user could write; the node is started as ``ros2 run
 """
 
 import json
+import os
 from pathlib import Path
+import select
+import signal
 import subprocess
 import sys
 
@@ -90,6 +93,44 @@ def test_a_file_rcl_cannot_parse_is_one_line(tmp_path):
     assert "cannot start: Couldn't parse params file" in line
     assert 'Sequence should be of same type' in line and 'e.g. [0.2, 0.0, 0.05]' in line
     assert '.c:' not in line  # no rcl source locations
+
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def test_a_urdf_as_a_p_override_that_rcl_cannot_take_is_one_line():
+    """-p robot_description:= a URDF whose comment holds ': ': one line with the way round."""
+    text = (ROOT / 'config' / 'tool.urdf').read_text().replace('tool, a', 'tool: a')
+    result = run_node('-p', f'robot_description:={text}', '-p', 'body_link:=tool')
+    assert result.returncode == 1
+    line = the_one_line(result)
+    assert "cannot start: Couldn't parse parameter override rule: -p robot_description:=..." \
+        in line and 'make run URDF=path/to.urdf' in line
+
+
+@pytest.mark.parametrize('name, extra', [('tool', ()), ('mug', ('-p', 'density:=2400.0'))])
+def test_the_shipped_urdfs_start_as_a_p_override(name, extra):
+    """
+    The ROS habit ``-p robot_description:="$(cat config/tool.urdf)"`` starts the shipped bodies.
+
+    Their text is a YAML string (no ': ' or ' #' in their comments); the mug's package:// mesh
+    is the package's own, found with no workspace. The node starts and says the link; SIGINT
+    ends it with 0.
+    """
+    text = (ROOT / 'config' / f'{name}.urdf').read_text()
+    environment = {k: v for k, v in os.environ.items() if k != 'AMENT_PREFIX_PATH'}
+    process = subprocess.Popen([NODE, '--ros-args', '-p', f'robot_description:={text}',
+                                '-p', f'body_link:={name}', *extra], env=environment,
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        # Its first line, or none by the deadline (a hang fails here instead of blocking).
+        ready = select.select([process.stdout], [], [], 120.0)[0]
+        first = process.stdout.readline() if ready else ''
+    finally:
+        process.send_signal(signal.SIGINT)
+        rest, _ = process.communicate(timeout=60)
+    assert f"link '{name}' (COM" in first, first + rest
+    assert process.returncode == 0, first + rest
 
 
 def test_a_missing_params_file_is_one_line(tmp_path):

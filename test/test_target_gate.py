@@ -23,13 +23,16 @@ import dataclasses
 import itertools
 import math
 
+from geometry_msgs.msg import PoseStamped
 import numpy as np
 import pytest
+from rclpy.node import Node
 
 from mouse_constraint_ros.cli.target import circle_point
 from mouse_constraint_ros.inputs.target_gate import REASONS
 from mouse_constraint_ros.inputs.target_gate import TargetGate
 from mouse_constraint_ros.testing import InputRefused
+from mouse_constraint_ros.wire.interface import TARGET_POSE_QOS, TARGET_POSE_TOPIC
 
 FRAME = 'odom'
 RADIUS = 5.0
@@ -80,6 +83,34 @@ def test_refusal_reasons_say_why():
     assert far.key == 'workspace' and str((1e9, 0.0, 0.0)) in far.reason
     assert f'workspace_radius {gate.workspace_radius:g} m' in far.reason
     assert gate.refusal('', [1, 2, 3]) is None
+
+
+def test_a_device_pose_in_another_frame_names_the_node_s_frame_and_the_device_s():
+    """A device pose's gate says both frames: the node's frame_id, the device_frame_id."""
+    gate = TargetGate('fd_base', math.inf, 'world')
+    assert gate.refusal('geotouch', (0.0, 0.0, 0.0)) == (
+        'frame', "in frame 'geotouch': this node works in 'world' and takes device poses in "
+                 "'fd_base' (device_frame_id); no tf lookup is made")
+    assert gate.refusal('fd_base', (0.0, 0.0, 0.0)) is None
+    assert TargetGate('world', 1.0, 'world').refusal('map', (0.0, 0.0, 0.0)) == (
+        'frame', "in frame 'map': this node works in 'world' (no tf lookup is made)")
+
+
+def test_the_node_refuses_a_device_pose_in_another_frame_naming_both(simulated_body_factory):
+    """device_frame_id fd_base, a pose in geotouch: the refusal says world and fd_base."""
+    body = simulated_body_factory(device_frame_id='fd_base', marker_rate_hz=0.0,
+                                  diagnostics_rate_hz=0.0)
+    device = body.add_node(Node('device', context=body.context))
+    publisher = device.create_publisher(PoseStamped, TARGET_POSE_TOPIC, TARGET_POSE_QOS)
+    body.step()
+    pose = PoseStamped()
+    pose.header.frame_id = 'geotouch'
+    pose.pose.orientation.w = 1.0
+    publisher.publish(pose)
+    body.step_until(lambda: body.node.refusals[0] > 0, max_ticks=100)
+    assert body.node.refusals[1].reason == (
+        "in frame 'geotouch': this node works in 'world' and takes device poses in 'fd_base' "
+        '(device_frame_id); no tf lookup is made')
 
 
 def test_gate_is_a_frozen_value():

@@ -121,3 +121,16 @@ def test_the_params_file_carries_the_urdf_text_whole(tmp_path):
         assert target.read_text() == params_text(text)
     assert main([str(tmp_path / 'absent.urdf'), str(tmp_path / 'out.yaml')]) == 2
     assert main([]) == 2
+
+
+def test_each_example_is_text_to_yaml_as_a_p_override():
+    """
+    The shipped URDFs read as one YAML string: ``-p robot_description:="$(cat f.urdf)"`` works.
+
+    rcl reads an override's value as YAML: a ': ' or ' #' in a comment would make the text a
+    mapping or cut it short.
+    """
+    for urdf in sorted(CONFIG.glob('*.urdf')):
+        text = urdf.read_text()
+        assert isinstance(yaml.safe_load(text), str), urdf.name
+        assert ': ' not in text and ' #' not in text, urdf.name

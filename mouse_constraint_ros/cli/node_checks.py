@@ -109,6 +109,7 @@ def grab_refusal(node: Node, executor, target_node: str, point: List[float], dea
     ``box_size``) and ``grab_margin``.
 
     :raises RuntimeError: saying why the body could not be read by ``deadline``.
+    :raises ValueError: the node's shape cannot be read here (a mesh this machine lacks).
     :raises Interrupted: on Ctrl-C or SIGTERM.
     """
     values = fetch_parameters(node, executor, target_node, GRAB_PARAMETERS, deadline, stop)

@@ -223,6 +223,10 @@ def main(args: Optional[List[str]] = None) -> int:
                         logger.warning(f'cannot check the grab against the body: {error} '
                                        f'within {options.timeout:g} s; publishing it unchecked')
                         off = None
+                    except ValueError as error:  # a shape this machine cannot read
+                        logger.warning(f'cannot check the grab against the body here: {error};'
+                                       ' publishing it unchecked')
+                        off = None
                     if off is not None:
                         logger.error(f'{options.node} would ignore grab {off}; nothing '
                                      'published')

@@ -23,6 +23,9 @@ work. trimesh reads the file, bounded: at most ``MAX_MESH_BYTES`` on disk and
 together at most ``MAX_LINK_MESH_BYTES`` (checked before any is read) and its references
 ``MAX_LINK_FACES`` triangles (checked after each file is read once, before any is scaled or
 hulled).
+
+This package finds its own ``package://`` files where the index does not list it
+(``own_share``).
 """
 
 import os
@@ -32,6 +35,8 @@ from urllib.parse import unquote, urlparse
 
 import numpy as np
 import trimesh
+
+from .own_share import own_share, PACKAGE
 
 # The largest mesh file read (bytes) and the most triangles kept: a collision mesh is a
 # simplified surface; a scan of millions of triangles is decimated first (e.g. in MeshLab).
@@ -47,7 +52,21 @@ PackageFinder = Callable[[str], str]
 
 
 def ament_share(package: str) -> str:
-    """Return the share directory of ``package`` from the ament index, or raise LookupError."""
+    """
+    Return the share directory of ``package`` from the ament index, or raise LookupError.
+
+    This package finds its own where the index does not list it (``own_share``).
+    """
+    try:
+        return _indexed_share(package)
+    except LookupError:
+        share = own_share() if package == PACKAGE else None
+        if share is None:
+            raise
+        return share
+
+
+def _indexed_share(package: str) -> str:
     try:
         from ament_index_python.packages import (get_package_share_directory,
                                                  PackageNotFoundError)

@@ -23,6 +23,7 @@ imported here, when the first robot loads: the box and single-link routes never 
 from typing import NamedTuple
 
 from .robot_structure import FIXED_BASE, FLOATING_BASE, robot_structure, RobotStructure
+from .xml_declaration import as_xml_1_0
 from ..physics.algebra import Quaternion, Vector3
 
 
@@ -44,6 +45,7 @@ def load_robot(text: str, *, base: str = FIXED_BASE, base_position: Vector3 = (0
     :param base_position: the fixed base's position (m).
     :param base_orientation: the fixed base's orientation (x, y, z, w).
     """
+    text = as_xml_1_0(text)  # pybullet's URDFs declare version 0.0
     structure = robot_structure(text)
     if structure.fixed_to_world:
         if base == FLOATING_BASE:

@@ -31,6 +31,7 @@ import numpy as np
 from .body_geometry import BodyGeometry, Piece
 from .mesh_files import ament_share, MeshFiles, PackageFinder
 from .urdf_link import _piece, _prefixed
+from .xml_declaration import as_xml_1_0
 
 
 class RobotLinks(NamedTuple):
@@ -66,7 +67,7 @@ def robot_links(text: str, *, find_package: PackageFinder = ament_share,
     level = logger.level
     logger.setLevel(logging.CRITICAL)
     try:
-        urdf = yourdfpy.URDF.load(io.BytesIO(text.encode()), build_scene_graph=False,
+        urdf = yourdfpy.URDF.load(io.BytesIO(as_xml_1_0(text).encode()), build_scene_graph=False,
                                   load_meshes=False, load_collision_meshes=False)
     except (ValueError, KeyError, TypeError, AttributeError) as error:
         raise ValueError(f'robot_description is not a valid URDF: {type(error).__name__} '

@@ -31,6 +31,7 @@ from typing import List, Optional, Sequence
 from lxml import etree
 
 from .text_size import oversized
+from .xml_declaration import as_xml_1_0
 from ..physics.limits import MAX_DISTANCE
 
 # The shapes one <geometry> holds.
@@ -50,7 +51,7 @@ def checked_root(text: str) -> etree._Element:
     too_long = oversized(text)
     if too_long is not None:
         raise ValueError(too_long)
-    data = text.encode('utf-8', 'replace')
+    data = as_xml_1_0(text).encode('utf-8', 'replace')  # pybullet's URDFs declare 0.0
     try:
         root = etree.fromstring(data, etree.XMLParser(resolve_entities=False, no_network=True))
     except etree.XMLSyntaxError as error:

@@ -58,6 +58,8 @@ class TargetGate:
 
     frame_id: str
     workspace_radius: float
+    # The node's frame_id when this gate takes a device's poses in another (device_frame_id).
+    node_frame_id: str = ''
 
     def refusal(self, frame: str, point: Sequence[float]) -> Optional[Refusal]:
         """
@@ -94,6 +96,11 @@ class TargetGate:
                  described: Optional[str]) -> Optional[Refusal]:
         # On the node's path for every target: the reason text is only built for a refusal.
         if frame and frame != self.frame_id:
+            if self.node_frame_id and self.node_frame_id != self.frame_id:
+                return Refusal('frame', f'in frame {frame!r}: this node works in '
+                                        f'{self.node_frame_id!r} and takes device poses in '
+                                        f'{self.frame_id!r} (device_frame_id); no tf lookup '
+                                        'is made')
             return Refusal('frame', f'in frame {frame!r}: this node works in '
                                     f'{self.frame_id!r} (no tf lookup is made)')
         x, y, z = point

@@ -53,14 +53,15 @@ from .parameters import node_config, NodeConfig, PARAMETERS
 from .simulator_controls import SimulatorControls
 # CLOCK_LOOP and StartupRefusal: importable from the node, where its refusals come from.
 from .startup import (CLOCK_LOOP, clock_loop, describe, hold_here,  # noqa: F401
-                      rcl_reason, requested_logger_name, StartupRefusal,
-                      unknown_parameter_warnings)
+                      override_refusal, rcl_reason, requested_logger_name,
+                      StartupRefusal, unknown_parameter_warnings)
 from .target_input import TargetInput
 from .tick import Tick
 from .tick_record import TickRecord
 from .ticker import Ticker
 from .usage import asks_for_help, refuse_unknown_arguments, usage_text
 from .wrench_input import WrenchInput
+from ..description.xml_declaration import version_note
 from ..inputs.target_gate import Refusal
 from ..inputs.throttle import RefusalLog, Throttle
 from ..physics import MouseSimulation
@@ -199,6 +200,8 @@ class MouseConstraintNode(Node):
 
     def _publish_description(self, text: str) -> None:
         """Offer ``robot_description`` on its topic (latched) when it is set, as RViz reads it."""
+        if text and version_note(text):
+            self.get_logger().warning(version_note(text))
         if text:
             self._description.publish(String(data=text))
 
@@ -335,6 +338,11 @@ def main(args: Optional[List[str]] = None) -> int:
     if asks_for_help(sys.argv if args is None else args):
         print(usage_text())
         return 0
+    refusal = override_refusal(sys.argv if args is None else args)
+    if refusal is not None:
+        name = requested_logger_name(sys.argv if args is None else args, NODE_NAME)
+        rclpy.logging.get_logger(name).fatal(f'cannot start: {refusal}')
+        return 1
     # rcl logs "Failed to parse global arguments" of its own before it raises; the FATAL line
     # below says it all, and with the reason.
     quiet = rclpy.logging.LoggingSeverity.FATAL

@@ -19,8 +19,10 @@ Start-up refuses what it cannot run with one FATAL line tagged with the node's r
 exit 1: a parameter of the wrong type or out of its declared range (``refusal_reason``, also
 the reason of such a change refused at run time, which rclpy refuses before the node sees it), a
 configuration that is not valid as a whole (``node_config``'s reason), both ``publish_clock``
-and ``use_sim_time`` (``CLOCK_LOOP``), or a params file rcl cannot read (``rcl_reason``, under
-the name ``requested_logger_name`` finds in the command line, as rcl cannot say it then).
+and ``use_sim_time`` (``CLOCK_LOOP``), a params file rcl cannot read (``rcl_reason``, under
+the name ``requested_logger_name`` finds in the command line, as rcl cannot say it then), or a
+``-p name:=value`` that rcl cannot take (``override_refusal``, said before rcl says it at
+length: a URDF's text, whose comments hold ``: ``).
 Unknown keys in the parameters given to the node are not an error (one file may serve several
 nodes) but are warned about, with the nearest known name (``unknown_parameter_warnings``).
 
@@ -40,6 +42,8 @@ from ..physics.settings import force_bound
 CLOCK_LOOP = ('publish_clock: true with use_sim_time: true: a node cannot follow the clock it '
               'publishes itself (set use_sim_time false, or publish_clock false to follow '
               'another /clock)')
+# rcl's words for a ``-p name:=value`` it cannot take.
+OVERRIDE_PARSE_ERROR = "Couldn't parse parameter override rule"
 # Parameters rclpy declares or reads by itself; not unknown keys.
 RCLPY_PARAMETER_PREFIXES = ('use_sim_time', 'start_type_description_service', 'qos_overrides.')
 # How the refusals name each rclpy parameter type (by its ``Parameter.Type`` name).
@@ -263,10 +267,56 @@ def requested_logger_name(args: Sequence[str], node_name: str) -> str:
     return '.'.join(part for part in namespace.split('/') + [name] if part)
 
 
+def override_reason(name: str, problem: str) -> str:
+    """
+    Return why rcl cannot take ``-p name:=value`` (``problem``), and the way round.
+
+    A URDF's text given as ``-p robot_description:="$(cat f.urdf)"`` is such a value: rcl reads
+    every override as YAML, and a ``: `` in the text (an XML comment's) makes it no string.
+    """
+    line = (f"{OVERRIDE_PARSE_ERROR}: -p {name}:=... ({problem}; rcl reads an override's value "
+            "as YAML, where ': ' and ' #' are not text)")
+    if name.rpartition(':')[2] == 'robot_description':
+        return (line + '; give the URDF as a file: make run URDF=path/to.urdf, or python -m '
+                'mouse_constraint_ros.cli.urdf_params path/to.urdf out.yaml and --params-file '
+                'out.yaml')
+    return line + f'; quote the value as YAML text (-p "{name}:=\'...\'") or use --params-file'
+
+
+def override_refusal(args: Sequence[str]) -> Optional[str]:
+    """
+    Return why rcl would refuse a ``-p name:=value`` of ``args``, before rcl prints it; or None.
+
+    rcl takes a scalar or a list as an override; a value YAML reads as a mapping, or cannot
+    read, it refuses with a message that holds the whole value (cut at 1024 characters).
+
+    :param args: the command line (``sys.argv``).
+    """
+    import yaml
+
+    arguments = list(args)
+    for flag, rule in zip(arguments, arguments[1:]):
+        name, assigned, value = rule.partition(':=')
+        if flag not in ('-p', '--param') or not assigned:
+            continue
+        try:
+            parsed = yaml.safe_load(value)
+        except (yaml.scanner.ScannerError, yaml.parser.ParserError) as error:
+            return override_reason(name, f'not YAML: {error.problem}')
+        except yaml.YAMLError:  # a tag PyYAML does not build: rcl decides
+            continue
+        if isinstance(parsed, dict):
+            return override_reason(name, 'a mapping, not a value')
+    return None
+
+
 def rcl_reason(error: object) -> str:
     """Return rcl's start-up error as one line: its sentence, without rcl's source locations."""
     text = re.sub(r', at \S+:\d+', '', str(error)).strip()
     text = re.sub(r'^failed to initialize rcl: ', '', text)
+    override = re.match(re.escape(OVERRIDE_PARSE_ERROR) + r": '-p ([^=\s]+):=", text)
+    if override:
+        return override_reason(override.group(1), 'rcl cannot parse it')
     if 'Sequence should be of same type' in text:
         text += (' (a list holds one type: write every number of a list of doubles with a '
                  'decimal point, e.g. [0.2, 0.0, 0.05])')

@@ -124,7 +124,8 @@ class TargetInput:
                 config.frame_id, config.workspace_radius):
             self._gate = TargetGate(config.frame_id, config.workspace_radius)
         # The device's frame (and finite coordinates) first; the workspace once mapped.
-        self._device_gate = TargetGate(config.device.pose_frame(config.frame_id), math.inf)
+        self._device_gate = TargetGate(config.device.pose_frame(config.frame_id), math.inf,
+                                       config.frame_id)
         self._device = config.device
         self._timeout = config.target_timeout
         self._gaps.configure(on=config.device.tick_source == 'target_pose',
