@@ -149,6 +149,8 @@ def generate_launch_description() -> LaunchDescription:
                         {'use_sim_time': use_sim_time,
                          'body_frame_id': LaunchConfiguration('body_frame_id'),
                          'robot_description': ParameterValue(urdf_text, value_type=str),
+                         # Mesh paths relative to the URDF file resolve against it.
+                         'robot_description_file': ParameterValue(urdf, value_type=str),
                          'body_link': LaunchConfiguration('body_link')}]),
         Node(
             package=PACKAGE, executable='mouse_marker', name=MARKER_NAME, namespace=namespace,

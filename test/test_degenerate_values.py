@@ -339,6 +339,7 @@ INVALID = {
     'body_frame_id': 'world',
     'robot_description': '<robot name="r"><link name="a"/>',
     'body_link': 'gripper',
+    'robot_description_file': 3,
     'density': -1.0,
     'base': 'hovering',
     'base_pose': [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],

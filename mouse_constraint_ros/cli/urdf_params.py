@@ -28,10 +28,18 @@ import sys
 from typing import List, Optional
 
 
-def params_text(urdf: str) -> str:
-    """Return a parameters file for every node setting ``robot_description`` to ``urdf``."""
+def params_text(urdf: str, path: str = '') -> str:
+    """
+    Return a parameters file for every node setting ``robot_description`` to ``urdf``.
+
+    :param path: the file ``urdf`` was read from (``robot_description_file``: relative mesh
+        paths resolve against its directory); empty: none.
+    """
     # A JSON string is a YAML double-quoted scalar: every character survives.
-    return f'/**:\n  ros__parameters:\n    robot_description: {json.dumps(urdf)}\n'
+    text = f'/**:\n  ros__parameters:\n    robot_description: {json.dumps(urdf)}\n'
+    if path:
+        text += f'    robot_description_file: {json.dumps(path)}\n'
+    return text
 
 
 def main(args: Optional[List[str]] = None) -> int:
@@ -43,7 +51,7 @@ def main(args: Optional[List[str]] = None) -> int:
         return 2
     source, target = (Path(a) for a in args)
     try:
-        Path(target).write_text(params_text(source.read_text()))
+        Path(target).write_text(params_text(source.read_text(), str(source.resolve())))
     except (OSError, UnicodeDecodeError) as error:
         print(f'urdf_params: {error}', file=sys.stderr)
         return 2

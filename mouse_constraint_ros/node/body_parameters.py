@@ -39,6 +39,10 @@ BODY_PARAMETERS: Tuple[tuple, ...] = (
      "COM from the link's <inertial>, grab and floor by its <collision> pieces, drawn by its "
      '<visual> ones; pose, TF, anchor and initial_position are of the link frame. Empty: the '
      'box of box_size, mass and inertia.', None),
+    ('robot_description_file', '',
+     'The file robot_description was read from (urdf:= and make run URDF= set it): mesh paths '
+     'relative to it resolve against its directory; with robot_description empty, the node '
+     'reads it. Read at start.', None),
     ('body_link', '',
      "The URDF link that is the body; empty: the URDF's only link.", None),
     ('density', 0.0,

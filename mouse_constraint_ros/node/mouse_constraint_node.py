@@ -61,6 +61,7 @@ from .tick_record import TickRecord
 from .ticker import Ticker
 from .usage import asks_for_help, refuse_unknown_arguments, usage_text
 from .wrench_input import WrenchInput
+from ..description.relative_meshes import described
 from ..description.xml_declaration import version_note
 from ..inputs.target_gate import Refusal
 from ..inputs.throttle import RefusalLog, Throttle
@@ -140,6 +141,7 @@ class MouseConstraintNode(Node):
         self.body_loads = BodyLoads(self, self._apply)
         try:
             declare(self, PARAMETERS)
+            self._read_description_file()
             config = node_config(self._parameter_values(), load=self.body_loads.now)
         except ValueError as error:
             self._refuse(str(error))
@@ -197,6 +199,13 @@ class MouseConstraintNode(Node):
         self._monitors.configure(config)
         self._description = self.create_publisher(String, DESCRIPTION_TOPIC, DESCRIPTION_QOS)
         self._publish_description(self.get_parameter('robot_description').value)
+
+    def _read_description_file(self) -> None:
+        """Make robot_description the URDF of robot_description_file, its meshes resolved."""
+        values = self._parameter_values()
+        if values['robot_description_file']:
+            self.set_parameters([Parameter('robot_description', value=described(
+                values['robot_description'], values['robot_description_file']))])
 
     def _publish_description(self, text: str) -> None:
         """Offer ``robot_description`` on its topic (latched) when it is set, as RViz reads it."""
@@ -273,6 +282,10 @@ class MouseConstraintNode(Node):
     def _on_set_parameters(self, changes: List[Parameter]) -> SetParametersResult:
         """Apply a set of changes whole to every part it concerns, or refuse it whole."""
         values = self._parameter_values(changes)
+        if any(change.name == 'robot_description_file' for change in changes):
+            return SetParametersResult(successful=False, reason=(
+                'robot_description_file is read at start: set robot_description (meshes named '
+                'package://, file:// or by absolute paths) to change the body'))
         # A robot is not swapped at run time (refused before anything loads); a robot's other
         # changes take the robot loaded at start.
         refusal = robot_change_refusal(self._config, values)

@@ -257,6 +257,9 @@ def _configuration_from(values: Mapping[str, Any], load: Optional[BodyLoader]) -
     if isinstance(substeps, int) and substeps > most:
         raise ValueError(f'substeps must be <= {most}, got {substeps}')
     box_size = finite_vector('box_size', values['box_size'])
+    if not isinstance(values['robot_description_file'], str):
+        raise ValueError('robot_description_file must be a path, got '
+                         f"{shown(values['robot_description_file'])}")
     robot = robot_from(values)
     if robot is None:
         body, geometry, frame, body_name = body_from(values, load)

@@ -70,6 +70,8 @@ class SimulatedBody:
     :param drain_timeout: wall seconds a drain may keep finding work before it fails (finite,
         > 0).
     :param match_timeout: wall seconds endpoints may take to match before ``add_node`` fails.
+    :param urdf_path: a URDF file the node reads as its ``robot_description``
+        (``robot_description_file``): mesh paths relative to it resolve against its directory.
     :param parameters: any of the node's parameters, as keywords (``mass=2.0``, ``floor=True``);
         the node refuses an invalid one as it would at start (``StartupRefusal``).
     :raises TypeError: an unknown parameter name; a context, executor or timeout of another
@@ -82,8 +84,11 @@ class SimulatedBody:
     def __init__(self, *, context=None, executor: Optional[Executor] = None,
                  namespace: str = '', on_tick: Optional[Callable[['SimulatedBody'], Any]] = None,
                  transform_broadcaster: Any = NODE_DEFAULT, drain_timeout: float = DRAIN_TIMEOUT,
-                 match_timeout: float = MATCH_TIMEOUT, **parameters: Any) -> None:
+                 match_timeout: float = MATCH_TIMEOUT, urdf_path: Optional[Any] = None,
+                 **parameters: Any) -> None:
         """Start the node and the probe; wait until the probe matches the node."""
+        if urdf_path is not None:  # the node reads it; meshes relative to it resolve there
+            parameters['robot_description_file'] = str(urdf_path)
         values = checked_parameters(parameters)
         values['publish_clock'] = True
         self.drain_timeout = checked_seconds('drain_timeout', drain_timeout)
