@@ -17,12 +17,12 @@ Mesh files named by a URDF: where they are (``package://``, ``file://``, absolut
 
 A ``package://name/path`` is looked up with ``ament_index_python`` (the share directory of
 ``name`` on ``AMENT_PREFIX_PATH``), as robot_state_publisher's users expect. Relative paths have
-no base (``robot_description`` is text, not a file) and are refused with the two forms that
-work. trimesh reads the file, bounded: at most ``MAX_MESH_BYTES`` on disk and
-``MAX_MESH_FACES`` triangles, so a stray 100 MB scan cannot stall the node; a link's files
-together at most ``MAX_LINK_MESH_BYTES`` (checked before any is read) and its references
-``MAX_LINK_FACES`` triangles (checked after each file is read once, before any is scaled or
-hulled).
+no base (``robot_description`` is text, not a file): the node makes them absolute when it is
+given the file (``relative_meshes``), and refuses them otherwise, saying the forms that work.
+trimesh reads the file, bounded: at most ``MAX_MESH_BYTES`` on disk and ``MAX_MESH_FACES``
+triangles, so a stray 100 MB scan cannot stall the node; a link's files together at most
+``MAX_LINK_MESH_BYTES`` (checked before any is read) and its references ``MAX_LINK_FACES``
+triangles (checked after each file is read once, before any is scaled or hulled).
 
 This package finds its own ``package://`` files where the index does not list it
 (``own_share``).
@@ -107,7 +107,8 @@ def mesh_path(uri: str, *, find_package: PackageFinder = ament_share) -> str:
     else:
         raise ValueError(
             f'mesh {uri!r} is neither package://, file:// nor an absolute path: '
-            'robot_description is text with no directory of its own to resolve it against')
+            'robot_description is text with no directory of its own to resolve it against; '
+            'give the node its file (robot_description_file, urdf:=, make run URDF=)')
     try:
         status = os.stat(path)
     except (OSError, ValueError):
