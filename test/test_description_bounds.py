@@ -26,10 +26,11 @@ import numpy as np
 import pytest
 import trimesh
 
-from mouse_constraint_ros.description import body_model, hull, urdf_link
+from mouse_constraint_ros.description import hull, urdf_link
 from mouse_constraint_ros.description.hull import hull_vertices, HullError
 from mouse_constraint_ros.description.mesh_files import (MAX_LINK_FACES, MAX_LINK_MESH_BYTES,
                                                          MAX_MESH_BYTES)
+from mouse_constraint_ros.description.urdf_link import body_model
 from test_support.meshes import cube, ellipsoid_hull, geometry, inertial, mug, urdf, write
 
 WEIGHT = inertial(1.0, (0.01, 0.0, 0.0, 0.01, 0.0, 0.01))
@@ -125,14 +126,15 @@ def test_hulls_over_the_contact_tests_bound_are_refused_naming_the_link(tmp_path
 
 
 def _record_hull_inputs(monkeypatch) -> list:
-    """Record how many points each Qhull call of ``hull`` is given."""
+    """Record how many points each Qhull call of ``hull`` is given (it imports it per call)."""
+    import scipy.spatial
     sizes = []
-    convex_hull = hull.ConvexHull
+    convex_hull = scipy.spatial.ConvexHull
 
     def recorded(points, *args, **kwargs):
         sizes.append(len(points))
         return convex_hull(points, *args, **kwargs)
-    monkeypatch.setattr(hull, 'ConvexHull', recorded)
+    monkeypatch.setattr(scipy.spatial, 'ConvexHull', recorded)
     return sizes
 
 

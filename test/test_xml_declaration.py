@@ -21,7 +21,7 @@ time; a declaration of 1.0, or none, says nothing.
 
 import pytest
 
-from mouse_constraint_ros.description import body_model
+from mouse_constraint_ros.description.urdf_link import body_model
 from mouse_constraint_ros.description.xml_declaration import (as_xml_1_0, declared_version,
                                                               version_note)
 

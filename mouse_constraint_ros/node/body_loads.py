@@ -98,6 +98,11 @@ class BodyLoads:
         self._reverting = False
 
     @property
+    def reverting(self) -> bool:
+        """Return whether the node is setting a refused load's parameters back."""
+        return self._reverting
+
+    @property
     def loading(self) -> bool:
         """Return whether a body is loading."""
         return self._job is not None

@@ -288,7 +288,9 @@ class MouseConstraintNode(Node):
                 'package://, file:// or by absolute paths) to change the body'))
         # A robot is not swapped at run time (refused before anything loads); a robot's other
         # changes take the robot loaded at start.
-        refusal = robot_change_refusal(self._config, values)
+        refusal = None
+        if not self.body_loads.reverting:
+            refusal = robot_change_refusal(self._config, values)
         if refusal is None and self._config.robot is None:
             refusal = self.body_loads.refusal(values, changes)  # a new body loads off the tick
         if refusal is None:
