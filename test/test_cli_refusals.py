@@ -332,7 +332,7 @@ def test_grab_on_a_mesh_this_machine_cannot_find_goes_out_unchecked(ros, monkeyp
                                 timeout=2 * LONG, env=environment)
     assert result.returncode == 0 and 'Traceback' not in result.stderr, result.stderr
     [warning] = [line for line in result.stderr.splitlines() if line.startswith('[WARN]')]
-    assert "cannot check the grab against the body here: link 'mug' <collision>: mesh " \
+    assert "cannot check the grab against the body here: link 'mug' <collision> 1: mesh " \
            "'package://cups/mug.stl' cannot be resolved" in warning
     assert warning.endswith('publishing it unchecked')
     assert ros.spin_until(lambda: node.simulation.target == point)
