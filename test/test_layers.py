@@ -16,34 +16,41 @@
 
 import ast
 from pathlib import Path
+import re
 
 import pytest
 
 PACKAGE = Path(__file__).resolve().parent.parent / 'mouse_constraint_ros'
 
-# Folder -> the folders of the package its modules may import from (docs/architecture.md).
-ALLOWED = {
-    'physics': {'physics'},
-    'timing': {'timing'},
-    # The body's description: a URDF link to mass, inertia and shapes (yourdfpy, trimesh).
-    'description': {'description', 'physics'},
-    'inputs': {'inputs', 'physics', 'description'},
-    'wire': {'wire', 'physics', 'timing'},
-    'monitoring': {'monitoring', 'physics', 'description', 'wire'},
-    'node': {'node', 'physics', 'description', 'timing', 'inputs', 'wire', 'monitoring'},
-    'recording': {'recording', 'physics', 'description', 'timing', 'inputs', 'wire'},
-    'cli': {'cli', 'physics', 'description', 'timing', 'inputs', 'wire', 'recording',
-            'node/parameters.py', 'node/body_parameters.py'},
-    # The pointer on the body and the node it drags, shared by the web view and the RViz marker.
-    'pointer': {'pointer', 'physics', 'description', 'wire', 'node/body_parameters.py'},
-    # The two tools import neither each other: what they share is pointer/.
-    'view': {'view', 'pointer', 'physics', 'description', 'timing', 'inputs', 'wire',
-             'monitoring'},
-    'marker': {'marker', 'pointer', 'physics', 'description', 'timing', 'inputs', 'wire',
-               'monitoring'},
-    'testing': {'testing', 'node', 'physics', 'description', 'timing', 'inputs', 'wire',
-                'monitoring'},
-}
+ARCHITECTURE = PACKAGE.parent / 'docs' / 'architecture.md'
+
+
+def layer_table() -> dict:
+    """
+    Return folder -> the places its modules may import from, read from architecture.md.
+
+    The page's layer table is the one statement of the rule: each row's folder (backquoted,
+    ending in /) may import from itself and from every backquoted place in its last column
+    (``name/`` a folder, ``name/module.py`` one module), but a part after a semicolon that
+    begins "never" or "not", which names what it may not.
+    """
+    section = ARCHITECTURE.read_text().split('## The layers', 1)[1].split('\n## ', 1)[0]
+    allowed = {}
+    for row in section.splitlines():
+        cells = [cell.strip() for cell in row.strip().strip('|').split('|')]
+        if len(cells) != 4 or not cells[1].startswith('`'):
+            continue
+        # What a row forbids ("never `marker/`") follows a semicolon: only the rest allows.
+        allows = ';'.join(part for part in cells[3].split(';')
+                          if not part.strip().startswith(('never', 'not ')))
+        places = re.findall(r'`([a-z_]+)/(?:([a-z_]+\.py))?`', allows)
+        for folder in re.findall(r'`([a-z_]+)/`', cells[1]):
+            allowed[folder] = {folder} | {f'{name}/{module}' if module else name
+                                          for name, module in places}
+    return allowed
+
+
+ALLOWED = layer_table()
 
 
 def imported_places(path: Path):

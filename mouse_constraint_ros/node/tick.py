@@ -13,16 +13,17 @@
 # limitations under the License.
 
 """
-One tick of the node, and the record of the ticks run: the object its three drivers share.
+One tick of the node, and the record of the ticks run: the object its four drivers share.
 
 A tick at stamp t applies the input that arrived (the newest target that waited for the tick
 is taken, a target older than ``target_timeout`` is let go, the wrench scheduled up to t is put
 in effect or expires), steps the physics by one dt, publishes ``/clock`` when the node is the
 clock, and pose, twist, TF and odometry on the ticks that publish (``PublishTicks``), all
-stamped t. Three drivers call ``Tick.run``: the node's
-timer on its own clock (``tick_loop.NodeClockTicks``), the simulated clock's pacer
-(``clock_ticks.ClockTicks``), and a caller that steps the node itself (``Ticker.step``, which
-``mouse_constraint_ros.testing`` drives in lockstep); ``ticker.Ticker`` says which runs.
+stamped t (a robot's joint_states and links' TF too). Four drivers call ``Tick.run``: the
+node's timer on its own clock (``tick_loop.NodeClockTicks``), the simulated clock's pacer
+(``clock_ticks.ClockTicks``), a caller that steps the node itself (``Ticker.step``, which
+``mouse_constraint_ros.testing`` drives in lockstep), and a device's poses
+(``Ticker.device_tick``, ``tick_source: target_pose``); ``ticker.Ticker`` says which runs.
 
 The tick writes its stamp and count in the ``TickRecord`` that the inputs and monitors read.
 """
