@@ -34,7 +34,6 @@ end (memory flat: it grows by at most ``MAX_GROWTH_MIB`` over a window). Standal
 """
 
 from pathlib import Path
-import statistics
 import sys
 import tempfile
 import time
@@ -79,24 +78,10 @@ def run(quick: bool = False) -> dict:
     """Return the section: the mesh node, the box node and the rclpy floor, alternating."""
     start = time.perf_counter()
     seconds = QUICK_SECONDS if quick else SECONDS
-    rows = []
     with tempfile.TemporaryDirectory() as folder:
         processes = cases(Path(folder))
-        samples = {name: [] for name, _ in processes}
-        for _ in range(1 if quick else ROUNDS):
-            for name, command in processes:
-                row = node_rate.measure(command, RATE, seconds)
-                row['case'] = name
-                row['cpu_us_per_tick'] = 1e4 * row['cpu_pct'] / row['achieved_hz']
-                row['rss_growth_mib'] = row['rss_mib'] - row['rss_start_mib']
-                if name == FLOOR_CASE:
-                    row['missing'] = None  # its stamps are clock readings, not a grid
-                samples[name].append(row['cpu_us_per_tick'])
-                rows.append(row)
-                print(f'  {name}: CPU {row["cpu_pct"]:.1f} %, {row["achieved_hz"]:.1f} Hz, '
-                      f'RSS {row["rss_start_mib"]:.1f} -> {row["rss_mib"]:.1f} MiB',
-                      file=sys.stderr, flush=True)
-    medians = {name: statistics.median(values) for name, values in samples.items()}
+        rows, medians = node_rate.alternating(
+            processes, RATE, 1 if quick else ROUNDS, seconds, floor_case=FLOOR_CASE)
     (mesh_name, _), (box_name, _), _ = processes
     ratio = medians[mesh_name] / medians[FLOOR_CASE]
     growth = max(row['rss_growth_mib'] for row in rows if row['case'] != FLOOR_CASE)

@@ -39,6 +39,7 @@ missing) over a 10 s window: the highest sustained rate and the node / floor rat
 Standalone: ``python -m bench.node_rate [--quick]`` prints the section as JSON.
 """
 
+import statistics
 import sys
 import time
 
@@ -110,6 +111,33 @@ def measure(command, rate: float, seconds: float, first_timeout: float = 10.0,
                           for kind, seconds in first.threads[publisher.pid].items()},
     })
     return figures
+
+
+def alternating(processes: list, rate: float, rounds: int, seconds: float, *,
+                floor_case: str, first_timeout: float = 10.0, observer_arguments=()) -> tuple:
+    """
+    Measure each (name, command) one window per round, the processes alternating.
+
+    Return the rows, each with its case, CPU per tick (us) and RSS growth (MiB), and each
+    case's median CPU per tick. ``floor_case`` names the rclpy floor: its stamps are clock
+    readings, not a grid, so it has no missing ticks.
+    """
+    rows, samples = [], {name: [] for name, _ in processes}
+    for _ in range(rounds):
+        for name, command in processes:
+            row = measure(command, rate, seconds, first_timeout=first_timeout,
+                          observer_arguments=observer_arguments)
+            row['case'] = name
+            row['cpu_us_per_tick'] = 1e4 * row['cpu_pct'] / row['achieved_hz']
+            row['rss_growth_mib'] = row['rss_mib'] - row['rss_start_mib']
+            if name == floor_case:
+                row['missing'] = None
+            samples[name].append(row['cpu_us_per_tick'])
+            rows.append(row)
+            print(f'  {name}: CPU {row["cpu_pct"]:.1f} %, {row["achieved_hz"]:.1f} Hz, '
+                  f'RSS {row["rss_start_mib"]:.1f} -> {row["rss_mib"]:.1f} MiB',
+                  file=sys.stderr, flush=True)
+    return rows, {name: statistics.median(values) for name, values in samples.items()}
 
 
 def _report(row: dict) -> None:

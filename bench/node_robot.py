@@ -33,7 +33,6 @@ Figures: the median CPU per tick of each, the ratio robot / rclpy floor (target 
 
 import os
 from pathlib import Path
-import statistics
 import sys
 import tempfile
 import time
@@ -76,25 +75,11 @@ def run(quick: bool = False) -> dict:
     os.environ['AMENT_PREFIX_PATH'] = prefix + (
         os.pathsep + os.environ['AMENT_PREFIX_PATH'] if os.environ.get('AMENT_PREFIX_PATH')
         else '')
-    rows = []
     with tempfile.TemporaryDirectory() as folder:
         processes = cases(Path(folder))
-        samples = {name: [] for name, _ in processes}
-        for _ in range(1 if quick else ROUNDS):
-            for name, command in processes:
-                row = node_rate.measure(command, RATE, seconds, first_timeout=30.0,
-                                        observer_arguments=OBSERVED)
-                row['case'] = name
-                row['cpu_us_per_tick'] = 1e4 * row['cpu_pct'] / row['achieved_hz']
-                row['rss_growth_mib'] = row['rss_mib'] - row['rss_start_mib']
-                if name == FLOOR_CASE:
-                    row['missing'] = None  # its stamps are clock readings, not a grid
-                samples[name].append(row['cpu_us_per_tick'])
-                rows.append(row)
-                print(f'  {name}: CPU {row["cpu_pct"]:.1f} %, {row["achieved_hz"]:.1f} Hz, '
-                      f'RSS {row["rss_start_mib"]:.1f} -> {row["rss_mib"]:.1f} MiB',
-                      file=sys.stderr, flush=True)
-    medians = {name: statistics.median(values) for name, values in samples.items()}
+        rows, medians = node_rate.alternating(
+            processes, RATE, 1 if quick else ROUNDS, seconds, floor_case=FLOOR_CASE,
+            first_timeout=30.0, observer_arguments=OBSERVED)
     floor = medians[FLOOR_CASE]
     ratios = {name: medians[name] / floor for name, _ in ROBOTS}
     growth = max(row['rss_growth_mib'] for row in rows if row['case'] != FLOOR_CASE)
