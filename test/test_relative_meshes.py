@@ -88,3 +88,11 @@ def test_an_unreadable_file_is_one_line(tmp_path):
     with pytest.raises(ValueError, match='cannot be read') as refusal:
         described('', str(tmp_path / 'absent.urdf'))
     assert '\n' not in str(refusal.value)
+
+
+def test_the_file_is_read_at_start_and_a_change_of_it_later_refused(tmp_path):
+    path = lay_out(tmp_path)
+    with SimulatedBody(urdf_path=path) as body:
+        with pytest.raises(ValueError, match='robot_description_file is read at start'):
+            body.set_parameters(robot_description_file=str(tmp_path / 'other.urdf'))
+        body.set_parameters(robot_description_file=str(path))  # the same value: taken

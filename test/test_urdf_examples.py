@@ -118,7 +118,7 @@ def test_the_params_file_carries_the_urdf_text_whole(tmp_path):
             'robot_description'] == text
         target = tmp_path / (urdf.stem + '.yaml')
         assert main([str(urdf), str(target)]) == 0
-        assert target.read_text() == params_text(text)
+        assert target.read_text() == params_text(text, str(urdf.resolve()))
     assert main([str(tmp_path / 'absent.urdf'), str(tmp_path / 'out.yaml')]) == 2
     assert main([]) == 2
 

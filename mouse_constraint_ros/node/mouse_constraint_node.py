@@ -282,7 +282,8 @@ class MouseConstraintNode(Node):
     def _on_set_parameters(self, changes: List[Parameter]) -> SetParametersResult:
         """Apply a set of changes whole to every part it concerns, or refuse it whole."""
         values = self._parameter_values(changes)
-        if any(change.name == 'robot_description_file' for change in changes):
+        if any(change.name == 'robot_description_file' and change.value
+               != self.get_parameter('robot_description_file').value for change in changes):
             return SetParametersResult(successful=False, reason=(
                 'robot_description_file is read at start: set robot_description (meshes named '
                 'package://, file:// or by absolute paths) to change the body'))
