@@ -15,6 +15,8 @@
 """
 Every link's collision pieces of a robot, in its link frame: what a grab lands on.
 
+With ``visuals``, also each link's visual pieces: what the web view draws.
+
 A collision mesh exported from CAD is often not a closed surface (KUKA iiwa's link_7, for one):
 a robot's link takes such a mesh by its convex hull, with a warning line, since only the density
 route needs the volume a closed mesh bounds and a robot's links carry their ``<inertial>``.
@@ -35,10 +37,20 @@ from .xml_declaration import as_xml_1_0
 
 
 class RobotLinks(NamedTuple):
-    """Each link's collision pieces (link frame), and the warnings loading them gave."""
+    """
+    Each link's collision pieces (link frame), and the warnings loading them gave.
+
+    ``visuals`` holds each link's visual pieces when they were asked for (``robot_links``), else
+    nothing.
+    """
 
     pieces: Dict[str, Tuple[Piece, ...]]
     warnings: Tuple[str, ...]
+    visuals: Dict[str, Tuple[Piece, ...]] = {}
+
+    def drawn(self, link: str) -> Tuple[Piece, ...]:
+        """Return the pieces a view draws of ``link``: its visuals, else its collision pieces."""
+        return self.visuals.get(link) or self.pieces.get(link, ())
 
     def distance(self, link: str, point: np.ndarray) -> float:
         """Return how far a point (``link``'s frame) lies from the link (inf: no pieces)."""
@@ -54,13 +66,15 @@ class RobotLinks(NamedTuple):
 
 
 def robot_links(text: str, *, find_package: PackageFinder = ament_share,
-                warn: Callable[[str], None] = lambda _line: None) -> RobotLinks:
+                warn: Callable[[str], None] = lambda _line: None,
+                visuals: bool = False) -> RobotLinks:
     """
     Return the collision pieces of every link of the URDF ``text``.
 
     :param text: the URDF (already checked by ``robot_structure``).
     :param find_package: resolves ``package://`` names.
     :param warn: called with one line per mesh taken by its convex hull.
+    :param visuals: also load every link's visual pieces (their meshes).
     """
     import yourdfpy  # a URDF body's: the box body runs without it
     logger = logging.getLogger('yourdfpy')
@@ -75,6 +89,7 @@ def robot_links(text: str, *, find_package: PackageFinder = ament_share,
     finally:
         logger.setLevel(level)
     pieces: Dict[str, Tuple[Piece, ...]] = {}
+    drawn: Dict[str, Tuple[Piece, ...]] = {}
     warnings: List[str] = []
     for link in urdf.robot.links:
         files = MeshFiles(find_package)
@@ -95,4 +110,7 @@ def robot_links(text: str, *, find_package: PackageFinder = ament_share,
                 piece = dataclasses.replace(piece, mesh=piece.mesh.convex_hull)
             found.append(piece)
         pieces[link.name] = tuple(found)
-    return RobotLinks(pieces, tuple(warnings))
+        if visuals:
+            drawn[link.name] = tuple(_piece(element, link.name, 'visual', find_package)
+                                     for element in link.visuals)
+    return RobotLinks(pieces, tuple(warnings), drawn)
