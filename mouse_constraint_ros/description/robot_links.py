@@ -58,11 +58,15 @@ class RobotLinks(NamedTuple):
         return min((piece.distance(point) for piece in pieces), default=float('inf'))
 
     def geometry(self, link: str) -> BodyGeometry:
-        """Return the pieces of a link as a BodyGeometry; a 5 cm cube at its frame if none."""
+        """
+        Return the pieces of a link as a BodyGeometry (its visuals, when loaded, with them).
+
+        A link without collision pieces is a 5 cm cube at its frame.
+        """
         pieces = self.pieces.get(link, ())
         if not pieces:
             return BodyGeometry.box((0.05, 0.05, 0.05), link=link)
-        return BodyGeometry(link, (0.0, 0.0, 0.0), pieces)
+        return BodyGeometry(link, (0.0, 0.0, 0.0), pieces, self.visuals.get(link, ()))
 
 
 def robot_links(text: str, *, find_package: PackageFinder = ament_share,
