@@ -172,6 +172,20 @@ def test_a_robot_the_view_cannot_load_is_no_robot_and_says_why():
     assert shape.robot is None and "'hand'" in shape.error and '\n' not in shape.error
 
 
+def test_a_visual_mesh_this_machine_lacks_leaves_the_robot_drawn_by_its_collision_pieces(
+        tmp_path):
+    """The upper rod's visual names a file that is not there: its box is drawn, and said so."""
+    visual = (f'<visual><geometry><mesh filename="{tmp_path / "absent.stl"}"/></geometry>'
+              '</visual>')
+    description = double_pendulum().replace('</collision></link>', '</collision>' + visual
+                                            + '</link>', 1)
+    shape = RobotShape()
+    assert shape.update(ViewParameters(robot_description=description))
+    assert shape.robot is not None and set(shape.geometries) == {'upper', 'lower'}
+    assert 'collision pieces' in shape.error and 'absent.stl' in shape.error
+    assert shape.links.drawn('upper') == shape.links.pieces['upper']
+
+
 @pytest.mark.system
 def test_a_view_of_a_box_or_a_link_never_imports_pinocchio():
     """The view's modules and a box's or a single link's shape load no Pinocchio."""

@@ -35,6 +35,7 @@ viser = pytest.importorskip('viser',
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.pointer.geometry import world_point
 from mouse_constraint_ros.pointer.gestures import HOLD_MODIFIER
+from mouse_constraint_ros.pointer.node_readouts import ViewParameters
 from mouse_constraint_ros.view.node import MouseViewNode
 from mouse_constraint_ros.view.scene import ViewScene
 from mouse_constraint_ros.view.server import start
@@ -154,3 +155,20 @@ def _drag(view, phase: str, pressed, *, end=(0.0, 0.0, 0.0), target=None) -> Non
                             start_position=tuple(pressed), end_position=tuple(end),
                             modifier=None, target=target)
     asyncio.run(view._on_drag(event))
+
+
+def test_a_node_that_comes_back_with_a_body_is_drawn_as_the_body_and_back(ros, server):
+    """Parameters of a box after the robot's: the robot's nodes gone, the box shown; and back."""
+    node, view = _started(ros, server)
+    robot_parameters = view.parameters
+    frames = list(view.scene.robot.frames.values())
+    view._parameters_changed(ViewParameters())
+    assert view.scene.robot is None and not view.robot.active
+    assert view.scene.body.visible and isinstance(view.scene.body, viser.BoxHandle)
+    assert all(name not in server.scene._handle_from_node_name
+               for name in (frame.name for frame in frames))
+    view._parameters_changed(robot_parameters)
+    assert view.scene.robot is not None and not view.scene.body.visible
+    # Drawn again at the next joint_states.
+    assert ros.spin_until(lambda: _drawn_as_the_node_has_them(view, node, 1e-9)
+                          and view.scene.shown_links is not None)

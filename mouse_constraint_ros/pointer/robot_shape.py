@@ -21,7 +21,9 @@ and no ``body_link``, as ``node.robot_parameters.is_robot`` says; ``base``, ``ba
 every link's collision and visual pieces in its link frame (``description.robot_links``). It is
 loaded again only when one of those parameters changes. Pinocchio and the URDF libraries load
 with the first robot: a client of a box or of one link never imports them. A description this
-process cannot read (a mesh this machine does not have) leaves no robot, and ``error`` says why.
+process cannot read (a collision mesh this machine does not have) leaves no robot, and
+``error`` says why; a visual mesh it cannot read leaves the robot drawn by its collision
+pieces, and ``error`` says so.
 
 ``link_poses`` places every link from the joint positions the node publishes (``joint_states``)
 by the model's forward kinematics (``RobotModel.link_poses``); a floating base, which
@@ -91,7 +93,11 @@ class RobotShape:
         text = parameters.robot_description
         robot = load_robot(text, base=parameters.base, base_position=base.position,
                            base_orientation=base.orientation)
-        links = robot_links(text, visuals=True)
+        try:
+            links = robot_links(text, visuals=True)
+        except ValueError as error:  # a visual mesh this machine does not have
+            links = robot_links(text)
+            self.error = f'the robot is drawn by its collision pieces: {error}'
         tracked = parameters.tracked_link or robot.structure.tool
         if tracked not in robot.model.link_frames:
             raise ValueError(f'tracked_link {tracked!r} is not a link of the robot')
