@@ -160,8 +160,12 @@ def test_a_body_or_a_link_is_no_robot_and_a_changed_robot_is_loaded_again():
     first = shape.robot
     assert first is not None and shape.tracked_link == 'tip'
     assert not shape.update(ViewParameters(robot_description=double_pendulum(), anchor=(0, 0, 0)))
-    assert shape.update(ViewParameters(robot_description=double_pendulum(), base='floating'))
-    assert shape.robot is not first and shape.robot.model.floating
+    free = double_pendulum().replace('<link name="base"/>', MASSIVE_BASE)
+    assert shape.update(ViewParameters(robot_description=free))
+    second = shape.robot
+    assert second is not first
+    assert shape.update(ViewParameters(robot_description=free, base='floating'))
+    assert shape.robot is not second and shape.robot.model.floating
 
 
 def test_a_robot_the_view_cannot_load_is_no_robot_and_says_why():
