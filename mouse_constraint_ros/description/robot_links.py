@@ -115,6 +115,16 @@ def robot_links(text: str, *, find_package: PackageFinder = ament_share,
             found.append(piece)
         pieces[link.name] = tuple(found)
         if visuals:
-            drawn[link.name] = tuple(_piece(element, link.name, 'visual', find_package)
-                                     for element in link.visuals)
+            drawn[link.name] = _visuals(link, find_package)
     return RobotLinks(pieces, tuple(warnings), drawn)
+
+
+def _visuals(link, find_package: PackageFinder) -> Tuple[Piece, ...]:
+    """Return a yourdfpy link's ``<visual>`` pieces, their meshes read (ValueError if not)."""
+    files = MeshFiles(find_package)
+    where = f'link {link.name!r} <visual>'
+    for element in link.visuals:
+        if element.geometry.mesh is not None:
+            _prefixed(where, files.add, element.geometry.mesh.filename)
+    _prefixed(where, files.read)
+    return tuple(_prefixed(where, _piece, element, 'visual', files) for element in link.visuals)
