@@ -49,6 +49,7 @@ from mouse_constraint_ros.pointer.geometry import Pose, world_point
 from mouse_constraint_ros.timing.spin import call_until_answered, StopRequest
 from mouse_constraint_ros.wire.interface import (MARKER_FEEDBACK_TOPIC, MARKER_QOS,
                                                  MARKER_SERVICE, MARKER_UPDATE_TOPIC)
+from test_support.robots import double_pendulum
 
 BIN = Path(sys.executable).parent
 FRAME_PERIOD = 1.0 / 30.0
@@ -406,6 +407,21 @@ def test_a_press_right_after_a_release_grabs_once_the_node_answered_the_release(
                                               (-0.1, -0.1, 0.0), atol=1e-6))
     ros.spin_for(0.2)
     assert node.simulation.target is not None
+
+
+def test_a_robot_is_drawn_as_its_tracked_link_and_a_press_on_it_grabs_that_link(ros):
+    """A whole robot: the marker is the tracked link (the lower rod), pressed: that link held."""
+    node, marker, rviz = _nodes(ros, robot_description=double_pendulum(), tracked_link='lower',
+                                initial_joint_positions=[0.6, -0.9])
+    assert marker.shape.error is None
+    [rod] = marker.shape.geometry.collisions
+    assert rod.kind == 'box' and rod.size == pytest.approx((0.04, 0.04, 0.5))
+    shown = rviz.marker_pose  # the tracked link's frame
+    local = (0.0, -0.02, -0.3)  # on the rod's -y face, in its frame
+    rviz.press(shown, world_point(shown, local))
+    assert ros.spin_until(lambda: node.simulation.target is not None)
+    assert node.simulation.grabbed_link == 'lower'
+    assert node.get_parameter('anchor').value == pytest.approx(local, abs=1e-9)
 
 
 def test_a_drag_ends_when_its_rviz_leaves(ros):

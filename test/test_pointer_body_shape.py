@@ -34,6 +34,7 @@ from mouse_constraint_ros.pointer.node_follower import PARAMETER_NAMES
 from mouse_constraint_ros.pointer.node_readouts import ViewParameters
 from test_support.meshes import geometry, MUG_BOTTOM, MUG_HEIGHT, MUG_RADIUS, urdf, write
 from test_support.meshes import mug as mug_mesh
+from test_support.robots import double_pendulum
 
 # The mug's origin in its link frame: moved and turned, so that the link frame is not the mesh's.
 MUG_XYZ, MUG_RPY = (0.01, -0.02, 0.03), (0.2, -0.1, 0.3)
@@ -186,6 +187,22 @@ def test_the_shape_is_made_again_only_when_its_parameters_change(mug_urdf):
     assert shape.geometry is made
     assert shape.update(parameters._replace(robot_description='', box_size=(0.3, 0.2, 0.1)))
     assert lone_box(shape.geometry.collisions) == (0.3, 0.2, 0.1)
+
+
+def test_a_robot_is_its_tracked_links_shape_for_a_client_that_draws_one_body():
+    """Several links, no body_link: the tracked link's pieces; the tool's by default, remade."""
+    shape = BodyShape()
+    parameters = ViewParameters(robot_description=double_pendulum(), tracked_link='lower')
+    assert shape.update(parameters) and shape.error is None
+    [rod] = shape.geometry.collisions
+    assert rod.kind == 'box' and rod.size == pytest.approx((0.04, 0.04, 0.5))
+    assert rod.transform[:3, 3] == pytest.approx((0.0, 0.0, -0.25))
+    # The tool, 'tip', has no pieces: a 5 cm cube at its frame.
+    assert shape.update(parameters._replace(tracked_link=''))
+    assert shape.error is None and lone_box(shape.geometry.collisions) == (0.05, 0.05, 0.05)
+    assert not shape.update(parameters._replace(tracked_link='', anchor=(0.0, 0.0, 0.0)))
+    assert shape.update(parameters._replace(tracked_link='hand'))
+    assert "'hand'" in shape.error and lone_box(shape.geometry.collisions) == (0.4, 0.2, 0.1)
 
 
 def test_a_description_this_process_cannot_read_leaves_the_box_and_says_why(tmp_path):

@@ -15,6 +15,8 @@
 """
 Every link's collision pieces of a robot, in its link frame: what a grab lands on.
 
+With ``visuals``, also each link's visual pieces: what the web view draws.
+
 A collision mesh exported from CAD is often not a closed surface (KUKA iiwa's link_7, for one):
 a robot's link takes such a mesh by its convex hull, with a warning line, since only the density
 route needs the volume a closed mesh bounds and a robot's links carry their ``<inertial>``.
@@ -35,10 +37,20 @@ from .xml_declaration import as_xml_1_0
 
 
 class RobotLinks(NamedTuple):
-    """Each link's collision pieces (link frame), and the warnings loading them gave."""
+    """
+    Each link's collision pieces (link frame), and the warnings loading them gave.
+
+    ``visuals`` holds each link's visual pieces when they were asked for (``robot_links``), else
+    nothing.
+    """
 
     pieces: Dict[str, Tuple[Piece, ...]]
     warnings: Tuple[str, ...]
+    visuals: Dict[str, Tuple[Piece, ...]] = {}
+
+    def drawn(self, link: str) -> Tuple[Piece, ...]:
+        """Return the pieces a view draws of ``link``: its visuals, else its collision pieces."""
+        return self.visuals.get(link) or self.pieces.get(link, ())
 
     def distance(self, link: str, point: np.ndarray) -> float:
         """Return how far a point (``link``'s frame) lies from the link (inf: no pieces)."""
@@ -46,21 +58,27 @@ class RobotLinks(NamedTuple):
         return min((piece.distance(point) for piece in pieces), default=float('inf'))
 
     def geometry(self, link: str) -> BodyGeometry:
-        """Return the pieces of a link as a BodyGeometry; a 5 cm cube at its frame if none."""
+        """
+        Return the pieces of a link as a BodyGeometry (its visuals, when loaded, with them).
+
+        A link without collision pieces is a 5 cm cube at its frame.
+        """
         pieces = self.pieces.get(link, ())
         if not pieces:
             return BodyGeometry.box((0.05, 0.05, 0.05), link=link)
-        return BodyGeometry(link, (0.0, 0.0, 0.0), pieces)
+        return BodyGeometry(link, (0.0, 0.0, 0.0), pieces, self.visuals.get(link, ()))
 
 
 def robot_links(text: str, *, find_package: PackageFinder = ament_share,
-                warn: Callable[[str], None] = lambda _line: None) -> RobotLinks:
+                warn: Callable[[str], None] = lambda _line: None,
+                visuals: bool = False) -> RobotLinks:
     """
     Return the collision pieces of every link of the URDF ``text``.
 
     :param text: the URDF (already checked by ``robot_structure``).
     :param find_package: resolves ``package://`` names.
     :param warn: called with one line per mesh taken by its convex hull.
+    :param visuals: also load every link's visual pieces (their meshes).
     """
     import yourdfpy  # a URDF body's: the box body runs without it
     logger = logging.getLogger('yourdfpy')
@@ -75,6 +93,7 @@ def robot_links(text: str, *, find_package: PackageFinder = ament_share,
     finally:
         logger.setLevel(level)
     pieces: Dict[str, Tuple[Piece, ...]] = {}
+    drawn: Dict[str, Tuple[Piece, ...]] = {}
     warnings: List[str] = []
     for link in urdf.robot.links:
         files = MeshFiles(find_package)
@@ -95,4 +114,17 @@ def robot_links(text: str, *, find_package: PackageFinder = ament_share,
                 piece = dataclasses.replace(piece, mesh=piece.mesh.convex_hull)
             found.append(piece)
         pieces[link.name] = tuple(found)
-    return RobotLinks(pieces, tuple(warnings))
+        if visuals:
+            drawn[link.name] = _visuals(link, find_package)
+    return RobotLinks(pieces, tuple(warnings), drawn)
+
+
+def _visuals(link, find_package: PackageFinder) -> Tuple[Piece, ...]:
+    """Return a yourdfpy link's ``<visual>`` pieces, their meshes read (ValueError if not)."""
+    files = MeshFiles(find_package)
+    where = f'link {link.name!r} <visual>'
+    for element in link.visuals:
+        if element.geometry.mesh is not None:
+            _prefixed(where, files.add, element.geometry.mesh.filename)
+    _prefixed(where, files.read)
+    return tuple(_prefixed(where, _piece, element, 'visual', files) for element in link.visuals)

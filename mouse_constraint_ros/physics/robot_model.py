@@ -28,7 +28,7 @@ them with the links' frame ids. The state that moves (q, v and the momentum) is
 """
 
 import math
-from typing import Dict, NamedTuple, Sequence, Tuple
+from typing import Dict, NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 import pinocchio
@@ -122,6 +122,77 @@ class RobotModel(NamedTuple):
         """Return each moving joint's position (rad or m), a continuous joint's as its angle."""
         return tuple(math.atan2(q[j.q_index + 1], q[j.q_index]) if j.kind == 'continuous'
                      else float(q[j.q_index]) for j in self.joints)
+
+    def configuration(self, positions: Sequence[float], *,
+                      base: Optional[Tuple[Vector3, Quaternion]] = None) -> np.ndarray:
+        """
+        Return q of each moving joint's position, as ``joint_positions`` gives them.
+
+        Unlike a starting state, a position is taken as it is (not brought within its limits):
+        it is what was published.
+
+        :param positions: each moving joint's position (rad or m), in ``joints`` order.
+        :param base: a floating base's pose, (x y z, quaternion x y z w); None: at the origin.
+        """
+        if len(positions) != len(self.joints):
+            raise ValueError(f'joint positions must be {len(self.joints)} numbers, got '
+                             f'{len(positions)}')
+        q = pinocchio.neutral(self.model)
+        for joint, position in zip(self.joints, positions):
+            if joint.kind == 'continuous':
+                q[joint.q_index:joint.q_index + 2] = math.cos(position), math.sin(position)
+            else:
+                q[joint.q_index] = position
+        if self.floating and base is not None:
+            q[0:3], q[3:7] = base
+        return q
+
+    def with_link_at(self, q: np.ndarray, link: str, position: Vector3,
+                     orientation: Quaternion,
+                     data: Optional[pinocchio.Data] = None) -> np.ndarray:
+        """
+        Return ``q`` with its floating base moved so that ``link``'s frame is at a pose.
+
+        The joints keep their positions; the base B becomes X L^-1 B, where L is the link's
+        pose at ``q`` and X the pose asked for. A fixed base's ``q`` is returned as it is.
+
+        :param q: the configuration.
+        :param link: a link of the robot.
+        :param position: where ``link``'s frame goes (m, world frame).
+        :param orientation: its orientation there (x, y, z, w).
+        :param data: Pinocchio's scratch space for this model (a new one if None).
+        """
+        if not self.floating:
+            return q
+        model = self.model
+        data = model.createData() if data is None else data
+        pinocchio.framesForwardKinematics(model, data, q)
+        base = pinocchio.XYZQUATToSE3(q[0:7])
+        moved = _placement(position, orientation) * data.oMf[self.link_frames[link]].inverse() \
+            * base
+        q = np.array(q, dtype=float)
+        q[0:7] = pinocchio.SE3ToXYZQUAT(moved)
+        return q
+
+    def link_poses(self, q: np.ndarray,
+                   data: Optional[pinocchio.Data] = None) -> Dict[str, Tuple[Vector3, Quaternion]]:
+        """
+        Return every link's pose at configuration ``q``: its frame's position and orientation.
+
+        :param q: the configuration (``configuration``, or a state's).
+        :param data: Pinocchio's scratch space for this model (a new one if None).
+        :returns: each URDF link's name to (x y z (m), quaternion x y z w), world frame.
+        """
+        model = self.model
+        data = model.createData() if data is None else data
+        pinocchio.framesForwardKinematics(model, data, np.asarray(q, dtype=float))
+        poses = {}
+        for name, frame in self.link_frames.items():
+            placement = data.oMf[frame]
+            x, y, z, w = pinocchio.Quaternion(placement.rotation).coeffs()
+            poses[name] = (tuple(float(c) for c in placement.translation),
+                           (float(x), float(y), float(z), float(w)))
+        return poses
 
 
 def _placement(position: Vector3, orientation: Quaternion) -> pinocchio.SE3:

@@ -234,9 +234,7 @@ class RobotSimulation:
 
     def link_poses(self) -> dict:
         """Return every link's (position, orientation (x, y, z, w)) in the world, as tuples."""
-        return {name: (tuple(float(x) for x in position),
-                       tuple(float(x) for x in pinocchio.Quaternion(rotation).coeffs()))
-                for name, (position, rotation) in self.link_placements().items()}
+        return self.model.link_poses(self._q, self._data)
 
     def anchor_position(self) -> Optional[np.ndarray]:
         """Return the anchor's world position, or None when nothing is grabbed."""

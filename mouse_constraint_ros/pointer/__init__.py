@@ -16,7 +16,8 @@
 What ``mouse_view`` and ``mouse_marker`` share: the pointer on the body, and the node it drags.
 
 The ray on the box and the camera plane (``geometry``), the body's shape of the node's
-parameters and a ray on it (``body_shape``), what a press, a drag and a release send
+parameters and a ray on it (``body_shape``), a whole robot's links placed from its joints and a
+ray on them (``robot_shape``), what a press, a drag and a release send
 (``gestures``), at most so many pushes a second (``push_throttle``), the newest pose taken on
 demand (``newest_message``), whether the node is there and the parameters a client draws with
 (``node_follower``, ``node_readouts``). Neither tool imports the other: both import this.

@@ -21,7 +21,10 @@ The body's shape as the node has it, and where a pointer's ray meets it (no ROS 
 ``box_size`` about the COM. It is made again only when one of those changes, not at each grab
 (which sets ``anchor``). A description this process cannot read, though the node could (a mesh
 file this machine does not have, a ``package://`` outside its ``AMENT_PREFIX_PATH``), leaves the
-box of ``box_size`` in its place, and ``error`` says why.
+box of ``box_size`` in its place, and ``error`` says why. For a whole robot (several links and
+no ``body_link``) the shape is the tracked link's (``tracked_link``, else the robot's tool),
+in its frame, which is the frame of the node's ``pose``: what a client that draws one body
+(``mouse_marker``) draws and grabs; ``mouse_view`` draws every link (``robot_shape``).
 
 ``ray_body_hit`` is a click's ray on the body at a pose: in the body's frame, the nearest hit on
 its collision pieces (``BodyGeometry.ray``: boxes, spheres and cylinders in closed form, meshes
@@ -38,6 +41,7 @@ from .geometry import local_point, Pose, ray_box_hit
 from .node_readouts import ViewParameters
 from ..description.body_geometry import BodyGeometry, lone_box
 from ..node.body_parameters import geometry_from, GEOMETRY_PARAMETERS
+from ..node.robot_parameters import is_robot
 from ..physics.algebra import multiply_transposed, rotation_matrix, Vector3
 
 
@@ -67,6 +71,23 @@ def ray_body_hit(origin: Sequence[float], direction: Sequence[float], *, pose: P
     return tuple(float(o) + t * float(d) for o, d in zip(origin, direction))
 
 
+def tracked_link_geometry(text: str, tracked_link: str) -> BodyGeometry:
+    """
+    Return a whole robot's tracked link's pieces, in its frame (no Pinocchio).
+
+    :param text: the robot's URDF.
+    :param tracked_link: the node's ``tracked_link``; empty: the robot's tool.
+    :raises ValueError: the URDF is not a robot served, or has no such link.
+    """
+    from ..description.robot_links import robot_links
+    from ..description.robot_structure import robot_structure
+    link = tracked_link or robot_structure(text).tool
+    links = robot_links(text, visuals=True)
+    if link not in links.pieces:
+        raise ValueError(f'tracked_link {link!r} is not a link of the robot')
+    return links.geometry(link)
+
+
 class BodyShape:
     """The body's shape of the node's parameters as last known (the default box at first)."""
 
@@ -84,12 +105,19 @@ class BodyShape:
         :param parameters: the node's parameters as known (``GEOMETRY_PARAMETERS`` of them).
         """
         values = {name: getattr(parameters, name) for name in GEOMETRY_PARAMETERS}
-        key = tuple(values[name] for name in GEOMETRY_PARAMETERS)
+        robot = is_robot(values)
+        key = tuple(values[name] for name in GEOMETRY_PARAMETERS) + (
+            (parameters.tracked_link,) if robot else ())
         if key == self._key:
             return False
         self._key = key
         try:
-            self.geometry, self.error = geometry_from(values), None
+            if robot:
+                self.geometry = tracked_link_geometry(values['robot_description'],
+                                                      parameters.tracked_link)
+            else:
+                self.geometry = geometry_from(values)
+            self.error = None
         except ValueError as error:
             self.geometry = BodyGeometry.box(parameters.box_size)
             self.error = f'the body is drawn as the box of box_size: {error}'

@@ -191,7 +191,21 @@ class Gestures:
         :param hold: the page's hold toggle.
         :returns: nothing when the ray misses the body at the latest pose.
         """
-        hit = ray_body_hit(origin, direction, pose=now, geometry=geometry)
+        return Gestures.click_at(ray_body_hit(origin, direction, pose=now, geometry=geometry),
+                                 modifier=modifier, hold=hold)
+
+    @staticmethod
+    def click_at(hit: Optional[Sequence[float]], *, modifier: Optional[str],
+                 hold: bool) -> List[Action]:
+        """
+        Return what a click whose ray met the body at ``hit`` sends: a grab there, a release.
+
+        :param hit: where the ray first met the body (world, m; a robot's nearest link), or
+            None for a miss: nothing is sent.
+        :param modifier: the modifier keys held (None: none).
+        :param hold: the page's hold toggle.
+        """
         if hit is None:
             return []
-        return [Action(GRAB, hit)] + ([] if _holds(modifier, hold) else [Action(RELEASE)])
+        point = tuple(float(c) for c in hit)
+        return [Action(GRAB, point)] + ([] if _holds(modifier, hold) else [Action(RELEASE)])

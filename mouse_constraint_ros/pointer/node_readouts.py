@@ -21,7 +21,8 @@ link, else the box of ``box_size``; ``body_shape`` makes it), ``anchor`` (the dr
 the body's frame: the link frame of a URDF), ``frequency_hz`` (0: rigid mode, else soft),
 ``grab_margin`` (how far off the body a grab is taken) and, where the node has them, ``floor``,
 ``floor_height`` and ``publish_force`` (whether the felt force is on: its publisher stays when
-it is turned off). ``with_values`` takes them from a ``GetParameters`` answer or a
+it is turned off), and a whole robot's ``base``, ``base_pose`` and ``tracked_link``
+(``robot_shape``). ``with_values`` takes them from a ``GetParameters`` answer or a
 ``/parameter_events`` message: a parameter it does not know, of another type or with a value it
 cannot draw (a non-finite or non-positive box edge, a negative density) is passed over, never
 raised on.
@@ -62,6 +63,9 @@ class ViewParameters(NamedTuple):
     body_link: str = ''
     density: float = 0.0
     publish_force: bool = False
+    base: str = 'fixed'
+    base_pose: Tuple[float, ...] = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0)
+    tracked_link: str = ''
 
     @property
     def mode(self) -> str:
@@ -89,11 +93,14 @@ def _vector(value: ParameterValue, positive: bool) -> Optional[Vector3]:
 
 def _parse(name: str, value: ParameterValue):
     kind = value.type
-    if name in ('frame_id', 'robot_description', 'body_link') \
+    if name in ('frame_id', 'robot_description', 'body_link', 'base', 'tracked_link') \
             and kind == ParameterType.PARAMETER_STRING:
         return value.string_value
     if name in ('box_size', 'anchor') and kind == ParameterType.PARAMETER_DOUBLE_ARRAY:
         return _vector(value, positive=name == 'box_size')
+    if name == 'base_pose' and kind == ParameterType.PARAMETER_DOUBLE_ARRAY:
+        pose = tuple(float(c) for c in value.double_array_value)
+        return pose if len(pose) == 7 and all(math.isfinite(c) for c in pose) else None
     if name in ('frequency_hz', 'floor_height', 'grab_margin', 'density') \
             and kind == ParameterType.PARAMETER_DOUBLE:
         number = value.double_value

@@ -61,6 +61,26 @@ def drawn_pieces(geometry: BodyGeometry) -> Tuple[Piece, ...]:
     return geometry.visuals or geometry.collisions
 
 
+def add_piece(scene: viser.SceneApi, name: str, piece: Piece):
+    """Add one piece's scene node, ``name``, at its origin in its parent's (link) frame."""
+    color, opacity = _colour(piece)
+    place = {'position': tuple(float(c) for c in piece.transform[:3, 3]),
+             'wxyz': tuple(float(c) for c in transforms.SO3.from_matrix(
+                 piece.transform[:3, :3]).wxyz)}
+    if piece.kind == 'box':
+        return scene.add_box(name, color, piece.size, opacity=opacity, **place)
+    if piece.kind == 'sphere':
+        return scene.add_icosphere(name, piece.size[0], color, subdivisions=SPHERE_SUBDIVISIONS,
+                                   opacity=opacity, **place)
+    if piece.kind == 'cylinder':
+        radius, length = piece.size
+        return scene.add_cylinder(name, radius, length, color, radial_segments=CYLINDER_SECTIONS,
+                                  opacity=opacity, **place)
+    return scene.add_mesh_simple(name, np.asarray(piece.mesh.vertices, dtype=float),
+                                 np.asarray(piece.mesh.faces), color=color, opacity=opacity,
+                                 side='double', **place)
+
+
 class BodyDrawing:
     """
     The body's scene nodes on one viser scene.
@@ -121,7 +141,7 @@ class BodyDrawing:
         else:
             self.body = self._scene.add_frame('/body', show_axes=False, position=position,
                                               wxyz=wxyz)
-            self.pieces = [self._add_piece(f'/body/piece_{i}', piece)
+            self.pieces = [add_piece(self._scene, f'/body/piece_{i}', piece)
                            for i, piece in enumerate(pieces)]
         # A child of the body: it moves with the body's pose, at no cost per push.
         self.anchor = self._scene.add_icosphere('/body/anchor', 1.0, _rgb(ANCHOR_COLOR))
@@ -135,27 +155,6 @@ class BodyDrawing:
                 handle.remove()
         self.body = self.anchor = None
         self.pieces = []
-
-    def _add_piece(self, name: str, piece: Piece):
-        """Add one piece's scene node at its origin in the link frame."""
-        color, opacity = _colour(piece)
-        place = {'position': tuple(float(c) for c in piece.transform[:3, 3]),
-                 'wxyz': tuple(float(c) for c in transforms.SO3.from_matrix(
-                     piece.transform[:3, :3]).wxyz)}
-        if piece.kind == 'box':
-            return self._scene.add_box(name, color, piece.size, opacity=opacity, **place)
-        if piece.kind == 'sphere':
-            return self._scene.add_icosphere(name, piece.size[0], color,
-                                             subdivisions=SPHERE_SUBDIVISIONS, opacity=opacity,
-                                             **place)
-        if piece.kind == 'cylinder':
-            radius, length = piece.size
-            return self._scene.add_cylinder(name, radius, length, color,
-                                            radial_segments=CYLINDER_SECTIONS, opacity=opacity,
-                                            **place)
-        return self._scene.add_mesh_simple(name, np.asarray(piece.mesh.vertices, dtype=float),
-                                           np.asarray(piece.mesh.faces), color=color,
-                                           opacity=opacity, side='double', **place)
 
     def move(self, position: Vector3, wxyz: Sequence[float]) -> None:
         """Put ``/body`` at ``position`` turned by ``wxyz`` (the body frame's pose)."""

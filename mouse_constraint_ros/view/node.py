@@ -20,15 +20,16 @@ event sends, ``ReleaseOrder`` when (nothing past a release the node has not answ
 ``PushThrottle`` how often a pose goes to the browser, ``node_readouts`` what the
 node's parameters and /diagnostics say, ``NodeFollower`` whether the node is there and its
 parameters, ``BodyShape`` the body's shape they give (a URDF link or the box: drawn, and met by
-a click's ray), ``panel`` what the panel's buttons call and what its numbers say. All names are
-the ``interface`` module's, relative to the view's namespace, so ``--ros-args -r __ns:=/robot``
-views ``/robot/mouse_constraint``.
+a click's ray), ``RobotView`` a whole robot's (every link placed by ``joint_states``, drawn, and
+met by a click's ray), ``panel`` what the panel's buttons call and what its numbers say. All
+names are the ``interface`` module's, relative to the view's namespace, so
+``--ros-args -r __ns:=/robot`` views ``/robot/mouse_constraint``.
 
 viser calls the pointer and button callbacks on its own threads; they only queue work with the
 time of the event, which a timer runs every ``WORK_PERIOD`` on the executor's thread, so every
 publish and service call happens there (the EventsExecutor has no guard conditions to wake it
-sooner). The same timer takes the newest pose (``NewestMessage``: no callback per pose) and
-offers it to the throttle; poses and twists are decoded only when used.
+sooner). The same timer takes the newest pose and joint_states (``NewestMessage``: no callback
+per message) and offers them to the throttle; they are decoded only when used.
 """
 
 import queue
@@ -44,6 +45,7 @@ from rclpy.serialization import deserialize_message
 from visualization_msgs.msg import Marker, MarkerArray
 
 from .panel import node_name, NodeServices, numbers_text, PanelReadings, status_text
+from .robot_view import RobotView
 from ..pointer.body_shape import BodyShape
 from ..pointer.geometry import Pose, world_point
 from ..pointer.gestures import Action, Camera, Gestures, GRAB, RELEASE
@@ -114,6 +116,9 @@ class MouseViewNode(Node):
                            namespace=self.get_namespace())
         self.pose_subscription = NewestMessage(self.reader, PoseStamped, POSE_TOPIC, LATEST_QOS)
         self.readings = PanelReadings(self.reader, LATEST_QOS)
+        self.robot = RobotView(self.reader, LATEST_QOS)
+        # Every grab, this view's or another client's: which link a robot's anchor is on.
+        self.create_subscription(PointStamped, GRAB_TOPIC, self._on_grab, TARGET_QOS)
         self.create_subscription(MarkerArray, node_name(MARKERS_TOPIC), self._on_markers,
                                  MONITOR_DEPTH)
         self.create_subscription(DiagnosticArray, DIAGNOSTICS_TOPIC, self._on_diagnostics,
@@ -143,8 +148,12 @@ class MouseViewNode(Node):
     def _run_work(self) -> None:
         self.calls.give_up_late()
         raw = self.pose_subscription.take()
+        joints = self.robot.take()
         if raw is not None:
             self._on_pose(raw)
+        elif joints is not None:
+            if self.throttle.offer(joints, self._monotonic()) is not None:
+                self._push()
         elif self.throttle.flush(self._monotonic()) is not None:
             self._push()
         while True:
@@ -176,8 +185,10 @@ class MouseViewNode(Node):
         stamp, at, hold = self._now_ns(), self._monotonic(), bool(self.scene.hold.value)
         if event.phase == 'start':
             camera = _camera(event.client)
+            link = None if self.scene.robot is None else self.scene.robot.link_of(
+                getattr(event, 'target', None))
             self.queue(lambda: self._start_drag(event.client_id, event.start_position,
-                                                camera, stamp, at))
+                                                camera, stamp, at, link))
         elif event.phase == 'update':
             self.queue(lambda: self.send(
                 self.gestures.move(event.client_id, event.end_position), stamp))
@@ -187,10 +198,15 @@ class MouseViewNode(Node):
                 stamp))
 
     def _start_drag(self, client: int, pressed, camera: Optional[Camera], stamp: int,
-                    at: float) -> None:
+                    at: float, link: Optional[str] = None) -> None:
         now, shown = self.latest_pose(), self.scene.shown
         if now is None or shown is None:
             return
+        if self.robot.active:  # the pressed link's pose as drawn and now
+            poses = self.robot.pressed(pressed, link, self.scene.shown_links, now)
+            if poses is None:
+                return
+            shown, now = poses
         actions = self.gestures.start(client, pressed=pressed, camera=camera, shown=shown,
                                       now=now, at=at)
         if any(action.kind == GRAB for action in actions):
@@ -202,7 +218,11 @@ class MouseViewNode(Node):
 
         def click() -> None:
             now = self.latest_pose()
-            if now is not None:
+            if now is not None and self.robot.active:
+                self.send(Gestures.click_at(
+                    self.robot.ray_hit(event.ray_origin, event.ray_direction, now),
+                    modifier=event.modifier, hold=hold), stamp)
+            elif now is not None:
                 self.send(Gestures.click(event.ray_origin, event.ray_direction, now=now,
                                          geometry=self.shape.geometry,
                                          modifier=event.modifier, hold=hold), stamp)
@@ -269,8 +289,19 @@ class MouseViewNode(Node):
         pose = self.latest_pose()
         if pose is None:
             return
-        self.scene.show_pose(pose, world_point(pose, self.parameters.anchor))
+        if self.robot.active:
+            poses = self.robot.link_poses(pose)
+            if poses is None:
+                return
+            self.scene.show_robot(poses, pose,
+                                  self.robot.anchor_point(poses, self.parameters.anchor))
+        else:
+            self.scene.show_pose(pose, world_point(pose, self.parameters.anchor))
         self.pushes += 1
+
+    def _on_grab(self, message: PointStamped) -> None:
+        p = message.point
+        self.robot.heard_grab((p.x, p.y, p.z), self.parameters.grab_margin, self.latest_pose())
 
     def _on_markers(self, array: MarkerArray) -> None:
         for marker in array.markers:
@@ -288,6 +319,11 @@ class MouseViewNode(Node):
         return self.follower.parameters
 
     def _parameters_changed(self, parameters: ViewParameters) -> None:
+        if self.robot.update(parameters) and self.robot.shape.error is not None:
+            self.get_logger().warning(self.robot.shape.error)
+        if self.robot.active:
+            self.scene.apply_parameters(parameters, links=self.robot.shape.links)
+            return
         if self.shape.update(parameters) and self.shape.error is not None:
             self.get_logger().warning(self.shape.error)
         self.scene.apply_parameters(parameters, self.shape.geometry)

@@ -16,11 +16,13 @@
 The page that ``viser`` draws in the browser: the scene and the panel.
 
 The scene holds the body and its anchor (``body_drawing``: the box of ``box_size``, or a URDF
-link's pieces), the target and the line between, a trail of the anchor, the grid and axes, and
-the floor when the node has one; the panel the buttons and the numbers. A page that loads is
-turned to the body (``framing``): the camera looks at the middle of its drawn bounds from where
-their longest edge spans a quarter of the view's height; so is every page open when the first
-pose comes, or when the body's shape is drawn anew.
+link's pieces) or, for a whole robot, every link's pieces and the anchor (``robot_drawing``:
+the body is hidden meanwhile), the target and the line between, a trail of the anchor, the
+grid and axes, and the floor when the node has one; the panel the buttons and the numbers. A
+page that loads is turned to the body (``framing``): the camera looks at the middle of its
+drawn bounds (the robot's, at the poses shown) from where their longest edge spans a quarter of
+the view's height; so is every page open when the first pose comes, or when the body's shape is
+drawn anew.
 
 ``ViewScene`` builds them once on a ``viser.ViserServer`` and then only moves them: each push
 sets a pose or a point, which viser sends to every browser attached. The colours and the
@@ -39,13 +41,14 @@ before.
 """
 
 from collections import deque
-from typing import Callable, Deque, Optional, Sequence
+from typing import Callable, Deque, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 import viser
 from viser import _messages
 
 from .body_drawing import BodyDrawing
+from .robot_drawing import RobotDrawing
 from ..description.body_geometry import BodyGeometry
 from ..monitoring.markers import LINE_FRACTION, SPHERE_FRACTION, TARGET_COLOR
 from ..physics.algebra import Vector3
@@ -145,6 +148,9 @@ class ViewScene:
         self.numbers = gui.add_markdown('')
         self.reply = gui.add_markdown('')
         self.shown: Optional[Pose] = None
+        self.robot: Optional[RobotDrawing] = None
+        self.shown_links: Optional[Dict[str, Pose]] = None  # a robot's links as shown
+        self._callbacks: List[Tuple[Callable, Callable]] = []
         self._pushes = 0
         self._anchor: Optional[Vector3] = None
         self._target: Optional[Vector3] = None
@@ -160,12 +166,19 @@ class ViewScene:
 
     @property
     def anchor(self):
-        """Return the anchor sphere's scene node, a child of ``/body``."""
-        return self.drawing.anchor
+        """Return the anchor sphere's scene node: a child of ``/body``, or the robot's."""
+        return self.drawing.anchor if self.robot is None else self.robot.anchor
 
     def bind_body(self, on_drag: Callable, on_click: Callable) -> None:
-        """Call ``on_drag`` and ``on_click`` on the body's drags and clicks (viser's threads)."""
+        """
+        Call ``on_drag`` and ``on_click`` on the body's drags and clicks (viser's threads).
+
+        A robot's links, drawn now or later, call them too.
+        """
+        self._callbacks.append((on_drag, on_click))
         self.drawing.bind(on_drag, on_click)
+        if self.robot is not None:
+            self.robot.bind(on_drag, on_click)
 
     def grabbed(self) -> None:
         """Take the hint away: the body was grabbed."""
@@ -173,31 +186,56 @@ class ViewScene:
             self.hint.visible = False
 
     def apply_parameters(self, parameters: ViewParameters,
-                         geometry: Optional[BodyGeometry] = None) -> None:
+                         geometry: Optional[BodyGeometry] = None, links=None) -> None:
         """
-        Draw the body, its anchor and the floor as the node's parameters say.
+        Draw the body (or the robot), its anchor and the floor as the node's parameters say.
 
         The spheres and lines are the RViz markers' size for the body (``SPHERE_FRACTION``,
-        ``LINE_FRACTION`` of its drawn longest edge).
+        ``LINE_FRACTION`` of its drawn longest edge; a robot's largest link's).
 
         :param parameters: the node's parameters as known.
         :param geometry: the body's shape (``pointer.body_shape``); None: the box of
             ``box_size``.
+        :param links: a whole robot's links' pieces (``pointer.robot_shape``), drawn instead of
+            the body; None: the body.
         """
         drawing = self.drawing
-        if geometry is None:
-            geometry = BodyGeometry.box(parameters.box_size)
-        if drawing.draw(geometry) and self.shown is not None:
-            for client in self._server.get_clients().values():
-                self.frame(client)
-        longest = max(drawing.extents)
-        self.anchor.position = parameters.anchor
+        if links is not None:
+            longest = self._draw_robot(links)
+        else:
+            if self.robot is not None:
+                self._remove_robot()
+            if geometry is None:
+                geometry = BodyGeometry.box(parameters.box_size)
+            if drawing.draw(geometry) and self.shown is not None:
+                for client in self._server.get_clients().values():
+                    self.frame(client)
+            longest = max(drawing.extents)
+            self.anchor.position = parameters.anchor
         self.anchor.radius = self.target.radius = 0.5 * SPHERE_FRACTION * longest
         self.line.thickness = LINE_FRACTION * longest
         self.trail.thickness = 0.5 * LINE_FRACTION * longest
         self.floor.visible = parameters.floor
         self.floor.position = (0.0, 0.0, parameters.floor_height - FLOOR_GAP * longest
                                - 0.5 * FLOOR_THICKNESS)
+
+    def _draw_robot(self, links) -> float:
+        """Draw the robot of ``links`` unless drawn, the body hidden; return its longest edge."""
+        if self.robot is None or self.robot.links is not links:
+            if self.robot is not None:
+                self.robot.remove()
+            self.robot = RobotDrawing(self._server.scene, links)
+            for callbacks in self._callbacks:
+                self.robot.bind(*callbacks)
+            self.drawing.body.visible = False
+            self.shown = self.shown_links = None  # framed again at the first poses
+        return self.robot.longest
+
+    def _remove_robot(self) -> None:
+        self.robot.remove()
+        self.robot = None
+        self.drawing.body.visible = True
+        self.shown = self.shown_links = None
 
     def frame(self, client) -> None:
         """
@@ -210,9 +248,12 @@ class ViewScene:
         shown = self.shown
         if shown is None:
             return
-        drawing = self.drawing
-        view = framing(world_point(shown, drawing.center), drawing.extents,
-                       float(client.camera.fov))
+        drawing, robot = self.drawing, self.robot
+        if robot is None:
+            view = framing(world_point(shown, drawing.center), drawing.extents,
+                           float(client.camera.fov))
+        else:
+            view = framing(robot.center, robot.extents, float(client.camera.fov))
         # The start first: whoever sees the page's camera turned (from another thread: this
         # runs in viser's) sees its "Reset View" turned too.
         initial = self._server.initial_camera
@@ -231,6 +272,23 @@ class ViewScene:
         """
         with self._server.atomic():  # position and orientation land in one frame
             self.drawing.move(pose.position, wxyz(pose.orientation))
+        self._shown(pose, anchor)
+
+    def show_robot(self, poses: Dict[str, Pose], tracked: Pose, anchor: Vector3) -> None:
+        """
+        Move each link of the robot (and the anchor sphere); extend the trail and the line.
+
+        :param poses: each link's pose (world frame).
+        :param tracked: the tracked link's pose (the node's ``pose``).
+        :param anchor: the anchor's world position.
+        """
+        with self._server.atomic():  # every link lands in one frame
+            self.robot.move(poses)
+            self.robot.anchor.position = anchor
+        self.shown_links = poses
+        self._shown(tracked, anchor)
+
+    def _shown(self, pose: Pose, anchor: Vector3) -> None:
         first = self.shown is None
         self.shown, self._anchor = pose, anchor
         if first:
