@@ -120,13 +120,14 @@ def alternating(processes: list, rate: float, rounds: int, seconds: float, *,
 
     Return the rows, each with its case, CPU per tick (us) and RSS growth (MiB), and each
     case's median CPU per tick. ``floor_case`` names the rclpy floor: its stamps are clock
-    readings, not a grid, so it has no missing ticks.
+    readings, not a grid, so it has no missing ticks, and it is watched on pose and twist alone
+    (``observer_arguments`` are the others').
     """
     rows, samples = [], {name: [] for name, _ in processes}
     for _ in range(rounds):
         for name, command in processes:
             row = measure(command, rate, seconds, first_timeout=first_timeout,
-                          observer_arguments=observer_arguments)
+                          observer_arguments=() if name == floor_case else observer_arguments)
             row['case'] = name
             row['cpu_us_per_tick'] = 1e4 * row['cpu_pct'] / row['achieved_hz']
             row['rss_growth_mib'] = row['rss_mib'] - row['rss_start_mib']
