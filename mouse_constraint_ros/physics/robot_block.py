@@ -82,7 +82,14 @@ def solve_block(jacobian: np.ndarray, mobility: np.ndarray, v: np.ndarray,
         free = held == 0
         if mouse_held:
             free[:3] = False
-        if free.any():
+        count = int(free.sum())
+        if count == 1:  # one equation: its own division, as least squares would give it
+            row = int(np.flatnonzero(free)[0])
+            impulse[row] = 0.0
+            diagonal = delassus[row, row]
+            impulse[row] = (rhs[row] - delassus[row] @ impulse) / diagonal \
+                if diagonal > 0.0 else 0.0
+        elif count:
             fixed = ~free
             rows_free = delassus[free]
             right = rhs[free] - rows_free[:, fixed] @ impulse[fixed]

@@ -197,7 +197,10 @@ def solve_rows(v: np.ndarray, mouse: Optional[MouseRows], joints: List[JointRow]
     accumulated = [0.0] * len(joints)
     mouse_total = np.zeros(3)
     held: dict = {}
-    block = _block(v, mouse, joints, last_held or {})
+    # One joint row alone: a sweep solves it exactly, with no system to set up.
+    block = None
+    if mouse is not None or len(joints) > 1:
+        block = _block(v, mouse, joints, last_held or {})
     if block is not None:
         impulse, held = block
         mouse_rows = 3 if mouse is not None else 0
