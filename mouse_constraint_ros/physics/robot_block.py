@@ -15,32 +15,39 @@
 """
 A robot's rows of one substep solved together, exactly, by trying active sets.
 
-Sequential impulses (``robot_rows.solve_rows``) visit the rows one at a time; a robot at its
-stops and held by the mouse couples them all through M^-1, and each sweep costs a Python call
-per row. Here the rows are stacked, A (m x nv) with the mouse's three first, and solved as one
-mixed complementarity problem in their impulses x:
+Sequential impulses (``robot_sweeps``) visit the rows one at a time; a robot at its stops and
+held by the mouse couples them all through M^-1, and each sweep costs a Python call per row.
+Here the rows are stacked, A (m x nv) with the mouse's three first, and solved as one mixed
+complementarity problem in their impulses x:
 
     w = D x - r,   D = A M^-1 A^T (+ the mouse's compliance),   r = target - A v,
 
 each row either free (w_i = 0, its impulse within its bounds) or held at a bound (x_i at lo_i
-with w_i >= 0, or at hi_i with w_i <= 0). The free rows' equations are solved by least squares
-(``numpy.linalg.lstsq``: the minimum-norm answer where D is singular, as the mouse's K is along
-a direction the joints cannot move its anchor), a violated bound holds its row, a held row that
-pulls the wrong way is freed, and the set is tried again, the most violated row first; the last
-substep's set is tried first. The mouse's rows are Box2D's soft step at its fixed point,
-J v + ((1 - a) / a) K P = -bias, so its block of D is K / a; its norm bound |P| <= h F_max,
-when it binds, scales P onto the bound and holds it there. A set that does not settle within
-``MAX_TRIES`` returns None, and sequential impulses take the substep.
+with w_i >= 0, or at hi_i with w_i <= 0). The free rows' equations are solved by LAPACK through
+SciPy: Cholesky (``dposv``) where the free block of D is well conditioned, else least squares
+(``dgelsd``, the minimum-norm answer where D is singular: the mouse's K along a direction the
+joints cannot move its anchor, or two rows on one joint). A violated bound holds its row, a held
+row that pulls the wrong way is freed, and the set is tried again, the most violated row first;
+the last substep's set is tried first. The mouse's rows are Box2D's soft step at its fixed
+point, J v + ((1 - a) / a) K P = -bias, so its block of D is K / a; its norm bound |P| <= h
+F_max, when it binds, scales P onto the bound and holds it there. A set that does not settle
+within ``MAX_TRIES`` returns None, and sequential impulses take the substep.
 """
 
-from typing import List, Optional, Tuple
+from typing import Dict, Optional, Tuple
 
 import numpy as np
+from scipy.linalg import lapack
 
-# Active sets tried before the solve gives up (each costs one least-squares solve).
+# Active sets tried before the solve gives up (each costs one linear solve).
 MAX_TRIES = 12
 # How far a row may miss its condition and still count as met (relative to the rhs scale).
 TOLERANCE = 1e-9
+# Singular values of a free block below this fraction of its largest are taken as zero.
+RANK_TOLERANCE = 1e-10
+# A Cholesky pivot below this fraction of its row's diagonal: the row nearly repeats others
+# (least squares, not Cholesky, answers).
+PIVOT_TOLERANCE = 1e-9
 
 
 def solve_block(jacobian: np.ndarray, mobility: np.ndarray, v: np.ndarray,
@@ -60,48 +67,37 @@ def solve_block(jacobian: np.ndarray, mobility: np.ndarray, v: np.ndarray,
     :param mass_scale: the mouse's a (its block of D is K / a).
     :param bound: the mouse impulse's largest norm h F_max.
     :param warm: the set to try first: -1 held at lo, 0 free, +1 held at hi, per row
-        (``first_set``).
+        (``robot_rows.HeldSets``).
     """
-    rows = jacobian.shape[0]
     delassus = jacobian @ mobility
     if mouse_rows:
-        delassus[:3, :3] /= mass_scale
+        delassus[:mouse_rows, :mouse_rows] /= mass_scale
     rhs = target - jacobian @ v
     held = warm.copy()
     held[:mouse_rows] = 0
-    impulse = np.zeros(rows)
     mouse_held = False
     mouse_impulse = np.zeros(3)
-    scale = max(1.0, float(np.abs(rhs).max(initial=0.0)),
-                float(np.abs(delassus).max(initial=0.0)))
-    tolerance = TOLERANCE * scale
+    tolerance = TOLERANCE * max(1.0, float(np.abs(rhs).max()), float(delassus.diagonal().max()))
     for _ in range(MAX_TRIES):
-        impulse = np.where(held < 0, lower, np.where(held > 0, upper, 0.0))
-        if mouse_held:
-            impulse[:3] = mouse_impulse
+        impulse = np.where(held < 0, lower, upper)
         free = held == 0
         if mouse_held:
             free[:3] = False
-        count = int(free.sum())
-        if count == 1:  # one equation: its own division, as least squares would give it
-            row = int(np.flatnonzero(free)[0])
-            impulse[row] = 0.0
-            diagonal = delassus[row, row]
-            impulse[row] = (rhs[row] - delassus[row] @ impulse) / diagonal \
-                if diagonal > 0.0 else 0.0
-        elif count:
-            fixed = ~free
+        impulse[free] = 0.0
+        if mouse_held:
+            impulse[:3] = mouse_impulse
+        if free.any():
             rows_free = delassus[free]
-            right = rhs[free] - rows_free[:, fixed] @ impulse[fixed]
-            impulse[free] = np.linalg.lstsq(rows_free[:, free], right, rcond=1e-10)[0]
+            right = rhs[free] - rows_free @ impulse
+            impulse[free] = free_impulses(rows_free[:, free], right)
         if mouse_rows and not mouse_held:
             size = float(np.linalg.norm(impulse[:3]))
             if size > bound:
                 mouse_impulse = impulse[:3] * (bound / size)
                 mouse_held = True
                 continue
-        change = _most_violated(impulse, delassus @ impulse - rhs, held, lower, upper,
-                                mouse_rows, tolerance)
+        change = most_violated(impulse, delassus @ impulse - rhs, held, lower, upper,
+                               mouse_rows, tolerance)
         if change is None:
             return impulse, held
         row, side = change
@@ -109,42 +105,51 @@ def solve_block(jacobian: np.ndarray, mobility: np.ndarray, v: np.ndarray,
     return None
 
 
-def _most_violated(impulse: np.ndarray, residual: np.ndarray, held: np.ndarray,
-                   lower: np.ndarray, upper: np.ndarray, mouse_rows: int,
-                   tolerance: float) -> Optional[Tuple[int, int]]:
-    """Return (row, its new hold) of the row that breaks its condition most, or None."""
-    worst, change = tolerance, None
-    for row in range(mouse_rows, impulse.shape[0]):
-        state = held[row]
-        if state == 0:
-            below, above = lower[row] - impulse[row], impulse[row] - upper[row]
-            if below > worst:
-                worst, change = below, (row, -1)
-            if above > worst:
-                worst, change = above, (row, 1)
-        elif state < 0 and -residual[row] > worst:
-            worst, change = -residual[row], (row, 0)
-        elif state > 0 and residual[row] > worst:
-            worst, change = residual[row], (row, 0)
-    return change
+_WORKSPACE: Dict[int, Tuple[int, int]] = {}
 
 
-def first_set(keys: List[tuple], lower: np.ndarray, upper: np.ndarray, last: dict) -> np.ndarray:
+def free_impulses(matrix: np.ndarray, right: np.ndarray) -> np.ndarray:
     """
-    Return the set to try first: the last substep's hold of a row it had, else a guess.
+    Return x with matrix x = right: the free rows' impulses.
 
-    A one-sided row (a stop, a brake) is guessed held at its zero bound (not pushing), any
-    other free.
-
-    :param keys: each row's key (``robot_rows.row_key``), None for the mouse's.
-    :param last: the last substep's holds by key.
+    ``matrix`` is symmetric positive semi-definite (a block of A M^-1 A^T, the mouse's scaled).
+    Cholesky answers where no row nearly repeats the others; least squares, its minimum-norm
+    answer, where one does.
     """
-    held = np.zeros(len(keys), dtype=int)
-    for row, key in enumerate(keys):
-        if key is not None and key in last:
-            held[row] = last[key]
-        elif lower[row] == 0.0 and np.isinf(upper[row]):
-            held[row] = -1
-        elif upper[row] == 0.0 and np.isinf(lower[row]):
-            held[row] = 1
-    return held
+    size = right.shape[0]
+    if size == 1:
+        diagonal = matrix[0, 0]
+        return right / diagonal if diagonal > 0.0 else np.zeros(1)
+    factor, solution, info = lapack.dposv(matrix, right)
+    if info == 0:
+        pivots = np.diagonal(factor)
+        if (pivots * pivots >= PIVOT_TOLERANCE * np.diagonal(matrix)).all():
+            return solution
+    if size not in _WORKSPACE:
+        work, iwork, _ = lapack.dgelsd_lwork(size, size, 1, RANK_TOLERANCE)
+        _WORKSPACE[size] = (int(work), int(iwork))
+    work, iwork = _WORKSPACE[size]
+    return lapack.dgelsd(matrix, right, work, iwork, RANK_TOLERANCE)[0]
+
+
+def most_violated(impulse: np.ndarray, residual: np.ndarray, held: np.ndarray,
+                  lower: np.ndarray, upper: np.ndarray, mouse_rows: int,
+                  tolerance: float) -> Optional[Tuple[int, int]]:
+    """
+    Return (row, its new hold) of the joint row that breaks its condition most, or None.
+
+    A free row breaks it by leaving its bounds (it is then held at the bound it passed); a held
+    row by pulling the wrong way, its residual w = D x - r of the wrong sign (it is then freed).
+    """
+    free = held == 0
+    # A free row's distance outside its bounds; a held row's pull the wrong way (w < 0 at its
+    # least impulse, w > 0 at its largest): held * w.
+    outside = np.maximum(lower - impulse, impulse - upper)
+    violation = np.where(free, outside, held * residual)
+    violation[:mouse_rows] = -np.inf
+    row = int(np.argmax(violation))
+    if not violation[row] > tolerance:
+        return None
+    if held[row] != 0:
+        return row, 0
+    return row, (-1 if impulse[row] < lower[row] else 1)

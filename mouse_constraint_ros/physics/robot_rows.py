@@ -15,298 +15,389 @@
 """
 A robot's constraint rows in one substep: the mouse, the joint limits, friction, speed limits.
 
-Every row acts on the joint-space velocity v through an impulse: a row with Jacobian J (k x nv)
-and impulse lambda changes v by M^-1 J^T lambda, and the joint torques by J^T lambda / h. The
-rows are solved by sequential impulses, in Box2D's phases:
+Every row acts on the joint-space velocity v through an impulse: rows with Jacobian A (m x nv)
+and impulses x change v by M^-1 A^T x, and the joint torques by A^T x / h. The phases, named as
+Box2D's solvers name theirs:
 
-1. prepare (``prepare_rows``): each row's J, W = M^-1 J^T and effective mass K^-1 = (J W)^-1,
-   its bias and its impulse bounds, from the substep's q and M;
-2. solve (``solve_rows``): ``iterations`` sweeps, each row's impulse change clamped so that its
-   accumulated impulse stays within its bounds, applied to v as W d_lambda;
-3. store: the accumulated impulses, as joint torques (``RowSolution.joint_impulse``) and the
-   mouse's force.
+1. prepare (``prepare_rows``): the substep's rows as arrays (``Rows``): A, each row's target
+   velocity and impulse bounds, what kind of row it is and on which joint, from the substep's
+   q and v and the joints' constants (``JointArrays``, once per model);
+2. solve (``solve_rows``): all rows together, exactly (``robot_block``), the last substep's
+   held set tried first (``HeldSets``); if no set settles, sequential impulses
+   (``robot_sweeps``);
+3. store (``RowSolution``): the impulses as joint torques, the mouse's force, the stops' share.
 
 The mouse rows are the note's constraint with the robot's Jacobian: C = x_anchor(q) - x_mouse,
 J the anchor's point Jacobian (3 x nv) and K = J M^-1 J^T (the single body's eq. 1.10 is the
 case of one free body). Their impulse is Box2D's soft step, P += -a K^-1 (J v + (b / a) C)
 - (1 - a) P with |P| <= h F_max, which with the mouse alone is the single body's one-shot
 P = -K^-1 (a J v + b C) (``mouse_joint``). A position limit is a one-sided row J = e_i whose
-accumulated impulse pushes only away from the stop: ahead of the stop it lets the joint arrive
-exactly at it in the substep (a speculative contact), past it by more than the slop it
-corrects ``limit_baumgarte`` of the rest per substep. Joint friction is a row J = e_i with
+impulse pushes only away from the stop: ahead of the stop it lets the joint arrive exactly at
+it in the substep (a speculative contact), past it by more than the slop it corrects
+``limit_baumgarte`` of the rest per substep. Joint friction is a row J = e_i with
 |lambda| <= h f and target velocity zero; the speed limit is a row that holds |v_i| <= the
 joint's ``velocity`` with at most its ``effort`` (a brake, as ODE's joint motor with FMax). A
 mimic joint is a two-sided row J = e_i - k e_j holding q_i = k q_j + offset, its error
 corrected as a limit's is.
+
+The rows are arrays, not a Python object per row: a robot's substep builds and solves them in a
+few dozen array operations whatever its number of joints.
 """
 
 import math
-from typing import List, NamedTuple, Optional
+from typing import NamedTuple, Optional
 
 import numpy as np
 
-from .robot_block import first_set, solve_block
+from .robot_block import solve_block
+from .robot_model import RobotModel
+from .robot_sweeps import sweep_rows
 
-# Eigenvalues of K below this fraction of its largest are directions the anchor cannot move.
-RANK_TOLERANCE = 1e-9
+# A joint's speed limit gets its row from this fraction of the limit on: the rows can push a
+# joint faster within the substep, but not from far below its limit.
+SPEED_ROW_FROM = 0.8
+# A position limit gets its row within this many slops, plus this many substeps' travel, of
+# its stop.
+LIMIT_REACH_SLOPS = 4.0
+LIMIT_REACH_SUBSTEPS = 4.0
+# The mouse's rows lead A when it holds something.
+MOUSE_ROWS = 3
+
+# What a row holds: its kind.
+MOUSE = -1
+LOWER_LIMIT = 0
+UPPER_LIMIT = 1
+FRICTION = 2
+SPEED_FORWARD = 3   # brakes a joint moving forward at its speed limit
+SPEED_BACKWARD = 4  # brakes a joint moving backward at its speed limit
+MIMIC = 5
+# The joint rows' kinds, in the order ``RowTable`` stacks them after the mouse's.
+JOINT_KINDS = (LOWER_LIMIT, UPPER_LIMIT, FRICTION, SPEED_FORWARD, SPEED_BACKWARD)
+# A row the last substep did not have (``HeldSets``).
+UNKNOWN = 2
+
+
+class JointArrays(NamedTuple):
+    """
+    The moving joints' constants the rows read, as arrays in the joints' order.
+
+    :param v_index: each joint's coordinate in v.
+    :param q_index: its first coordinate in q.
+    :param limited: whether it has a finite lower or upper limit.
+    :param lower: ``<limit lower>`` (rad or m), -inf for none.
+    :param upper: ``<limit upper>``, +inf for none.
+    :param friction: ``<dynamics friction>`` (N m or N).
+    :param velocity: ``<limit velocity>`` (rad/s or m/s), +inf for none.
+    :param effort: ``<limit effort>`` (N m or N).
+    :param continuous: whether it is a continuous joint (q holds its cos and sin).
+    :param mimic_follower: each mimic joint's follower, as a number in the joints' order.
+    :param mimic_leader: its leader, likewise.
+    :param mimic_multiplier: q_follower = multiplier q_leader + offset.
+    :param mimic_offset: the offset (rad or m).
+    """
+
+    v_index: np.ndarray
+    q_index: np.ndarray
+    limited: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    friction: np.ndarray
+    velocity: np.ndarray
+    effort: np.ndarray
+    continuous: np.ndarray
+    mimic_follower: np.ndarray
+    mimic_leader: np.ndarray
+    mimic_multiplier: np.ndarray
+    mimic_offset: np.ndarray
+
+
+def joint_arrays(model: RobotModel) -> JointArrays:
+    """Return the joints' constants of ``model`` as arrays."""
+    joints = model.joints
+    number = {joint.name: position for position, joint in enumerate(joints)}
+
+    def column(values, dtype=float) -> np.ndarray:
+        return np.array(list(values), dtype=dtype)
+
+    return JointArrays(
+        v_index=column((j.v_index for j in joints), int),
+        q_index=column((j.q_index for j in joints), int),
+        limited=column((j.limited for j in joints), bool),
+        lower=column(j.lower for j in joints),
+        upper=column(j.upper for j in joints),
+        friction=column(j.friction for j in joints),
+        velocity=column(j.velocity for j in joints),
+        effort=column(j.effort for j in joints),
+        continuous=column((j.kind == 'continuous' for j in joints), bool),
+        mimic_follower=column((number[m.follower.name] for m in model.mimics), int),
+        mimic_leader=column((number[m.leader.name] for m in model.mimics), int),
+        mimic_multiplier=column(m.multiplier for m in model.mimics),
+        mimic_offset=column(m.offset for m in model.mimics))
+
+
+def joint_positions(arrays: JointArrays, q: np.ndarray) -> np.ndarray:
+    """Return each moving joint's position (rad or m), a continuous joint's as its angle."""
+    positions = q[arrays.q_index]
+    if arrays.continuous.any():
+        index = arrays.q_index[arrays.continuous]
+        positions[arrays.continuous] = np.arctan2(q[index + 1], q[index])
+    return positions
+
+
+class LimitSettings(NamedTuple):
+    """How the stops and mimic joints correct an error: ``RobotSettings``' part the rows read."""
+
+    slop: float
+    baumgarte: float
 
 
 class MouseRows(NamedTuple):
     """
-    The mouse constraint's three rows, prepared.
+    The mouse constraint's three rows, before they join the joints'.
 
     :param jacobian: J (3 x nv), the anchor's world-frame point Jacobian.
-    :param mobility: W = M^-1 J^T (nv x 3).
-    :param stiffness: K = J W (3 x 3), the inverse effective mass; sequential impulses take its
-        pseudo-inverse (``effective_mass``).
-    :param bias: (b / a) C (m/s), with a the mass scale.
-    :param mass_scale: a (1 in rigid mode).
+    :param error: C = anchor - target (m).
+    :param mass_scale: a of ``MouseConstraint.gains`` (1 in rigid mode).
+    :param bias_factor: b of the gains (1/s): the rows aim at J v = -(b / a) C.
     :param bound: the largest impulse norm h F_max (N s).
     """
 
     jacobian: np.ndarray
-    mobility: np.ndarray
-    stiffness: np.ndarray
-    bias: np.ndarray
+    error: np.ndarray
     mass_scale: float
+    bias_factor: float
     bound: float
 
 
-class JointRow(NamedTuple):
+class RowTable:
     """
-    One joint's row, J = e_index: a limit's, friction's or the speed limit's.
+    Every row the robot could have in a substep of length h; a substep picks some.
 
-    :param index: the joint's coordinate in v.
-    :param mobility: W = M^-1 e_index (nv).
-    :param effective_mass: 1 / (M^-1)_ii.
-    :param target: the joint velocity the row aims at (rad/s or m/s).
-    :param lower: the least accumulated impulse (N m s or N s).
-    :param upper: the largest.
-    :param limit: whether it is a position limit's row (its torque is the limit's).
-    :param jacobian: a row on more than one joint (a mimic joint's, J = e_i - k e_j): its J (nv);
-        None for J = e_index.
+    The candidates, in order: the mouse's three, then each joint's lower stop, upper stop,
+    friction, forward brake and backward brake (one block of joints per kind, in
+    ``JOINT_KINDS`` order), then each mimic joint's. What does not change from one substep to
+    the next is filled once: each row's J but the mouse's, its bounds, kind and joint, the
+    brakes' targets and the hold a new row is first tried at; ``prepare_rows`` fills the rest
+    and picks.
+
+    :param arrays: the joints' constants.
+    :param nv: the robot's degrees of freedom.
+    :param h: the substep (s).
+    :param limits: the stops' slop and correction.
     """
 
-    index: int
-    mobility: np.ndarray
-    effective_mass: float
-    target: float
-    lower: float
-    upper: float
-    limit: bool = False
-    jacobian: Optional[np.ndarray] = None
+    def __init__(self, arrays: JointArrays, nv: int, h: float, limits: LimitSettings) -> None:
+        """Fill every candidate's constant parts."""
+        self.arrays, self.h, self.limits = arrays, h, limits
+        joints = arrays.v_index.shape[0]
+        mimics = arrays.mimic_follower.shape[0]
+        self.count = MOUSE_ROWS + len(JOINT_KINDS) * joints + mimics
+        kind_start = {kind: MOUSE_ROWS + number * joints
+                      for number, kind in enumerate(JOINT_KINDS)}
+        self.stops = slice(kind_start[LOWER_LIMIT], kind_start[UPPER_LIMIT] + joints)
+        brakes = slice(kind_start[SPEED_FORWARD], kind_start[SPEED_BACKWARD] + joints)
+        self.mimics = slice(self.count - mimics, self.count)
+        inf, zeros, ones = math.inf, np.zeros(joints), np.ones(joints)
+        brake, rub = h * arrays.effort, h * arrays.friction
+        self.jacobian = np.zeros((self.count, nv))
+        for kind in JOINT_KINDS:
+            rows = np.arange(kind_start[kind], kind_start[kind] + joints)
+            self.jacobian[rows, arrays.v_index] = 1.0
+        follower = arrays.v_index[arrays.mimic_follower]
+        leader = arrays.v_index[arrays.mimic_leader]
+        mimic_rows = np.arange(self.mimics.start, self.count)
+        self.jacobian[mimic_rows, follower] += 1.0
+        self.jacobian[mimic_rows, leader] -= arrays.mimic_multiplier
+        unbounded = np.full(MOUSE_ROWS, inf)
+        self.lower = np.concatenate((-unbounded, zeros, -inf * ones, -rub, -brake, zeros,
+                                     np.full(mimics, -inf)))
+        self.upper = np.concatenate((unbounded, inf * ones, zeros, rub, zeros, brake,
+                                     np.full(mimics, inf)))
+        self.target = np.concatenate((np.zeros(MOUSE_ROWS + 3 * joints), arrays.velocity,
+                                      -arrays.velocity, np.zeros(mimics)))
+        self.kind = np.concatenate((np.full(MOUSE_ROWS, MOUSE),
+                                    np.repeat(JOINT_KINDS, joints).astype(int),
+                                    np.full(mimics, MIMIC)))
+        self.joint = np.concatenate((np.full(MOUSE_ROWS, -1),
+                                     np.tile(arrays.v_index, len(JOINT_KINDS)), follower))
+        # A stop is first tried held at its zero bound (not pushing), any other row free.
+        self.first_guess = np.where(self.kind == LOWER_LIMIT, -1,
+                                    np.where(self.kind == UPPER_LIMIT, 1, 0))
+        self.mask = np.zeros(self.count, dtype=bool)
+        self.mask[kind_start[FRICTION]:kind_start[FRICTION] + joints] = arrays.friction > 0.0
+        self.mask[self.mimics] = True
+        # Views by (side, joint) of the stops' and the brakes' parts.
+        self.stop_mask = self.mask[self.stops].reshape(2, joints)
+        self.stop_target = self.target[self.stops].reshape(2, joints)
+        self.brake_mask = self.mask[brakes].reshape(2, joints)
+        # distance to each stop = side * position + offset: position - lower, upper - position.
+        self.side = np.array(((1.0,), (-1.0,)))
+        self.offset = np.stack((-arrays.lower, arrays.upper))
+        self.speed_from = SPEED_ROW_FROM * arrays.velocity
 
-    def velocity(self, v: np.ndarray) -> float:
-        """Return the row's velocity J v."""
-        return float(v[self.index]) if self.jacobian is None else float(self.jacobian @ v)
+
+class Rows(NamedTuple):
+    """
+    One substep's rows, picked from the ``RowTable``.
+
+    The mouse's come first (when it holds), then the stops', then the others'.
+
+    :param jacobian: A (m x nv).
+    :param target: each row's target velocity A v (the mouse's: -(b / a) C).
+    :param lower: each row's least accumulated impulse (-inf for none).
+    :param upper: each row's largest.
+    :param kind: each row's kind (``MOUSE``, ``LOWER_LIMIT`` ... ``MIMIC``).
+    :param joint: the coordinate in v each joint row acts on (its follower's for a mimic
+        row); -1 for the mouse's.
+    :param picked: each row's number in the table: what names it from one substep to the next.
+    :param first_guess: the hold each row is tried at when the last substep did not have it.
+    :param limit_rows: the stops' rows.
+    :param mouse_rows: ``MOUSE_ROWS`` when the mouse's rows lead, else 0.
+    :param mass_scale: the mouse's a (its block of the system is K / a).
+    :param bound: the mouse impulse's largest norm h F_max (N s); inf without the mouse.
+    """
+
+    jacobian: np.ndarray
+    target: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    kind: np.ndarray
+    joint: np.ndarray
+    picked: np.ndarray
+    first_guess: np.ndarray
+    limit_rows: slice
+    mouse_rows: int = 0
+    mass_scale: float = 1.0
+    bound: float = math.inf
+
+    @property
+    def count(self) -> int:
+        """Return the number of rows."""
+        return self.target.shape[0]
+
+
+def prepare_rows(table: RowTable, q: np.ndarray, v: np.ndarray,
+                 mouse: Optional[MouseRows] = None) -> Rows:
+    """
+    Return the substep's rows: the mouse's, each stop near, friction, the brakes, mimic joints.
+
+    A stop's row comes within four slops plus four substeps' travel of it; a brake's from
+    ``SPEED_ROW_FROM`` of the speed limit on.
+
+    :param table: every row the robot could have, for this substep length.
+    :param q: the configuration.
+    :param v: the velocity the rows start from.
+    :param mouse: the mouse's rows, or None when it holds nothing.
+    """
+    arrays, h, limits = table.arrays, table.h, table.limits
+    joint_v = v[arrays.v_index]
+    speed = np.abs(joint_v)
+    positions = joint_positions(arrays, q)
+    distance = table.side * positions + table.offset
+    np.less_equal(distance, limits.slop * LIMIT_REACH_SLOPS + LIMIT_REACH_SUBSTEPS * h * speed,
+                  out=table.stop_mask)
+    table.stop_mask &= arrays.limited
+    # toward a stop: arrive at it in the substep; past it by more than the slop, back out by
+    # ``baumgarte`` of the rest. The lower stop's row aims at -that, the upper's at +that.
+    allowed = np.where(distance >= 0.0, distance,
+                       limits.baumgarte * np.minimum(distance + limits.slop, 0.0)) / h
+    np.multiply(allowed, -table.side, out=table.stop_target)
+    braking = speed > table.speed_from
+    forward = joint_v > 0.0
+    np.logical_and(braking, forward, out=table.brake_mask[0])
+    np.logical_and(braking, ~forward, out=table.brake_mask[1])
+    if table.mimics.start != table.count:
+        error = positions[arrays.mimic_follower] - (
+            arrays.mimic_multiplier * positions[arrays.mimic_leader] + arrays.mimic_offset)
+        table.target[table.mimics] = (-limits.baumgarte / h) * error
+    lead = 0
+    if mouse is not None:
+        lead = MOUSE_ROWS
+        table.jacobian[:MOUSE_ROWS] = mouse.jacobian
+        table.target[:MOUSE_ROWS] = (-mouse.bias_factor / mouse.mass_scale) * mouse.error
+    table.mask[:MOUSE_ROWS] = mouse is not None
+    picked = np.flatnonzero(table.mask)
+    rows = Rows(table.jacobian[picked], table.target[picked], table.lower[picked],
+                table.upper[picked], table.kind[picked], table.joint[picked], picked,
+                table.first_guess[picked],
+                slice(lead, int(np.searchsorted(picked, table.stops.stop))))
+    if mouse is None:
+        return rows
+    return rows._replace(mouse_rows=MOUSE_ROWS, mass_scale=mouse.mass_scale, bound=mouse.bound)
+
+
+class HeldSets:
+    """
+    Which bound each row of the table held at the last substep's end: the next solve's first set.
+
+    -1: held at its least impulse, 0: free, +1: held at its largest; ``UNKNOWN`` for a row the
+    last substep did not have, which is tried at its ``first_guess``.
+
+    :param count: the table's rows.
+    """
+
+    def __init__(self, count: int) -> None:
+        """Start knowing nothing."""
+        self._held = np.full(count, UNKNOWN, dtype=int)
+
+    def clear(self) -> None:
+        """Forget every row's hold (a new state)."""
+        self._held.fill(UNKNOWN)
+
+    def first(self, rows: Rows) -> np.ndarray:
+        """Return the set to try first for ``rows``: each row's last hold, else its guess."""
+        last = self._held[rows.picked]
+        return np.where(last == UNKNOWN, rows.first_guess, last)
+
+    def remember(self, rows: Rows, held: np.ndarray) -> None:
+        """Keep ``held``, each row's hold, for the next substep; forget the rest."""
+        self._held.fill(UNKNOWN)
+        self._held[rows.picked] = held
 
 
 class RowSolution(NamedTuple):
-    """What one substep's rows did: the joint impulses, the mouse's, and the set they held."""
+    """
+    What one substep's rows did.
+
+    :param joint_impulse: A^T x, the impulses on each coordinate of v (N m s or N s).
+    :param mouse_impulse: the mouse's impulse P (N s), world frame.
+    :param limit_impulse: the stops' share of ``joint_impulse``.
+    """
 
     joint_impulse: np.ndarray
     mouse_impulse: np.ndarray
     limit_impulse: np.ndarray
-    held: dict = {}
 
 
-def row_key(row: JointRow) -> tuple:
-    """Return what names a joint row from one substep to the next: its joint, kind and side."""
-    return (row.index, row.limit, row.jacobian is not None, row.lower == 0.0, row.upper == 0.0)
-
-
-def mouse_rows(jacobian: np.ndarray, inverse_mass: np.ndarray, error: np.ndarray,
-               gains: tuple, bound: float) -> MouseRows:
-    """
-    Prepare the mouse's rows.
-
-    :param jacobian: J (3 x nv).
-    :param inverse_mass: M^-1 (nv x nv).
-    :param error: C = anchor - target (m).
-    :param gains: (a, b) of ``MouseConstraint.gains``.
-    :param bound: h F_max (N s).
-    """
-    mobility = inverse_mass @ jacobian.T
-    k = jacobian @ mobility
-    a, b = gains
-    return MouseRows(jacobian, mobility, 0.5 * (k + k.T), (b / a) * error, a, bound)
-
-
-def effective_mass(mouse: MouseRows) -> np.ndarray:
-    """
-    Return the mouse's effective mass K^-1.
-
-    K is singular along the directions the joints cannot move the anchor (a planar arm's
-    normal, an arm at full stretch): the pseudo-inverse pulls along the others only.
-    """
-    return np.linalg.pinv(mouse.stiffness, rcond=RANK_TOLERANCE, hermitian=True)
-
-
-def limit_row(index: int, inverse_mass: np.ndarray, distance: float, h: float, slop: float,
-              baumgarte: float, upper_side: bool) -> JointRow:
-    """
-    Prepare a position limit's row.
-
-    :param distance: how far the joint is inside its limit (negative: past it).
-    :param upper_side: True for the upper limit (the impulse pushes down), False for the lower.
-    """
-    if distance >= 0.0:
-        speed = distance / h  # may arrive at the stop, not beyond
-    else:
-        speed = baumgarte * min(distance + slop, 0.0) / h
-    mobility = inverse_mass[:, index].copy()
-    mass = 1.0 / mobility[index]
-    if upper_side:
-        return JointRow(index, mobility, mass, speed, -math.inf, 0.0, True)
-    return JointRow(index, mobility, mass, -speed, 0.0, math.inf, True)
-
-
-def bounded_row(index: int, inverse_mass: np.ndarray, target: float,
-                bound: float) -> JointRow:
-    """Prepare a row that drives joint ``index`` to ``target`` velocity with |impulse| <= bound."""
-    mobility = inverse_mass[:, index].copy()
-    return JointRow(index, mobility, 1.0 / mobility[index], target, -bound, bound)
-
-
-def mimic_row(follower: int, leader: int, multiplier: float, error: float,
-              inverse_mass: np.ndarray, h: float, baumgarte: float) -> JointRow:
-    """
-    Prepare a mimic joint's row: q_follower = multiplier q_leader + offset, held both ways.
-
-    :param error: C = q_follower - (multiplier q_leader + offset) (rad or m).
-    """
-    jacobian = np.zeros(inverse_mass.shape[0])
-    jacobian[follower] += 1.0
-    jacobian[leader] -= multiplier
-    mobility = inverse_mass @ jacobian
-    return JointRow(follower, mobility, 1.0 / float(jacobian @ mobility),
-                    -baumgarte * error / h, -math.inf, math.inf, False, jacobian)
-
-
-def solve_rows(v: np.ndarray, mouse: Optional[MouseRows], joints: List[JointRow],
-               iterations: int, last_held: Optional[dict] = None) -> RowSolution:
+def solve_rows(v: np.ndarray, rows: Rows, inverse_mass: np.ndarray, iterations: int,
+               held_sets: Optional[HeldSets] = None) -> RowSolution:
     """
     Solve the rows, changing ``v`` in place; return their impulses.
 
     The rows are solved together, exactly (``robot_block``), the last substep's held set tried
-    first; if no set settles, by sequential impulses: ``iterations`` sweeps, each visiting the
-    mouse's block, then each joint row. Either way a last pass of the joint rows alone gives the
-    stops the last word where the mouse pulls against them.
+    first; if no set settles, by sequential impulses (``robot_sweeps``): ``iterations`` sweeps,
+    each visiting the mouse's block, then each joint row, and a last pass of the joint rows
+    alone that gives the stops the last word where the mouse pulls against them.
     """
     nv = v.shape[0]
-    accumulated = [0.0] * len(joints)
-    mouse_total = np.zeros(3)
-    held: dict = {}
-    # One joint row alone: a sweep solves it exactly, with no system to set up.
-    block = None
-    if mouse is not None or len(joints) > 1:
-        block = _block(v, mouse, joints, last_held or {})
-    if block is not None:
-        impulse, held = block
-        mouse_rows = 3 if mouse is not None else 0
-        if mouse is not None:
-            mouse_total = impulse[:3]
-            v += mouse.mobility @ mouse_total
-        for number, row in enumerate(joints):
-            accumulated[number] = float(impulse[mouse_rows + number])
-            v += row.mobility * accumulated[number]
+    if rows.count == 0:
+        if held_sets is not None:
+            held_sets.clear()
+        return RowSolution(np.zeros(nv), np.zeros(MOUSE_ROWS), np.zeros(nv))
+    jacobian = rows.jacobian
+    mobility = inverse_mass @ jacobian.T
+    warm = held_sets.first(rows) if held_sets is not None else rows.first_guess
+    solved = solve_block(jacobian, mobility, v, rows.target, rows.lower, rows.upper,
+                         rows.mouse_rows, rows.mass_scale, rows.bound, warm)
+    if solved is not None:
+        impulse, held = solved
+        v += mobility @ impulse
     else:
-        inverse = None if mouse is None else effective_mass(mouse)
-        for _ in range(iterations if joints else 1):
-            if mouse is not None:
-                mouse_total = _mouse_sweep(v, mouse, inverse, mouse_total)
-            _joint_sweep(v, joints, accumulated)
-    if mouse is not None and joints:
-        for _ in range(iterations):
-            if _settled(joints, accumulated, v):
-                break
-            _joint_sweep(v, joints, accumulated)
-    joint_impulse = np.zeros(nv)
-    limit_impulse = np.zeros(nv)
-    for number, row in enumerate(joints):
-        if row.jacobian is not None:
-            joint_impulse += row.jacobian * accumulated[number]
-            continue
-        joint_impulse[row.index] += accumulated[number]
-        if row.limit:
-            limit_impulse[row.index] += accumulated[number]
-    if mouse is not None:
-        joint_impulse += mouse.jacobian.T @ mouse_total
-    return RowSolution(joint_impulse, mouse_total, limit_impulse, held)
-
-
-def _block(v: np.ndarray, mouse: Optional[MouseRows], joints: List[JointRow],
-           last_held: dict):
-    """Return the rows' impulses solved together and the held set by key, or None."""
-    if mouse is None and not joints:
-        return None
-    jacobians, mobilities, targets, lowers, uppers, keys = [], [], [], [], [], []
-    if mouse is not None:
-        jacobians.append(mouse.jacobian)
-        mobilities.append(mouse.mobility)
-        targets.extend(-mouse.bias)
-        lowers.extend([-math.inf] * 3)
-        uppers.extend([math.inf] * 3)
-        keys.extend([None] * 3)
-    nv = v.shape[0]
-    for row in joints:
-        if row.jacobian is None:
-            jacobian = np.zeros((1, nv))
-            jacobian[0, row.index] = 1.0
-        else:
-            jacobian = row.jacobian[np.newaxis, :]
-        jacobians.append(jacobian)
-        mobilities.append(row.mobility[:, np.newaxis])
-        targets.append(row.target)
-        lowers.append(row.lower)
-        uppers.append(row.upper)
-        keys.append(row_key(row))
-    lower, upper = np.array(lowers), np.array(uppers)
-    mouse_rows = 3 if mouse is not None else 0
-    solved = solve_block(
-        np.vstack(jacobians), np.hstack(mobilities), v, np.array(targets), lower, upper,
-        mouse_rows,
-        mouse.mass_scale if mouse is not None else 1.0,
-        mouse.bound if mouse is not None else math.inf, first_set(keys, lower, upper, last_held))
-    if solved is None:
-        return None
-    impulse, held = solved
-    return impulse, {key: int(state) for key, state in zip(keys, held) if key and state}
-
-
-def _mouse_sweep(v: np.ndarray, mouse: MouseRows, inverse: np.ndarray,
-                 total: np.ndarray) -> np.ndarray:
-    """Visit the mouse's block once (``inverse``: its K^-1); return its accumulated impulse."""
-    a = mouse.mass_scale
-    change = -a * (inverse @ (mouse.jacobian @ v + mouse.bias)) - (1.0 - a) * total
-    new = total + change
-    size = float(np.linalg.norm(new))
-    if size > mouse.bound:
-        new *= mouse.bound / size
-    v += mouse.mobility @ (new - total)
-    return new
-
-
-def _joint_sweep(v: np.ndarray, joints: List[JointRow], accumulated: List[float]) -> None:
-    """Visit each joint row once, clamping its accumulated impulse to its bounds."""
-    for number, row in enumerate(joints):
-        change = row.effective_mass * (row.target - row.velocity(v))
-        old = accumulated[number]
-        new = min(max(old + change, row.lower), row.upper)
-        if new != old:
-            accumulated[number] = new
-            v += row.mobility * (new - old)
-
-
-def _settled(joints: List[JointRow], accumulated: List[float], v: np.ndarray) -> bool:
-    """
-    Return whether no joint row would change its impulse.
-
-    One sweep is not always the answer: rows on coupled joints move each other's velocities.
-    """
-    for number, row in enumerate(joints):
-        change = row.effective_mass * (row.target - row.velocity(v))
-        new = min(max(accumulated[number] + change, row.lower), row.upper)
-        if abs(new - accumulated[number]) > 1e-12 * max(1.0, abs(accumulated[number])):
-            return False
-    return True
+        impulse = sweep_rows(v, rows, mobility, iterations)
+        held = np.zeros(rows.count, dtype=int)
+    if held_sets is not None:
+        held_sets.remember(rows, held)
+    stops = rows.limit_rows
+    return RowSolution(jacobian.T @ impulse,
+                       impulse[:MOUSE_ROWS].copy() if rows.mouse_rows else np.zeros(MOUSE_ROWS),
+                       np.bincount(rows.joint[stops], weights=impulse[stops], minlength=nv))

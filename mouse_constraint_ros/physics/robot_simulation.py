@@ -40,19 +40,18 @@ from typing import Optional, Sequence, Tuple
 import numpy as np
 import pinocchio
 
+from scipy.linalg import lapack
+
 from .mouse_joint import MouseConstraint
 from .robot_model import RobotModel
-from .robot_rows import (bounded_row, JointRow, limit_row, mimic_row, mouse_rows, RowSolution,
-                         solve_rows)
+from .robot_rows import (HeldSets, joint_arrays, joint_positions, LimitSettings, MouseRows,
+                         prepare_rows, RowSolution, RowTable, solve_rows)
 from .robot_state import RobotSettings, RobotState
 from .state import BodyState
 from .validation import finite_vector, scalar
 
 WORLD_ALIGNED = pinocchio.ReferenceFrame.LOCAL_WORLD_ALIGNED
 FIXED_POINT_PASSES = 2
-# A joint's speed limit gets its row from this fraction of the limit on: the rows can push a
-# joint faster within the substep, but not from far below its limit.
-SPEED_ROW_FROM = 0.8
 
 
 def skew(r: np.ndarray) -> np.ndarray:
@@ -75,12 +74,18 @@ class RobotSimulation:
         self.model = model
         self._data = model.model.createData()
         self._lower = np.tril_indices(model.nv, -1)
+        self._joints = joint_arrays(model)
+        self._damping = np.zeros(model.nv)
+        self._damping[self._joints.v_index] = [joint.damping for joint in model.joints]
+        self._damped = bool(self._damping.any())
+        self._held: Optional[HeldSets] = None
         self._initial_state = self._checked(initial_state)
         self._settings = settings
-        self._set_gravity()
+        self._take_settings()
         self._target: Optional[np.ndarray] = None
         self._anchor: Optional[Tuple[int, np.ndarray]] = None
         self._wrench = (np.zeros(3), np.zeros(3))
+        self._wrenched = False
         self._time = 0.0
         self.reset()
 
@@ -95,9 +100,14 @@ class RobotSimulation:
         if not isinstance(settings, RobotSettings):
             raise ValueError(f'settings must be a RobotSettings, got {settings!r}')
         self._settings = settings
-        self._set_gravity()
+        self._take_settings()
 
-    def _set_gravity(self) -> None:
+    def _take_settings(self) -> None:
+        """Take the settings' gravity, and the body damping's rate per coordinate of v."""
+        self._rates = self._decay()
+        self._decaying = bool(self._rates.any())
+        self._limits = LimitSettings(self._settings.limit_slop, self._settings.limit_baumgarte)
+        self._table: Optional[RowTable] = None
         self.model.model.gravity.linear = np.array(self._settings.gravity, dtype=float)
 
     def _checked(self, state: RobotState) -> RobotState:
@@ -126,7 +136,8 @@ class RobotSimulation:
         self._p = self._mass_matrix @ state.v
         self._v = state.v.copy()
         self._staggered = False
-        self._held: dict = {}
+        if self._held is not None:
+            self._held.clear()
 
     def reset(self) -> None:
         """Return to the initial state; drop the target and the grab's target."""
@@ -174,6 +185,7 @@ class RobotSimulation:
         self._wrench_frame = self.model.link_frames[link]
         self._wrench = (np.array(finite_vector('wrench force', force)),
                         np.array(finite_vector('wrench torque', torque)))
+        self._wrenched = bool(self._wrench[0].any() or self._wrench[1].any())
 
     # --- readings -----------------------------------------------------------------------------
     @property
@@ -188,17 +200,15 @@ class RobotSimulation:
 
     def joint_positions(self) -> Tuple[float, ...]:
         """Return each moving joint's position (rad or m)."""
-        return self.model.joint_positions(self._q)
+        return tuple(joint_positions(self._joints, self._q).tolist())
 
     def joint_velocities(self) -> Tuple[float, ...]:
         """Return each moving joint's velocity (rad/s or m/s)."""
-        v = self.state.v
-        return tuple(float(v[joint.v_index]) for joint in self.model.joints)
+        return tuple(self._v[self._joints.v_index].tolist())
 
     def joint_efforts(self) -> Tuple[float, ...]:
         """Return each joint's torque (N m or N) from the mouse and the limits, the last step's."""
-        torque = self._tick_torque
-        return tuple(float(torque[joint.v_index]) for joint in self.model.joints)
+        return tuple(self._tick_torque[self._joints.v_index].tolist())
 
     @property
     def tick_impulse(self) -> Tuple[Tuple[float, float, float], float]:
@@ -215,15 +225,12 @@ class RobotSimulation:
         """Return ``link``'s frame: pose and velocities of its origin, world frame."""
         frame = self.model.link_frames[link]
         model, data = self.model.model, self._data
-        v = self.state.v
-        pinocchio.forwardKinematics(model, data, self._q, v)
+        pinocchio.forwardKinematics(model, data, self._q, self._v)
         placement = pinocchio.updateFramePlacement(model, data, frame)
         twist = pinocchio.getFrameVelocity(model, data, frame, WORLD_ALIGNED)
-        x, y, z, w = pinocchio.Quaternion(placement.rotation).coeffs()
-        return BodyState(tuple(float(c) for c in placement.translation),
-                         (float(x), float(y), float(z), float(w)),
-                         tuple(float(c) for c in twist.linear),
-                         tuple(float(c) for c in twist.angular))
+        return BodyState(tuple(placement.translation.tolist()),
+                         tuple(pinocchio.Quaternion(placement.rotation).coeffs().tolist()),
+                         tuple(twist.linear.tolist()), tuple(twist.angular.tolist()))
 
     def link_placements(self) -> dict:
         """Return every link's (position, rotation matrix) in the world."""
@@ -247,7 +254,7 @@ class RobotSimulation:
     def energy(self) -> float:
         """Return the robot's energy: kinetic plus gravity's potential (J)."""
         model, data = self.model.model, self._data
-        v = self.state.v
+        v = self._v
         return float(pinocchio.computeKineticEnergy(model, data, self._q, v)
                      + pinocchio.computePotentialEnergy(model, data, self._q))
 
@@ -258,13 +265,16 @@ class RobotSimulation:
         mass[self._lower] = mass.T[self._lower]
         return mass
 
-    def _momentum_rate(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
-        """Return dp/dt = C(q, v)^T v - g(q) + the wrench's torques (no damping, no rows)."""
+    def _coriolis_rate(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """Return C(q, v)^T v, the velocity-dependent part of dp/dt."""
+        return pinocchio.computeCoriolisMatrix(self.model.model, self._data, q, v).T @ v
+
+    def _applied(self, q: np.ndarray) -> np.ndarray:
+        """Return dp/dt's part that depends on q alone: -g(q) + the wrench's torques."""
         model, data = self.model.model, self._data
-        rate = pinocchio.computeCoriolisMatrix(model, data, q, v).T @ v \
-            - pinocchio.computeGeneralizedGravity(model, data, q)
-        force, torque = self._wrench
-        if force.any() or torque.any():
+        rate = -pinocchio.computeGeneralizedGravity(model, data, q)
+        if self._wrenched:
+            force, torque = self._wrench
             pinocchio.computeJointJacobians(model, data, q)
             jacobian = pinocchio.getFrameJacobian(model, data, self._wrench_frame, WORLD_ALIGNED)
             rate += jacobian.T @ np.concatenate((force, torque))
@@ -275,30 +285,24 @@ class RobotSimulation:
         dt = scalar('dt', dt, above=0.0, at_most=1.0)
         settings = self._settings
         h = dt / settings.substeps
-        damping = self._joint_damping()
         if not self._staggered:
-            v = self._v
-            self._p = self._p - 0.5 * h * (self._momentum_rate(self._q, v) - damping * v)
+            q, v = self._q, self._v
+            rate = self._coriolis_rate(q, v) + self._applied(q) - self._damping * v
+            self._p = self._p - 0.5 * h * rate
             self._staggered = True
         torque_sum = np.zeros(self.model.nv)
         limit_sum = np.zeros(self.model.nv)
         mouse_sum = np.zeros(3)
         for _ in range(settings.substeps):
-            solution = self._substep(h, damping)
+            solution = self._substep(h)
             torque_sum += solution.joint_impulse
             limit_sum += solution.limit_impulse
             mouse_sum += solution.mouse_impulse
-        self._tick_mouse_impulse = (tuple(float(x) for x in mouse_sum), dt)
+        self._tick_mouse_impulse = (tuple(mouse_sum.tolist()), dt)
         self._tick_torque = torque_sum / dt
         self._limit_torque = limit_sum / dt
         self._time += dt
         return self.state
-
-    def _joint_damping(self) -> np.ndarray:
-        damping = np.zeros(self.model.nv)
-        for joint in self.model.joints:
-            damping[joint.v_index] = joint.damping
-        return damping
 
     def _decay(self) -> np.ndarray:
         """Return the body damping's rate per coordinate of v (1/s)."""
@@ -322,33 +326,52 @@ class RobotSimulation:
         inverse[self._lower] = inverse.T[self._lower]
         self._inverse_mass = inverse
 
-    def _substep(self, h: float, damping: np.ndarray) -> RowSolution:
-        q, p, mass, inverse_mass = self._q, self._p, self._mass_matrix, self._inverse_mass
+    def _free_velocity(self, h: float) -> np.ndarray:
+        """
+        Return v* of the free motion: p + h (C(q, v*)^T v* - g - D v*) = M v*, by fixed point.
+
+        With joint damping D the system M + h D is solved (Cholesky, LAPACK through SciPy), else
+        M^-1 applies.
+        """
+        q, p = self._q, self._p
+        applied = self._applied(q)
+        v = self._inverse_mass @ p
+        damped = self._damped
+        if damped:
+            damped_mass = self._mass_matrix + np.diag(h * self._damping)
+        for _ in range(FIXED_POINT_PASSES):
+            momentum = p + h * (self._coriolis_rate(q, v) + applied)
+            if not damped:
+                v = self._inverse_mass @ momentum
+                continue
+            _, v, info = lapack.dposv(damped_mass, momentum)
+            if info != 0:  # M + h D is positive definite: only a broken M gets here
+                v = np.linalg.solve(damped_mass, momentum)
+        return v
+
+    def _substep(self, h: float) -> RowSolution:
         # 1. free motion: the momentum, implicit in the velocity it moves the positions with.
-        v = inverse_mass @ p
-        if damping.any():
-            damped_mass = mass + h * np.diag(damping)
-            for _ in range(FIXED_POINT_PASSES):
-                v = np.linalg.solve(damped_mass, p + h * self._momentum_rate(q, v))
-        else:
-            for _ in range(FIXED_POINT_PASSES):
-                v = inverse_mass @ (p + h * self._momentum_rate(q, v))
-        rates = self._decay()
-        if rates.any():
-            v = v * np.exp(-rates * h)
+        v = self._free_velocity(h)
+        if self._decaying:
+            v = v * np.exp(-self._rates * h)
         # 2. the rows, on v with M(q).
-        mouse = self._mouse_rows(q, v, inverse_mass, h)
-        joints = self._joint_rows(q, v, inverse_mass, h)
-        solution = solve_rows(v, mouse, joints, self._settings.iterations, self._held)
-        self._held = solution.held
+        q = self._q
+        table = self._table
+        if table is None or table.h != h:
+            table = self._table = RowTable(self._joints, self.model.nv, h, self._limits)
+            self._held = HeldSets(table.count)
+        rows = prepare_rows(table, q, v, self._mouse_rows(q, h))
+        solution = solve_rows(v, rows, self._inverse_mass, self._settings.iterations,
+                              self._held)
         self._mouse_impulse = (solution.mouse_impulse, h)
         # 3. positions, and the momentum carried at the new configuration.
-        self._p = mass @ v
+        self._p = self._mass_matrix @ v
         self._set_configuration(pinocchio.integrate(self.model.model, q, h * v))
         self._v = self._inverse_mass @ self._p
         return solution
 
-    def _mouse_rows(self, q: np.ndarray, v: np.ndarray, inverse_mass: np.ndarray, h: float):
+    def _mouse_rows(self, q: np.ndarray, h: float) -> Optional[MouseRows]:
+        """Return the mouse's rows at ``q``, or None when it holds nothing or has no target."""
         if self._target is None or self._anchor is None:
             return None
         model, data = self.model.model, self._data
@@ -359,9 +382,8 @@ class RobotSimulation:
         jacobian6 = pinocchio.getFrameJacobian(model, data, frame, WORLD_ALIGNED)
         jacobian = jacobian6[:3] - skew(lever) @ jacobian6[3:]
         error = placement.translation + lever - self._target
-        constraint = self._settings.constraint
-        return mouse_rows(jacobian, inverse_mass, error, constraint.gains(h),
-                          h * self.force_bound())
+        a, b = self._settings.constraint.gains(h)
+        return MouseRows(jacobian, error, a, b, h * self.force_bound())
 
     def force_bound(self) -> float:
         """Return the bound on the constraint force (N): max_force and max_force_per_weight."""
@@ -370,43 +392,3 @@ class RobotSimulation:
             return constraint.max_force
         weight = self.model.mass * (float(np.linalg.norm(self._settings.gravity)) or 9.80665)
         return min(constraint.max_force, constraint.max_force_per_weight * weight)
-
-    def _joint_rows(self, q: np.ndarray, v: np.ndarray, inverse_mass: np.ndarray,
-                    h: float) -> list:
-        settings = self._settings
-        rows: list = []
-        for joint in self.model.joints:
-            index = joint.v_index
-            speed = abs(float(v[index]))
-            if joint.limited:
-                position = float(q[joint.q_index])
-                reach = settings.limit_slop * 4.0 + 4.0 * h * speed
-                for bound, upper_side in ((joint.lower, False), (joint.upper, True)):
-                    distance = bound - position if upper_side else position - bound
-                    if distance <= reach:
-                        rows.append(limit_row(index, inverse_mass, distance, h,
-                                              settings.limit_slop, settings.limit_baumgarte,
-                                              upper_side))
-            if joint.friction > 0.0:
-                rows.append(bounded_row(index, inverse_mass, 0.0, h * joint.friction))
-            if math.isfinite(joint.velocity) and speed > SPEED_ROW_FROM * joint.velocity:
-                rows.append(self._speed_row(joint, index, inverse_mass, h, float(v[index])))
-        positions = self.model.joint_positions(q)
-        order = {joint.name: number for number, joint in enumerate(self.model.joints)}
-        for mimic in self.model.mimics:
-            error = positions[order[mimic.follower.name]] - (
-                mimic.multiplier * positions[order[mimic.leader.name]] + mimic.offset)
-            rows.append(mimic_row(mimic.follower.v_index, mimic.leader.v_index,
-                                  mimic.multiplier, error, inverse_mass, h,
-                                  settings.limit_baumgarte))
-        return rows
-
-    @staticmethod
-    def _speed_row(joint, index: int, inverse_mass: np.ndarray, h: float,
-                   velocity: float) -> JointRow:
-        """Return the brake that keeps |v_i| <= the joint's velocity, with at most its effort."""
-        bound = h * joint.effort
-        mobility = inverse_mass[:, index].copy()
-        if velocity > 0.0:
-            return JointRow(index, mobility, 1.0 / mobility[index], joint.velocity, -bound, 0.0)
-        return JointRow(index, mobility, 1.0 / mobility[index], -joint.velocity, 0.0, bound)
