@@ -31,10 +31,12 @@ from nav_msgs.msg import Odometry
 import pytest
 from rclpy.serialization import deserialize_message, serialize_message
 from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import JointState
 
 from mouse_constraint_ros.wire.cdr.clock import ClockLayout
 from mouse_constraint_ros.wire.cdr.geometry import (PoseStampedLayout, TwistStampedLayout,
                                                     WrenchStampedLayout)
+from mouse_constraint_ros.wire.cdr.joint_state import JointStateLayout
 from mouse_constraint_ros.wire.cdr.odometry import OdometryLayout
 from mouse_constraint_ros.wire.cdr.point_stamped import (decode_point_stamped, fields_of,
                                                          PointStampedFields)
@@ -192,6 +194,37 @@ def test_odometry_bytes_are_rclpy_bytes(frame, child, stamp_ns, position, orient
     assert same_doubles(xyz(back.twist.twist.linear), linear)
     assert same_doubles(xyz(back.twist.twist.angular), angular)
     assert same_doubles(list(back.twist.covariance), twist_covariance)
+
+
+@SETTINGS
+@given(names=st.lists(frames, min_size=1, max_size=12), stamp_ns=stamps, data=st.data())
+@example(names=['panda_joint1', 'panda_finger_joint2'], stamp_ns=0, data=None)
+def test_joint_state_bytes_are_rclpy_bytes(names, stamp_ns, data):
+    count = len(names)
+    if data is None:
+        fields = [(math.nan, -0.0)] * 3
+    else:
+        fields = [data.draw(st.lists(doubles, min_size=count, max_size=count)) for _ in range(3)]
+    layout = JointStateLayout(names)
+    assert layout.precompiled
+    packed = layout.pack(stamp_ns, *fields)
+    message = JointState()
+    set_header(message.header, stamp_ns, '')
+    message.name = list(names)
+    message.position, message.velocity, message.effort = (list(f) for f in fields)
+    assert_same_bytes(packed, message, layout.padding)
+
+    back = deserialize_message(packed, JointState)
+    assert_header(back.header, stamp_ns, '')
+    assert list(back.name) == list(names)
+    for got, expected in zip((back.position, back.velocity, back.effort), fields):
+        assert same_doubles(list(got), expected)
+
+
+def test_joint_state_values_not_one_per_name_are_a_value_error():
+    layout = JointStateLayout(['shoulder', 'elbow'])
+    with pytest.raises(ValueError, match='JointState'):
+        layout.pack(0, (0.0,), (0.0, 0.0), (0.0, 0.0))
 
 
 @SETTINGS

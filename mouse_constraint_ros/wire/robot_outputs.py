@@ -15,10 +15,11 @@
 """
 What a robot publishes beside the tracked link's pose and twist: joint_states and every link's TF.
 
-``joint_states`` (sensor_msgs/JointState) carries each moving joint's position, velocity and
-effort, the torque (N m, or N for a prismatic joint) that the mouse constraint and the position
-limits applied in the tick, stamped as the tick's pose. TF carries ``frame_id`` -> each link
-(the tracked link's own transform is the state publishers'), when a broadcaster is there.
+``joint_states`` (sensor_msgs/JointState, as CDR bytes: ``cdr.joint_state``) carries each moving
+joint's position, velocity and effort, the torque (N m, or N for a prismatic joint) that the
+mouse constraint and the position limits applied in the tick, stamped as the tick's pose. TF
+carries ``frame_id`` -> each link (the tracked link's own transform is the state publishers'),
+when a broadcaster is there.
 """
 
 from typing import Callable, Dict, Optional, Sequence, Tuple
@@ -27,6 +28,7 @@ from geometry_msgs.msg import TransformStamped
 from rclpy.node import Node
 from sensor_msgs.msg import JointState
 
+from .cdr.joint_state import JointStateLayout
 from .interface import JOINT_STATES_QOS, JOINT_STATES_TOPIC
 from .messages import set_stamp
 
@@ -51,8 +53,7 @@ class RobotOutputs:
         """Create the joint_states publisher."""
         self._publisher = node.create_publisher(JointState, JOINT_STATES_TOPIC,
                                                 JOINT_STATES_QOS)
-        self._message = JointState()
-        self._message.name = list(joint_names)
+        self._layout = JointStateLayout(joint_names)
         self._frame_id = frame_id
         self._tracked = tracked_link
         self._send_transform = send_transform
@@ -62,12 +63,7 @@ class RobotOutputs:
     def publish(self, stamp_ns: int, positions: Sequence[float], velocities: Sequence[float],
                 efforts: Sequence[float], placements: Optional[Placements] = None) -> None:
         """Publish one tick's joint_states, and each link's transform when TF is on."""
-        message = self._message
-        set_stamp(message.header.stamp, stamp_ns)
-        message.position = [float(x) for x in positions]
-        message.velocity = [float(x) for x in velocities]
-        message.effort = [float(x) for x in efforts]
-        self._publisher.publish(message)
+        self._publisher.publish(self._layout.pack(stamp_ns, positions, velocities, efforts))
         if self._send_transform is None or placements is None:
             return
         transform = self._transform

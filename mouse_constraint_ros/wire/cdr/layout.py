@@ -44,7 +44,8 @@ tf2_msgs/TFMessage is not among the layouts: tf2_msgs is not installed with the 
 this package uses, so its bytes could not be checked.
 
 The layouts of each message family are in the modules beside this one: ``geometry``
-(PoseStamped, TwistStamped), ``odometry`` (Odometry), ``clock`` (Clock).
+(PoseStamped, TwistStamped), ``odometry`` (Odometry), ``clock`` (Clock), ``joint_state``
+(JointState).
 """
 
 import math
