@@ -30,8 +30,8 @@ Three modes, each writing an ``.npz`` file for the bench module to analyse after
 - ``exercise``: drive every path of the node for a while (``bench.memory``;
   ``bench.observer_exercise``).
 
-The executor is the EventsExecutor spun with ``spin_once`` (the node's own loop). Both modes
-print ``ready`` once the node's publishers are matched.
+The executor is the EventsExecutor spun with ``spin_once`` (the node's own loop). Each mode
+prints ``ready`` once the node's publishers are matched.
 """
 
 import argparse

@@ -245,7 +245,8 @@ def constraint_status(name: str, hardware_id: str, *, target_kind: str,
     :param target_age: seconds since the last user target, or None.
     :param target_timeout: the node's ``target_timeout`` (s, 0 = never).
     :param thresholds: where the levels change.
-    :param floor_contacts: how many of the box's corners touch the floor, None without a floor.
+    :param floor_contacts: how many of the body's points touch the floor (a box's corners, a
+        hull's vertices), None without a floor.
     """
     level, problems = OK, []
     magnitude = math.hypot(*force)
