@@ -15,10 +15,10 @@
 """
 The node's ``/diagnostics``: tick-rate, constraint and simulator statuses (no rclpy here).
 
-The node samples its tick counters into a ``TickWindow`` at the diagnostics rate; the window's
-differences give the achieved rate (ticks actually run per second of the node's clock, not the
-timer's period), late and dropped ticks. ``rate_status`` and ``constraint_status`` grade them
-against ``Thresholds``:
+The node samples its tick counters into a ``TickWindow`` (``tick_window``) at the diagnostics
+rate; the window's differences give the achieved rate (ticks actually run per second of the
+node's clock, not the timer's period), late and dropped ticks. ``rate_status`` and
+``constraint_status`` grade them against ``Thresholds``:
 
 =================================  =================  ===================  ==============
 check                              OK                 WARN                 ERROR
@@ -56,6 +56,7 @@ from typing import List, NamedTuple, Optional, Sequence
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 
+from .tick_window import TickCounters, Window
 from ..physics.algebra import Vector3
 from ..wire.interface import PAUSED_KEY
 from ..wire.messages import set_stamp
@@ -93,55 +94,8 @@ class Thresholds(NamedTuple):
     target_age_warn: float = 0.5
 
 
-class TickCounters(NamedTuple):
-    """The node's running totals: ticks run, run late (in catch-up), dropped; clock restarts."""
-
-    ticks: int
-    late: int
-    dropped: int
-    clock_restarts: int
-
-
-class Window(NamedTuple):
-    """What happened between two samples: ``seconds`` of the node's clock and counter deltas."""
-
-    seconds: float
-    ticks: int
-    late: int
-    dropped: int
-    clock_restarts: int
-
-
 # The keys of the window's fields in the rate status, in ``Window`` order.
 WINDOW_KEYS = ('window (s)', 'ticks run', 'late ticks', 'dropped ticks', 'clock restarts')
-
-
-class TickWindow:
-    """The node's tick counters between consecutive samples, at one requested rate."""
-
-    def __init__(self) -> None:
-        """Create a window that starts at the first sample."""
-        self._previous = None
-
-    def sample(self, now_ns: int, counters: TickCounters, rate_hz: float) -> Optional[Window]:
-        """
-        Close the window at ``now_ns`` and start the next one; return the closed one.
-
-        :param now_ns: the node's clock (ns).
-        :param counters: the node's totals now.
-        :param rate_hz: the requested rate now.
-        :returns: None for the first sample, or when the rate changed, the clock did not advance
-            or reads zero (sim time before the first /clock): there is no window to judge then.
-        """
-        previous = self._previous
-        self._previous = (now_ns, counters, rate_hz)
-        if previous is None or now_ns <= 0:
-            return None
-        then, before, previous_rate = previous
-        if previous_rate != rate_hz or now_ns <= then or then <= 0:
-            return None
-        deltas = (total - start for total, start in zip(counters, before))
-        return Window((now_ns - then) * 1e-9, *deltas)
 
 
 def _value(number: Optional[float], digits: int = 6) -> str:

@@ -34,9 +34,10 @@ from ..inputs.throttle import RefusalLog
 from ..monitoring.body_markers import drawn_pieces
 from ..monitoring.diagnostics import (constraint_status, diagnostic_array, INITIAL_ANCHOR,
                                       NO_TARGET, Pacing, publishing_values, rate_status,
-                                      simulator_status, Thresholds, TickWindow, USER_TARGET)
+                                      simulator_status, Thresholds, USER_TARGET)
 from ..monitoring.input_diagnostics import input_status, InputReport
 from ..monitoring.markers import BODY_COLOR, marker_array, reference_force, wrench_reference
+from ..monitoring.tick_window import TickWindow
 from ..physics import MouseSimulation
 from ..physics.settings import force_bound
 from ..wire.interface import (DIAGNOSTICS_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH,
