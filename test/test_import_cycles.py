@@ -149,5 +149,9 @@ def test_the_graph_sees_imports_inside_functions_and_relative_ones(tmp_path):
 
 def test_no_module_imports_itself_back():
     """No circle of imports among the package's, the benches' and their support's modules."""
-    found = cycles(import_graph(repository_modules()))
+    graph = import_graph(repository_modules())
+    assert len(graph) > 200 and sum(len(targets) for targets in graph.values()) > 500
+    # A function's own import is an edge: the console script imports its command late.
+    assert 'mouse_constraint_ros.cli.ctl' in graph['mouse_constraint_ros.cli.console']
+    found = cycles(graph)
     assert not found, 'import circles:\n' + '\n'.join(' -> '.join(c) for c in found)
