@@ -31,6 +31,7 @@ import sys
 import time
 
 from test_support import floor_scenarios, late_streams
+from test_support.floor_press import floor_press
 
 
 def _rows(quick: bool) -> list:
@@ -77,7 +78,7 @@ def _rows(quick: bool) -> list:
                      'met': met})
     for case, press, back in (('for 1 s, then lifted', 1.0, False),
                               ('for 3 s, then lifted back above where it was', 3.0, True)):
-        peaks = late_streams.floor_press(press=press, back=back)
+        peaks = floor_press(press=press, back=back)
         rows.append({'case': f'corner pressed 0.5 m into the floor and 0.3 m aside {case}',
                      'value': f'COM {peaks.speed:.2f} m/s, {peaks.spin:.2f} rad/s',
                      'goal': '<= 2.5 m/s, <= 15 rad/s',

@@ -30,8 +30,8 @@ Three modes, each writing an ``.npz`` file for the bench module to analyse after
 - ``exercise``: drive every path of the node for a while (``bench.memory``;
   ``bench.observer_exercise``).
 
-The executor is the EventsExecutor spun with ``spin_once`` (the node's own loop). Both modes
-print ``ready`` once the node's publishers are matched.
+The executor is the EventsExecutor spun with ``spin_once`` (the node's own loop). Each mode
+prints ``ready`` once the node's publishers are matched.
 """
 
 import argparse
@@ -42,6 +42,7 @@ import sys
 import time
 from typing import Iterator, Tuple
 
+from bench.observer_io import RECORD_QOS, say, spin_for, TARGET_QOS
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped, WrenchStamped
 import numpy as np
@@ -54,12 +55,6 @@ from sensor_msgs.msg import JointState
 
 from test_support.ros_harness import spin_until
 
-# Deep enough that a slow spell of the observer never loses messages on its side.
-RECORD_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=5000,
-                        reliability=ReliabilityPolicy.RELIABLE)
-# The node's target subscription and mouse_target's publisher: RELIABLE, depth 1.
-TARGET_QOS = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
-                        reliability=ReliabilityPolicy.RELIABLE)
 # CDR: a 4-byte encapsulation header, then std_msgs/Header's stamp (int32 sec, uint32 nanosec).
 STAMP = struct.Struct('<iI')
 
@@ -68,22 +63,6 @@ def stamp_of(raw: bytes) -> int:
     """Return the header stamp (ns) of a serialized stamped message (little-endian CDR)."""
     sec, nanosec = STAMP.unpack_from(raw, 4)
     return sec * 1_000_000_000 + nanosec
-
-
-def say(text: str) -> None:
-    """Write one line on stdout for the bench process that reads it."""
-    sys.stdout.write(text + '\n')
-    sys.stdout.flush()
-
-
-def spin_for(executor, seconds: float) -> None:
-    """Spin for ``seconds`` of wall time."""
-    deadline = time.monotonic() + seconds
-    while True:
-        left = deadline - time.monotonic()
-        if left <= 0.0:
-            return
-        executor.spin_once(timeout_sec=min(left, 0.05))
 
 
 # The message type of a topic ``--also`` names; any other is a TwistStamped.

@@ -25,7 +25,7 @@ the counts. ``bench.observer`` runs it.
 import math
 import time
 
-from bench.observer import RECORD_QOS, say, spin_for, TARGET_QOS
+from bench.observer_io import RECORD_QOS, say, spin_for, TARGET_QOS
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped
 import numpy as np

@@ -30,9 +30,7 @@ shipped estimator is the one it is.
 import sys
 import time
 
-from bench.stream_timing import RATES_HZ, SECONDS
-
-from test_support.stream_timing import replay
+from test_support.stream_timing import RATES_HZ, replay, SECONDS
 
 # Estimators for stamped streams, as overrides of physics.target_stream's constants.
 ESTIMATORS = [

@@ -31,9 +31,9 @@ target (``TargetStream.add``: the fit) and per tick (``MouseSimulation.step`` at
 substeps, while a 60 Hz stream is extrapolated), stamped and arrival-timed, against a still
 target (CPU time of this process: the machine's other load does not count, its caches do).
 
-Standalone: ``python -m bench.stream_timing [--quick]`` prints the section as JSON; with
-``--estimators`` it prints ``bench.stream_estimators``'s table instead, the estimators of stamped
-streams compared on the same drags.
+Standalone: ``python -m bench.stream_timing [--quick]`` prints the section as JSON;
+``python -m bench.stream_estimators`` compares the estimators of stamped streams on the same
+drags.
 """
 
 import argparse
@@ -53,11 +53,10 @@ from mouse_constraint_ros.physics import BodyState, MouseSimulation
 from mouse_constraint_ros.physics.target_stream import TargetStream
 from test_support import processes
 from test_support.mouse_feel import configured, PARAMS_FILE
-from test_support.stream_timing import circle, following, replay, schedule
+from test_support.stream_timing import (circle, following, RATES_HZ, replay, schedule,
+                                        SECONDS)
 
-RATES_HZ = (20.0, 60.0)
 TARGETS = {20.0: (0.003, 0.03), 60.0: (0.001, 0.02)}
-SECONDS = 6.0
 QUICK_SECONDS = 3.0
 COST_REPEATS = 7
 
@@ -250,8 +249,6 @@ def run(quick: bool = False) -> dict:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[1])
     parser.add_argument('--quick', action='store_true', help='shorter drags')
-    parser.add_argument('--estimators', action='store_true',
-                        help='print bench.stream_estimators: the stamped estimators compared')
     parser.add_argument('--publish', action='store_true', help='be the publisher process')
     parser.add_argument('--arrival', action='store_true', help='publisher: zero stamps')
     parser.add_argument('--rate', type=float, default=20.0, help='publisher: events per s')
@@ -264,10 +261,6 @@ def main(argv=None) -> int:
     options = parser.parse_args(argv)
     if options.publish:
         return publish(options)
-    if options.estimators:
-        from bench import stream_estimators
-        print(common.section_markdown(stream_estimators.run(quick=options.quick)))
-        return 0
     print(json.dumps(run(quick=options.quick), indent=1))
     return 0
 

@@ -12,4 +12,4 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""ROS 2 node serving one rigid body dragged by a mouse constraint."""
+"""ROS 2 node serving a rigid body, or a whole robot, dragged by a mouse constraint."""

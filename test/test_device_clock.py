@@ -218,7 +218,7 @@ def test_a_burst_of_poses_of_a_tenth_of_a_second_each_runs_its_own_tick():
             hand.send(tick * T)
         body.step(0)
         assert body.node.ticker.device_clock.ticks == depth and len(listener.forces) == depth
-        assert body.node._target.device_lost == 0
+        assert body.node._target.device.lost == 0
     forces = np.array([force for _, force in listener.forces])
     np.testing.assert_allclose(forces, replayed_forces(hand.sent), rtol=0.0, atol=1e-9)
 
@@ -242,7 +242,7 @@ def test_poses_lost_are_counted_from_the_gaps_in_their_stamps_and_echoed(capfd):
             if tick not in (10, 11, 12, 40):
                 hand.send(tick * T)
             body.step(0)
-        assert body.node._target.device_lost == 4
+        assert body.node._target.device.lost == 4
         lines.clear()
         body.step_until(lambda: any('device poses lost: 4' in line for line in lines),
                         max_ticks=100_000)
@@ -251,7 +251,7 @@ def test_poses_lost_are_counted_from_the_gaps_in_their_stamps_and_echoed(capfd):
         for tick in range(500, 510):
             hand.send(tick * T)
             body.step(0)
-        assert not body.node.ticker.device_clock.silent and body.node._target.device_lost == 4
+        assert not body.node.ticker.device_clock.silent and body.node._target.device.lost == 4
     err = capfd.readouterr().err
     assert err.count('device silent: no valid pose on target_pose for more than '
                      'device_timeout 0.1 s') == 1

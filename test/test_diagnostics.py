@@ -27,10 +27,10 @@ from mouse_constraint_ros.monitoring.diagnostics import INITIAL_ANCHOR
 from mouse_constraint_ros.monitoring.diagnostics import NO_TARGET
 from mouse_constraint_ros.monitoring.diagnostics import rate_status
 from mouse_constraint_ros.monitoring.diagnostics import Thresholds
-from mouse_constraint_ros.monitoring.diagnostics import TickCounters
-from mouse_constraint_ros.monitoring.diagnostics import TickWindow
 from mouse_constraint_ros.monitoring.diagnostics import USER_TARGET
-from mouse_constraint_ros.monitoring.diagnostics import Window
+from mouse_constraint_ros.monitoring.tick_window import TickCounters
+from mouse_constraint_ros.monitoring.tick_window import TickWindow
+from mouse_constraint_ros.monitoring.tick_window import Window
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.physics.settings import force_bound
 from mouse_constraint_ros.wire.messages import stamp_nanoseconds

@@ -29,7 +29,8 @@ import pytest
 from mouse_constraint_ros.physics.polynomial import around, evaluate, polynomial
 from mouse_constraint_ros.physics.stream_lag import Lag
 from mouse_constraint_ros.physics.target_stream import TargetStream
-from test_support import floor_scenarios, late_streams
+from test_support import floor_scenarios, late_streams, lockstep_runs
+from test_support.floor_press import floor_press
 
 
 def _line(latencies, count: int = 20) -> TargetStream:
@@ -134,8 +135,8 @@ def test_the_undrained_ticks_are_the_node_s_ticks_drained():
     """
     events = [event._replace(stamped=k % 2 == 0) for k, event in
               enumerate(late_streams.browser_line_events(20.0, 0.1, 3, seconds=0.5))]
-    fast = late_streams.run(events, 0.6)
-    drained = late_streams.run(events, 0.6, drained=True)
+    fast = lockstep_runs.run(events, 0.6)
+    drained = lockstep_runs.run(events, 0.6, drained=True)
     assert np.array_equal(fast.times, drained.times)
     assert np.array_equal(fast.anchors, drained.anchors)
     assert np.ptp(fast.anchors[:, 0]) > 0.1  # the drag moved the anchor
@@ -176,7 +177,7 @@ def test_a_late_circle_is_followed_smoothly_behind_its_received_path(rate, delay
 
 def test_a_corner_pressed_into_the_floor_and_lifted_is_not_flung():
     """A resting box's corner pushed 0.5 m in, 0.3 m aside, then lifted: <= 2.5 m/s, 15 rad/s."""
-    peaks = late_streams.floor_press()
+    peaks = floor_press()
     assert peaks.speed <= 2.5 and peaks.spin <= 15.0
 
 
@@ -187,7 +188,7 @@ def test_a_corner_pressed_for_long_and_lifted_back_is_not_flung():
     The box tips onto its side and the anchor is held back the whole time; as the box leaves
     the floor it closes on the guide at the guide's own bounds: <= 2.5 m/s, 15 rad/s.
     """
-    peaks = late_streams.floor_press(press=3.0, back=True)
+    peaks = floor_press(press=3.0, back=True)
     assert peaks.speed <= 2.5 and peaks.spin <= 15.0
 
 

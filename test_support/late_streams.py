@@ -16,14 +16,12 @@
 Pointer streams as a network delivers them, run through the node in lockstep: bench and tests.
 
 Each scenario is a list of pointer events (when the pointer was there, when the point is
-delivered to the node, where, and whether it carries its stamp) sent to the real node with the
-shipped parameters (config/params.yaml), stepped on simulated time (``SimulatedBody``): a point
-delivered at time d is published before the first tick after d and the executor drained, so
-the node takes it before that tick. Between deliveries the node's ticks run alone, undrained,
-and the node publishes its state once a second: nothing it hears changes between them and
-what it publishes is not read (the same ticks as ``SimulatedBody.step``'s with every state
-published, at a tenth of the cost; test_late_streams checks that). The anchor's world
-position of every tick is recorded, and the metrics say what the anchor did:
+delivered to the node, where, and whether it carries its stamp): a drag that stops at once or
+slows down (``line_events``), the same as a browser samples and sends it
+(``browser_line_events``), a still pointer's jitter (``still_events``), a browser's drag round
+a circle (``circle_events``). ``lockstep_runs.run`` delivers them to the real node with the
+shipped parameters and records the anchor's world position of every tick, and the metrics say
+what the anchor did:
 
 - ``overshoot``: how far the anchor went past the last point, along the drag's direction (m);
 - ``speed_ratio``: the anchor's highest speed after the first second over the drag's speed
@@ -36,13 +34,11 @@ position of every tick is recorded, and the metrics say what the anchor did:
 - ``wobble``: the RMS of the anchor's speed over the pointer's, minus 1, over the same ticks.
 """
 
-from functools import lru_cache
 from typing import Dict, List, NamedTuple, Optional, Sequence
 
 import numpy as np
 
-from mouse_constraint_ros.testing import SimulatedBody
-from test_support.mouse_feel import shipped_parameters
+from test_support.lockstep_runs import Event, run, start_point, Trace
 from test_support.stream_timing import RADIUS, schedule, SPEED, TAIL, WARM_UP
 
 # The drag of the stop and slow-down scenarios (m/s), along +x from the held anchor.
@@ -53,79 +49,9 @@ SLOW_DOWN = 0.2
 JITTER = 0.002
 # The anchor has settled this long (s) after a stop's last point was delivered.
 STOP_TAIL = 0.4
-# What the node publishes, while its ticks run undrained: its state once a second, no markers.
-QUIET = {'marker_rate_hz': 0.0, 'diagnostics_rate_hz': 0.0, 'publish_rate_hz': 1.0}
 # The delays (s) the scenarios are delivered late by.
 DELAYS = (0.0, 0.1, 0.2)
 STILL_DELAYS = (0.0, 0.08, 0.16, 0.24)
-
-
-class Event(NamedTuple):
-    """A pointer event: at ``time`` it was at ``point``; delivered at ``delivered``."""
-
-    time: float
-    delivered: float
-    point: tuple
-    stamped: bool = True
-
-
-class Trace(NamedTuple):
-    """The anchor's world position at each tick's time (s)."""
-
-    times: np.ndarray
-    anchors: np.ndarray
-
-
-def parameters() -> dict:
-    """Return the shipped parameters, less those the harness owns."""
-    values = shipped_parameters()
-    for name in ('publish_clock', 'real_time_factor', 'use_sim_time'):
-        values.pop(name, None)
-    return values
-
-
-@lru_cache(maxsize=1)
-def _start() -> tuple:
-    values = parameters()
-    return tuple(np.array(values['initial_position']) + np.array(values['anchor']))
-
-
-def start_point() -> np.ndarray:
-    """Return where the shipped body's anchor is held at the start (m)."""
-    return np.array(_start())
-
-
-def run(events: Sequence[Event], seconds: float, *, drained: bool = False,
-        **overrides) -> Trace:
-    """
-    Deliver ``events`` to the node (shipped parameters and ``overrides``) for ``seconds``.
-
-    Stamped events carry their time as the stamp (the node's clock is the simulated one, from
-    0); the others a zero stamp.
-
-    :param drained: step with ``SimulatedBody.step``, the executor drained after every tick,
-        every state published.
-    """
-    pending = sorted(events, key=lambda e: e.delivered)
-    quiet = {**QUIET, 'publish_rate_hz': 0.0} if drained else QUIET
-    values = {**parameters(), **quiet, **overrides}
-    times, anchors = [], []
-    with SimulatedBody(**values) as body:
-        anchor = tuple(values['anchor'])
-        simulation, ticker = body.node.simulation, body.node.ticker
-        index = 0
-        while body.time < seconds - 1e-9:
-            while index < len(pending) and pending[index].delivered <= body.time + 1e-12:
-                event = pending[index]
-                body.target(event.point, stamp=event.time if event.stamped else None)
-                index += 1
-            if drained:
-                body.step()
-            else:
-                ticker.step()
-            times.append(body.time)
-            anchors.append(simulation.state.world_point(anchor))
-    return Trace(np.array(times), np.array(anchors))
 
 
 def line_events(rate_hz: float, delay: float, *, slow_down: bool,
@@ -167,7 +93,8 @@ def browser_line_events(rate_hz: float, delay: float, seed: int,
             for event, send in zip(plan.events, plan.sends)]
 
 
-def still_events(rate_hz: float, delay: float, seconds: float = 3.0, seed: int = 4) -> List[Event]:
+def still_events(rate_hz: float, delay: float, seconds: float = 3.0,
+                 seed: int = 4) -> List[Event]:
     """Return a still pointer at the held anchor, jittering within JITTER in x and y."""
     start = start_point()
     random = np.random.default_rng(seed)
@@ -186,9 +113,9 @@ def circle_events(rate_hz: float, delay: float, seconds: float, *, mixed: bool =
     point unstamped.
     """
     plan = schedule(rate_hz, seconds, seed)
-    return [Event(float(event), float(send) + delay, tuple(circle_points(np.array([event]))[0]),
-                  not (mixed and k % 2 == 1))
-            for k, (event, send) in enumerate(zip(plan.events, plan.sends))]
+    points = [circle_points(np.array([event]))[0] for event in plan.events]
+    return [Event(float(event), float(send) + delay, tuple(point), not (mixed and k % 2 == 1))
+            for k, (event, send, point) in enumerate(zip(plan.events, plan.sends, points))]
 
 
 class Stop(NamedTuple):
@@ -204,8 +131,10 @@ def stop_metrics(trace: Trace, events: Sequence[Event]) -> Stop:
     past = trace.anchors[:, 0] - final.point[0]
     after = trace.times >= final.time
     speeds = np.linalg.norm(np.diff(trace.anchors, axis=0), axis=1) / np.diff(trace.times)
-    return Stop(float(max(0.0, past[after].max())),
-                float(speeds[trace.times[1:] > 1.0].max() / DRAG_SPEED))
+    overshoot = max(0.0, past[after].max())
+    # After the first second: the start from rest is a step in the pointer's speed.
+    highest = speeds[trace.times[1:] > 1.0].max()
+    return Stop(float(overshoot), float(highest / DRAG_SPEED))
 
 
 class Still(NamedTuple):
@@ -220,8 +149,12 @@ def still_metrics(trace: Trace, events: Sequence[Event]) -> Still:
     rest = start_point()
     settled = trace.anchors[trace.times >= 1.0]
     pointer = np.array([e.point for e in events if e.time >= 1.0])
-    return Still(float(np.sqrt(np.mean(np.sum((settled - rest) ** 2, axis=1)))),
-                 float(np.sqrt(np.mean(np.sum((pointer - rest) ** 2, axis=1)))))
+    return Still(_rms_distance(settled, rest), _rms_distance(pointer, rest))
+
+
+def _rms_distance(points: np.ndarray, place: np.ndarray) -> float:
+    """Return the RMS distance (m) of ``points`` (one a row) from ``place``."""
+    return float(np.sqrt(np.mean(np.sum((points - place) ** 2, axis=1))))
 
 
 class Follow(NamedTuple):
@@ -252,7 +185,9 @@ def follow_metrics(trace: Trace, seconds: float, *, behind: Optional[float] = 0.
 
 
 def _follow(trace: Trace, seconds: float, behind: float) -> Follow:
-    times, anchors = trace.times, trace.anchors
+    """Return ``follow_metrics`` at ``behind`` (s)."""
+    times = trace.times
+    anchors = trace.anchors
     inside = (times >= WARM_UP + behind) & (times <= seconds + behind - TAIL)
     truth = circle_points(times[inside] - behind)
     error = float(np.sqrt(np.mean(np.sum((anchors[inside] - truth) ** 2, axis=1))))
@@ -298,47 +233,6 @@ def still_rows(rate: float = 60.0, delays: Sequence[float] = STILL_DELAYS) -> Li
         rows.append({'rate_hz': rate, 'delay_s': delay, 'wander_mm': 1e3 * still.wander,
                      'pointer_mm': 1e3 * still.pointer_wander})
     return rows
-
-
-class Peaks(NamedTuple):
-    """The highest COM speed (m/s) and angular speed (rad/s) of a run."""
-
-    speed: float
-    spin: float
-
-
-def floor_press(depth: float = 0.5, aside: float = 0.3, lift: float = 0.5, *,
-                press: float = 1.0, back: bool = False) -> Peaks:
-    """
-    Return the peaks of a resting box whose held corner is pressed into the floor, then lifted.
-
-    The box rests on the floor (shipped: z = 0) holding its top corner; after 0.5 s the target
-    is the corner ``depth`` below the floor and ``aside`` along x, for ``press`` seconds; then
-    ``lift`` above where the corner started (``back``) or above the pressed point, for 1.5 s.
-    """
-    values = {**parameters(), **QUIET}
-    values['initial_position'] = [0.0, 0.0, 0.5 * values['box_size'][2]]
-    peaks = [0.0, 0.0]
-    with SimulatedBody(**values) as body:
-        simulation, ticker = body.node.simulation, body.node.ticker
-
-        def ticks(count: int, watched: bool = True) -> None:
-            # The node's ticks, undrained (the module docstring); the speeds the twist says.
-            for _ in range(count):
-                ticker.step()
-                if watched:
-                    state = simulation.state
-                    peaks[0] = max(peaks[0], float(np.linalg.norm(state.linear_velocity)))
-                    peaks[1] = max(peaks[1], float(np.linalg.norm(state.angular_velocity)))
-        ticks(500, watched=False)
-        corner = np.array(simulation.anchor_position())
-        body.target(tuple(corner + (aside, 0.0, -depth)))
-        body.drain()
-        ticks(round(press * 1000))
-        body.target(tuple(corner + (0.0 if back else aside, 0.0, lift)))
-        body.drain()
-        ticks(1500)
-    return Peaks(*peaks)
 
 
 def circle_row(rate: float, delay: float, *, mixed: bool = False, seconds: float = 4.0,

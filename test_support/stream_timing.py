@@ -41,6 +41,10 @@ from mouse_constraint_ros.physics import MouseSimulation
 from mouse_constraint_ros.physics.target_stream import STREAM_GAP
 from test_support.mouse_feel import configured
 
+# The drags the benches run (bench.stream_timing, bench.stream_estimators): a browser's rates
+# (Hz) and how long each drag lasts (s).
+RATES_HZ = (20.0, 60.0)
+SECONDS = 6.0
 SPEED = 1.0
 RADIUS = 0.25
 EVENT_JITTER = 0.2

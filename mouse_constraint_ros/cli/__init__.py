@@ -12,4 +12,9 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""The package's command-line tools: ``mouse_target``, ``mouse_wrench`` and ``mouse_record``."""
+"""
+The command-line tools: ``mouse_target``, ``mouse_wrench``, ``mouse_record``, ``mouse_ctl``.
+
+``mouse_view`` and ``mouse_marker`` are tools too, each a folder of its own (``view/``,
+``marker/``); the node's console script is ``node/console.py``.
+"""

@@ -27,10 +27,8 @@ interpreter exits. Standard library only: this module must load in no time.
 import sys
 from typing import List, Optional
 
+from .exit_status import INTERRUPTED_STATUS
 from ..timing import early_signals
-
-# The exit status of ``mouse_ctl`` when a stop comes before it finished a call.
-INTERRUPTED_STATUS = 130
 
 
 def ctl(args: Optional[List[str]] = None) -> int:

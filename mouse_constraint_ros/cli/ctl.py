@@ -55,9 +55,9 @@ from rclpy.utilities import remove_ros_args
 from std_srvs.srv import SetBool, Trigger
 
 from .command_node import command_node, SHUTDOWN_STATUS
-from .console import INTERRUPTED_STATUS
 from .echo import ECHOES, EchoPrinter, Graph, paused_in, silence
 from .echo_inputs import InputsPrinter
+from .exit_status import INTERRUPTED_STATUS
 from .help_text import plain_text
 from ..timing.spin import (call_once, call_until_answered, Interrupted, spin_until, StopRequest,
                            wait_until)

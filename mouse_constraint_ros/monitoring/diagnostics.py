@@ -15,10 +15,10 @@
 """
 The node's ``/diagnostics``: tick-rate, constraint and simulator statuses (no rclpy here).
 
-The node samples its tick counters into a ``TickWindow`` at the diagnostics rate; the window's
-differences give the achieved rate (ticks actually run per second of the node's clock, not the
-timer's period), late and dropped ticks. ``rate_status`` and ``constraint_status`` grade them
-against ``Thresholds``:
+The node samples its tick counters into a ``TickWindow`` (``tick_window``) at the diagnostics
+rate; the window's differences give the achieved rate (ticks actually run per second of the
+node's clock, not the timer's period), late and dropped ticks. ``rate_status`` and
+``constraint_status`` grade them against ``Thresholds``:
 
 =================================  =================  ===================  ==============
 check                              OK                 WARN                 ERROR
@@ -56,11 +56,15 @@ from typing import List, NamedTuple, Optional, Sequence
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 
+from .tick_window import TickCounters, Window
 from ..physics.algebra import Vector3
 from ..wire.interface import PAUSED_KEY
 from ..wire.messages import set_stamp
 
-OK, WARN, ERROR = DiagnosticStatus.OK, DiagnosticStatus.WARN, DiagnosticStatus.ERROR
+# The levels, as the statuses carry them (bytes: ``max`` of two is the worse).
+OK = DiagnosticStatus.OK
+WARN = DiagnosticStatus.WARN
+ERROR = DiagnosticStatus.ERROR
 
 # Kinds of target, as the constraint status names them.
 USER_TARGET = 'user target'
@@ -90,61 +94,18 @@ class Thresholds(NamedTuple):
     target_age_warn: float = 0.5
 
 
-class TickCounters(NamedTuple):
-    """The node's running totals: ticks run, run late (in catch-up), dropped; clock restarts."""
-
-    ticks: int
-    late: int
-    dropped: int
-    clock_restarts: int
-
-
-class Window(NamedTuple):
-    """What happened between two samples: ``seconds`` of the node's clock and counter deltas."""
-
-    seconds: float
-    ticks: int
-    late: int
-    dropped: int
-    clock_restarts: int
-
-
 # The keys of the window's fields in the rate status, in ``Window`` order.
 WINDOW_KEYS = ('window (s)', 'ticks run', 'late ticks', 'dropped ticks', 'clock restarts')
 
 
-class TickWindow:
-    """The node's tick counters between consecutive samples, at one requested rate."""
-
-    def __init__(self) -> None:
-        """Create a window that starts at the first sample."""
-        self._previous = None
-
-    def sample(self, now_ns: int, counters: TickCounters, rate_hz: float) -> Optional[Window]:
-        """
-        Close the window at ``now_ns`` and start the next one; return the closed one.
-
-        :param now_ns: the node's clock (ns).
-        :param counters: the node's totals now.
-        :param rate_hz: the requested rate now.
-        :returns: None for the first sample, or when the rate changed, the clock did not advance
-            or reads zero (sim time before the first /clock): there is no window to judge then.
-        """
-        previous, self._previous = self._previous, (now_ns, counters, rate_hz)
-        if previous is None or now_ns <= 0:
-            return None
-        then, before, previous_rate = previous
-        if previous_rate != rate_hz or now_ns <= then or then <= 0:
-            return None
-        return Window((now_ns - then) * 1e-9, *(a - b for a, b in zip(counters, before)))
-
-
 def _value(number: Optional[float], digits: int = 6) -> str:
+    """Return ``number`` to ``digits`` significant digits, 'n/a' for None."""
     return 'n/a' if number is None else f'{number:.{digits}g}'
 
 
 def _status(name: str, hardware_id: str, *, level: bytes, problems: List[str], fine: str,
             values: Sequence[KeyValue]) -> DiagnosticStatus:
+    """Return a status at ``level``: its message the problems, or ``fine`` without any."""
     return DiagnosticStatus(level=level, name=name, hardware_id=hardware_id,
                             message='; '.join(problems) if problems else fine,
                             values=list(values))
@@ -167,7 +128,8 @@ def rate_status(name: str, hardware_id: str, *, rate_hz: float, window: Optional
     :param waiting_for: what keeps the clock from running (WARN), e.g.
         ``'/clock on /clock'``, or None.
     """
-    level, problems = OK, []
+    level = OK
+    problems = []
     achieved = None
     if waiting_for is not None:
         level = WARN
@@ -182,9 +144,10 @@ def rate_status(name: str, hardware_id: str, *, rate_hz: float, window: Optional
         if share < thresholds.rate_warn:
             level = ERROR if share < thresholds.rate_error else WARN
             dropped = ''
-            if window.dropped:
-                dropped = f' ({window.dropped} ticks dropped' + (
-                    f': {drop_cause})' if drop_cause else ')')
+            if window.dropped and drop_cause:
+                dropped = f' ({window.dropped} ticks dropped: {drop_cause})'
+            elif window.dropped:
+                dropped = f' ({window.dropped} ticks dropped)'
             problems.append(f'achieved {achieved:.1f} of {rate_hz:g} Hz' + dropped)
         if window.ticks and window.late > thresholds.late_warn * window.ticks:
             level = max(level, WARN)
@@ -192,10 +155,13 @@ def rate_status(name: str, hardware_id: str, *, rate_hz: float, window: Optional
         if window.clock_restarts:
             level = max(level, WARN)
             problems.append('clock restarted (jumped backwards or changed source)')
-    values = [KeyValue(key='requested rate (Hz)', value=_value(rate_hz)),
-              KeyValue(key='achieved rate (Hz)', value=_value(achieved))]
-    values += [KeyValue(key=key, value=_value(None if window is None else window[index]))
-               for index, key in enumerate(WINDOW_KEYS)]
+    values = [
+        KeyValue(key='requested rate (Hz)', value=_value(rate_hz)),
+        KeyValue(key='achieved rate (Hz)', value=_value(achieved)),
+    ]
+    # The window's fields, n/a while there is no window.
+    for index, key in enumerate(WINDOW_KEYS):
+        values.append(KeyValue(key=key, value=_value(None if window is None else window[index])))
     values += [
         KeyValue(key='late ticks since start', value=str(totals.late)),
         KeyValue(key='dropped ticks since start', value=str(totals.dropped)),
@@ -245,9 +211,11 @@ def constraint_status(name: str, hardware_id: str, *, target_kind: str,
     :param target_age: seconds since the last user target, or None.
     :param target_timeout: the node's ``target_timeout`` (s, 0 = never).
     :param thresholds: where the levels change.
-    :param floor_contacts: how many of the box's corners touch the floor, None without a floor.
+    :param floor_contacts: how many of the body's points touch the floor (a box's corners, a
+        hull's vertices), None without a floor.
     """
-    level, problems = OK, []
+    level = OK
+    problems = []
     magnitude = math.hypot(*force)
     if anchor_error is not None:
         if not math.isfinite(anchor_error) or anchor_error >= thresholds.anchor_error:
@@ -317,21 +285,22 @@ def simulator_status(name: str, hardware_id: str, *, pacing: Pacing, force: Vect
     :param wrench_age: seconds since the applied wrench came, or None without one.
     :param wrench_timeout: the node's ``wrench_timeout`` (s, 0 = never).
     """
-    level, problems = OK, []
+    level = OK
+    problems = []
     if pacing.publish_clock and pacing.slipped > 0.0:
         level = WARN
         problems.append(f'real_time_factor {pacing.real_time_factor:g} not kept: simulated '
                         f'time fell {pacing.slipped:.3g} s behind in the window')
     parts = ['paused' if pacing.paused else 'running']
-    if pacing.publish_clock:
-        parts.append('publishing /clock' + (
-            f', {pacing.achieved_factor:.3g}x real time' if pacing.achieved_factor is not None
-            else ''))
+    if pacing.publish_clock and pacing.achieved_factor is not None:
+        parts.append(f'publishing /clock, {pacing.achieved_factor:.3g}x real time')
+    elif pacing.publish_clock:
+        parts.append('publishing /clock')
     if wrench_age is not None:
         parts.append(f'wrench {math.hypot(*force):.3g} N, {math.hypot(*torque):.3g} N m')
     values = [
-        KeyValue(key='clock', value='published (/clock)' if pacing.publish_clock
-                 else "the node's clock"),
+        KeyValue(key='clock',
+                 value='published (/clock)' if pacing.publish_clock else "the node's clock"),
         KeyValue(key=PAUSED_KEY, value='true' if pacing.paused else 'false'),
         KeyValue(key='simulated time (s)', value=_value(pacing.simulated_time, 12)),
         KeyValue(key='real time factor', value=_value(pacing.real_time_factor)),

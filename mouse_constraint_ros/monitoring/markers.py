@@ -32,7 +32,8 @@ felt          ARROW      the force the pointer feels (the ``force`` topic's), fr
 floor         CUBE       the floor: a thin square ``FLOOR_SPAN`` longest box edges wide, its top
                          at ``floor_height``, under the COM (so it is under the body wherever it
                          slides); deleted without a floor
-contacts      SPHERE_LIST the box's corners touching the floor; deleted while there are none
+contacts      SPHERE_LIST the body's points touching the floor (a box's corners, a hull's
+                         vertices); deleted while there are none
 ============  =========  =========================================================================
 
 The spheres' diameter is ``SPHERE_FRACTION`` of the box's longest edge, the line's width a third
@@ -178,7 +179,8 @@ def marker_array(*, frame_id: str, stamp_ns: int, box_size: Vector3, state: Body
         ``wrench_reference``.
     :param floor: the simulation's floor (one not enabled deletes its marker); None leaves the
         floor and contacts namespaces out.
-    :param contacts: the world points of the box's corners touching the floor (m).
+    :param contacts: the world points of the body touching the floor (m): a box's corners, a
+        hull's vertices.
     :param felt_force: the force the pointer feels (N, ``messages.felt_force``), drawn from
         the anchor at the wrench arrow's scale; zero deletes its arrow, None leaves it out.
     :param pieces: a URDF link's pieces in the link frame (``body_markers.drawn_pieces``),

@@ -12,4 +12,4 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""The node: its wiring, parameters, start-up and service replies."""
+"""The node, ``mouse_constraint_node``: its wiring, parameters, start-up and service replies."""

@@ -44,8 +44,9 @@ FLOOR_PARAMETERS: Tuple[tuple, ...] = (
      'Coulomb friction coefficient of the floor, >= 0: a sliding box decelerates by friction '
      'times |gravity|.', (0.0, MAX_FRICTION)),
     ('restitution', CORE.restitution,
-     'Restitution of the floor in [0, 1]: a corner hitting faster than restitution_threshold '
-     'leaves at this times its speed; 0 = no bounce.', (0.0, 1.0)),
+     'Restitution of the floor in [0, 1]: a contact point (a corner of a box, a vertex of a '
+     'hull) hitting faster than restitution_threshold leaves at this times its speed; '
+     '0 = no bounce.', (0.0, 1.0)),
     ('restitution_threshold', CORE.restitution_threshold,
      'Speed of approach (m/s) below which a contact does not bounce, so a resting box is '
      'still.', (0.0, FINITE_MAX)),
@@ -53,8 +54,9 @@ FLOOR_PARAMETERS: Tuple[tuple, ...] = (
      'Most sequential-impulse sweeps over the floor contacts per substep (they stop once '
      'converged).', (1, MAX_CONTACT_ITERATIONS)),
     ('contact_margin', CORE.margin,
-     'Corners this close above the floor are contacts (m): the box lands without passing it '
-     'at up to contact_margin / substep m/s.', (0.0, MAX_DISTANCE)),
+     "The body's points (a box's corners, a hull's vertices) this close above the floor are "
+     'contacts (m): the body lands without passing it at up to contact_margin / substep m/s.',
+     (0.0, MAX_DISTANCE)),
     ('contact_slop', CORE.slop,
      'Penetration left alone (m), below contact_margin; deeper is pushed out without adding '
      'velocity.', (0.0, MAX_DISTANCE)),

@@ -34,9 +34,10 @@ from ..inputs.throttle import RefusalLog
 from ..monitoring.body_markers import drawn_pieces
 from ..monitoring.diagnostics import (constraint_status, diagnostic_array, INITIAL_ANCHOR,
                                       NO_TARGET, Pacing, publishing_values, rate_status,
-                                      simulator_status, Thresholds, TickWindow, USER_TARGET)
+                                      simulator_status, Thresholds, USER_TARGET)
 from ..monitoring.input_diagnostics import input_status, InputReport
 from ..monitoring.markers import BODY_COLOR, marker_array, reference_force, wrench_reference
+from ..monitoring.tick_window import TickWindow
 from ..physics import MouseSimulation
 from ..physics.settings import force_bound
 from ..wire.interface import (DIAGNOSTICS_TOPIC, MARKERS_TOPIC, MONITOR_DEPTH,
@@ -52,7 +53,7 @@ class Monitors:
     :param node: the node that owns publishers and timers, and names the statuses.
     :param ticker: the owner of time: the node's time, the ticks' record, pause and pacing.
     :param simulation: the body shown and judged.
-    :param target: the target input (kind and age of the target).
+    :param target: the target input (kind and age of the target; its device's state).
     :param wrench: the wrench input (the applied wrench's age).
     :param state_publishers: what is published (TF status, odometry topic).
     :param refusals: the inputs refused so far, for the inputs status.
@@ -194,16 +195,17 @@ class Monitors:
         ]))
 
     def _input_status(self, name: str, hardware_id: str, now: int):
-        refusals, target, clock = self._refusals, self._target, self._ticker.device_clock
+        refusals, clock = self._refusals, self._ticker.device_clock
         new, self._reported_refusals = (refusals.count - self._reported_refusals,
                                         refusals.count)
-        lost = target.device_lost
+        device = self._target.device
+        lost = device.lost
         new_lost, self._reported_lost = (0, 0) if lost is None else (
             lost - self._reported_lost, lost)
         return input_status(name, hardware_id, InputReport(
             refused=refusals.count, by_key=dict(refusals.by_key), last_line=refusals.last_line,
-            new_refusals=new, device_age=target.device_age(now),
-            device_silent=target.device_silent(now), device_timeout=self._config.device.timeout,
+            new_refusals=new, device_age=device.age(now),
+            device_silent=device.silent(now), device_timeout=self._config.device.timeout,
             device_ticks=(clock.ticks, clock.early, clock.late) if clock.on else None,
             device_lost=lost, new_lost=new_lost))
 

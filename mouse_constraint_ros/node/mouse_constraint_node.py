@@ -47,6 +47,8 @@ from std_srvs.srv import SetBool, Trigger
 from .anchor_parameter import AnchorParameter
 from .body_loads import BodyLoads
 from .body_simulation import robot_change_refusal, simulation_for
+from .device_watch import DeviceWatch
+from .grab_input import GrabInput
 from .monitors import Monitors
 from .parameter_changes import declare, publishing
 from .parameters import node_config, NodeConfig, PARAMETERS
@@ -175,10 +177,12 @@ class MouseConstraintNode(Node):
             **publishing(config))
         refusals = self._refusals = RefusalLog(self._throttle)
         log = self.get_logger().info
+        device = DeviceWatch(config=config, now_ns=ticker.now_ns, log=log,
+                             clock=ticker.device_clock, pose_tick=ticker.device_tick)
         self._target = TargetInput(simulation=simulation, config=config, record=record,
-                                   now_ns=ticker.now_ns, set_anchor=self._anchor.set_to,
-                                   refuse=refusals, log=log, device_pose=ticker.device_tick,
-                                   device_clock=ticker.device_clock)
+                                   now_ns=ticker.now_ns, refuse=refusals, log=log, device=device)
+        self._grab = GrabInput(simulation=simulation, config=config, target=self._target,
+                               set_anchor=self._anchor.set_to, refuse=refusals)
         self._wrench = WrenchInput(simulation=simulation, config=config, now_ns=ticker.now_ns,
                                    refuse=refusals, log=log)
         tick = Tick(simulation=simulation, target=self._target, wrench=self._wrench,
@@ -219,7 +223,7 @@ class MouseConstraintNode(Node):
         self.create_subscription(PointStamped, TARGET_TOPIC, self._target.on_target, TARGET_QOS)
         self.create_subscription(PoseStamped, TARGET_POSE_TOPIC, self._target.on_target_pose,
                                  TARGET_POSE_QOS)
-        self.create_subscription(PointStamped, GRAB_TOPIC, self._target.on_grab, TARGET_QOS)
+        self.create_subscription(PointStamped, GRAB_TOPIC, self._grab.on_grab, TARGET_QOS)
         self.create_subscription(WrenchStamped, WRENCH_TOPIC, self._wrench.on_wrench,
                                  WRENCH_QOS)
         controls = self._controls
@@ -313,6 +317,7 @@ class MouseConstraintNode(Node):
         self._anchor.changed(changes, anchor)
         self._simulation.configure(config.settings, config.initial_state)
         self._target.configure(config)
+        self._grab.configure(config)
         self._wrench.configure(config)
         if publishing(config) != publishing(previous):
             self._configure_publishers(config)

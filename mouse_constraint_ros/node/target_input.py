@@ -13,16 +13,14 @@
 # limitations under the License.
 
 """
-The node's target and grab input: what it takes, how a stamp times it, when it times out.
+The node's target input: what it takes, how a stamp times it, when it times out.
 
 A target is taken when ``TargetGate`` takes it (frame, finite, workspace); it comes as a point
 (``target``, PointStamped) or as a pose (``target_pose``, PoseStamped: its position, as a haptic
 device's driver publishes its handle; the orientation is not used), the two alike. ``TargetTiming``
 times it by its header stamp where that is usable and the node has ticked (mapped onto the
-core's time through the latest tick of the ``TickRecord``), else by its arrival. A grab takes
-the same gate, then ``grab`` says where on the body it lands; the node's own ``anchor``
-parameter is set to that point (``set_anchor``, validated as any parameter change) and the
-point becomes the target, untimed.
+core's time through the latest tick of the ``TickRecord``), else by its arrival. A grab
+(``grab_input``) passes the same gate and makes its point the target, untimed (``hold``).
 
 A target the gate takes is taken at once when it is the first since the latest tick; the
 ones after it wait for the next tick, which takes the newest of them (``OnePerTick``, ``tick``):
@@ -31,10 +29,8 @@ a reset or a new configuration takes the target that waits first, in the order t
 
 A pose on ``target_pose`` is a device's: in ``device_frame_id`` (empty: ``frame_id``), mapped
 into ``frame_id`` (``device_scale``, ``device_pose``) before the gate's finite and workspace
-checks. Once a pose came, the device is silent while no valid pose came for ``device_timeout``
-(``device_silent``): the force it is sent is then zero, and the node logs a line when it
-falls silent and when it comes back. When it clocks the ticks, the poses it sent that never
-came are counted from the gaps in their stamps (``device_lost``, ``inputs.pose_gaps``).
+checks. Whether the device is heard or silent, and the poses it lost, are its ``DeviceWatch``'s
+to say (``device_watch``): it is told of every pose and of every pose taken.
 
 A user target older than ``target_timeout`` is let go at the first tick after (``expire``).
 Every refusal goes to the node's ``RefusalLog``: a throttled warning, counted.
@@ -45,19 +41,17 @@ from typing import Callable, NamedTuple, Optional
 
 from geometry_msgs.msg import PointStamped, PoseStamped
 
+from .device_watch import DeviceWatch
 from .parameters import NodeConfig
 from .tick_record import TickRecord
-from ..inputs.grab import Grab, grab
 from ..inputs.input_timeouts import input_age, target_release_text, timed_out
 from ..inputs.one_per_tick import OnePerTick
-from ..inputs.pose_gaps import back_text, PoseGaps, silent_text
-from ..inputs.target_gate import apart, Refusal, TargetGate
+from ..inputs.target_gate import TargetGate
 from ..inputs.target_stamps import TargetTiming
 from ..inputs.throttle import RefusalLog
 from ..physics import MouseSimulation
 from ..physics.algebra import Vector3
 from ..physics.target_stream import STREAM_GAP
-from ..timing.device_clock import DeviceClock
 from ..wire.messages import point_from_message, point_from_pose, stamp_nanoseconds
 
 
@@ -71,53 +65,40 @@ class Arrival(NamedTuple):
 
 class TargetInput:
     """
-    The ``target`` and ``grab`` callbacks, the user target's age, ``~/release``'s effect.
+    The ``target`` and ``target_pose`` callbacks, the user target's age, ``~/release``'s effect.
 
     :param simulation: the body whose target is set.
     :param config: the node's configuration (``configure`` replaces it).
     :param record: the ticks' record: the latest stamp, tick length and count.
     :param now_ns: the node's time (ns).
-    :param set_anchor: sets the node's ``anchor`` parameter; returns None or why it could not.
-    :param refuse: counts and warns about a refused target or grab.
+    :param refuse: counts and warns about a refused target.
     :param log: logs a line at INFO.
-    :param device_pose: called with its stamp (ns) after each valid pose on ``target_pose`` is
-        taken (the ticker's ``device_tick``: the tick it runs when the device clocks the ticks).
-    :param device_clock: the ticker's device clock: while on, it says whether the device is
-        silent.
+    :param device: the device on ``target_pose``: told of each pose that came and was taken
+        (``configure`` configures it too).
     """
 
     def __init__(self, *, simulation: MouseSimulation, config: NodeConfig, record: TickRecord,
-                 now_ns: Callable[[], int], set_anchor: Callable[[Vector3], Optional[str]],
-                 refuse: RefusalLog, log: Callable[[str], None],
-                 device_pose: Callable[[int], None] = lambda _stamp: None,
-                 device_clock: Optional[DeviceClock] = None) -> None:
+                 now_ns: Callable[[], int], refuse: RefusalLog, log: Callable[[str], None],
+                 device: DeviceWatch) -> None:
         """Hold the initial anchor when configured to; no user target yet."""
         self._simulation = simulation
         self._record = record
         self._now_ns = now_ns
-        self._set_anchor = set_anchor
         self._refuse = refuse
         self._log = log
-        self._device_pose = device_pose
-        self._device_clock = device_clock
+        self.device = device
         self._timing = TargetTiming(STREAM_GAP)
         # Targets taken: the first after a tick at once, the newest of the rest at the next.
         self._arrivals: OnePerTick[Arrival] = OnePerTick()
         # Whether the target is one a user gave (not the held initial anchor), and when (ns).
         self.user_target = False
         self.last_target_ns = 0
-        # Whether a pose came on target_pose, and when the last valid one came (ns).
-        self.device_heard = False
-        self.last_device_ns = 0
-        # The device's poses lost (gaps in their stamps), and since when it is silent (ns).
-        self._gaps = PoseGaps()
-        self._silent_since: Optional[int] = None
         self.configure(config)
         self.hold_initial_anchor()
 
     def configure(self, config: NodeConfig) -> None:
-        """Take a new configuration: the gate, the grab's box and margin, the timeout."""
-        self._flush()
+        """Take a new configuration: the gate, the device's frame and map, the timeout."""
+        self.flush()
         self._config = config
         gate = getattr(self, '_gate', None)
         if gate is None or (gate.frame_id, gate.workspace_radius) != (
@@ -126,19 +107,29 @@ class TargetInput:
         # The device's frame (and finite coordinates) first; the workspace once mapped.
         self._device_gate = TargetGate(config.device.pose_frame(config.frame_id), math.inf,
                                        config.frame_id)
-        self._device = config.device
+        self._device_config = config.device
         self._timeout = config.target_timeout
-        self._gaps.configure(on=config.device.tick_source == 'target_pose',
-                             rate_hz=config.rate_hz, timeout=config.device.timeout)
+        self.device.configure(config)
 
     @property
     def gate(self) -> TargetGate:
         """Return the gate targets and grabs pass."""
         return self._gate
 
+    def hold(self, point: Vector3) -> None:
+        """
+        Make ``point`` the user target, untimed, from now: a grab's.
+
+        A grab starts a new stream of targets; nothing moves, the target is where the anchor is.
+        The targets that came before it are to be taken first (``flush``).
+        """
+        self._simulation.target = point
+        self.user_target = True
+        self.last_target_ns = self._now_ns()
+
     def hold_initial_anchor(self) -> None:
         """Hold the anchor where it starts, or free the body, as configured; no user target."""
-        self._flush()
+        self.flush()
         config = self._config
         self.user_target = False
         self._simulation.target = (config.initial_anchor() if config.hold_initial_anchor
@@ -146,7 +137,7 @@ class TargetInput:
 
     def release(self) -> bool:
         """Let go of the target: the body flies free; return whether there was one."""
-        self._flush()
+        self.flush()
         had_target = self._simulation.target is not None
         self._simulation.target = None
         self.user_target = False
@@ -164,7 +155,7 @@ class TargetInput:
 
     def restart_age(self, now_ns: int) -> None:
         """Count the user target's age from ``now_ns`` (the node's time changed base)."""
-        self._flush()
+        self.flush()
         if self.user_target:
             self.last_target_ns = now_ns
 
@@ -175,52 +166,15 @@ class TargetInput:
     def on_target_pose(self, message: PoseStamped) -> None:
         """Take a device pose's position, mapped into ``frame_id``, as a target."""
         now = self._now_ns()
-        if not self.device_heard:
-            self.device_heard, self.last_device_ns = True, now
         stamp = stamp_nanoseconds(message.header.stamp)
-        self._gaps.take(stamp)
+        self.device.came(stamp, now)
         point = point_from_pose(message)
         refusal = self._device_gate.refusal(message.header.frame_id, point)
         if refusal is not None:
             self._refuse(refusal, f'ignoring target pose {refusal.reason}')
             return
-        if self._offer(message, self._device.mapping.to_world(point), ''):
-            self.last_device_ns = now
-            self._device_pose(stamp)
-
-    def device_age(self, now_ns: int) -> Optional[float]:
-        """Return how long ago (s) the last valid pose came (or the first pose), None unheard."""
-        return input_age(self.last_device_ns, now_ns) if self.device_heard else None
-
-    @property
-    def device_lost(self) -> Optional[int]:
-        """Return the device's poses lost so far (``PoseGaps``), None unless it clocks ticks."""
-        return self._gaps.lost if self._gaps.on else None
-
-    def device_silent(self, now_ns: int) -> bool:
-        """
-        Return whether a device was heard and no valid pose came for ``device_timeout``.
-
-        Once the device's poses clock the ticks, its silence is counted in the node's own ticks
-        held back since its last pose (``DeviceClock.silent``): on a simulated clock the node's
-        time stands still without ticks. Before (every pose refused), in the node's time. The
-        node logs a line when the device falls silent, and one when it comes back.
-        """
-        clock = self._device_clock
-        if clock is not None and clock.heard:
-            silent = clock.silent
-        else:
-            silent = self.device_heard and timed_out(self.last_device_ns, now_ns,
-                                                     self._device.timeout)
-        if silent != (self._silent_since is not None):
-            now = self._now_ns()
-            if silent:
-                self._silent_since = now
-                self._log(silent_text(self._device.timeout))
-            else:
-                self._log(back_text(input_age(self._silent_since, now)))
-                self._silent_since = None
-        return silent
+        if self._offer(message, self._device_config.mapping.to_world(point), ''):
+            self.device.taken(stamp, now)
 
     def tick(self) -> None:
         """Take the newest target that waited for this tick, if one did (``OnePerTick``)."""
@@ -250,7 +204,8 @@ class TargetInput:
             self._take(arrival)
         return True
 
-    def _flush(self) -> None:
+    def flush(self) -> None:
+        """Take the target that waits for the tick now, if one does: it came first."""
         arrival = self._arrivals.flush()
         if arrival is not None:
             self._take(arrival)
@@ -263,40 +218,3 @@ class TargetInput:
                           tick_s=record.dt, ticked=record.ticks_run > 0)
         self.user_target = True
         self.last_target_ns = arrival.now_ns
-
-    def on_grab(self, message: PointStamped) -> None:
-        """Make a point on the body the anchor and the target; ignore (and say) any other."""
-        point = point_from_message(message)
-        refusal = self._gate.refusal(message.header.frame_id, point)
-        if refusal is not None:
-            self._refuse(refusal._replace(key='grab ' + refusal.key),
-                         f'ignoring grab {refusal.reason}')
-            return
-        config = self._config
-        if config.robot is not None:
-            # A robot: the grab lands on the nearest of its links (``RobotBody.land``).
-            link, local, distance = self._simulation.land(point)
-            landed = Grab(local, distance)
-        else:
-            landed = grab(config.body_frame.link_state(self._simulation.state), config.geometry,
-                          point)
-        margin = config.grab_margin
-        if not landed.taken(margin):
-            off, bound = apart(landed.distance, margin)
-            reason = (f'{point}: {off} m off the body, farther than grab_margin {bound} m from '
-                      'its shape')
-            self._refuse(Refusal('grab off body', reason), f'ignoring grab {reason}')
-            return
-        self._flush()  # a target that came before the grab goes before it
-        if config.robot is not None:
-            self._simulation.hold(link)
-        failure = self._set_anchor(landed.anchor)
-        if failure is not None:
-            self._refuse(Refusal('grab anchor', f'{point}: {failure}'),
-                         f'ignoring grab {point}: {failure}')
-            return
-        # Untimed: a grab starts a new stream of targets (nothing moves: the target is where
-        # the anchor is).
-        self._simulation.target = point
-        self.user_target = True
-        self.last_target_ns = self._now_ns()

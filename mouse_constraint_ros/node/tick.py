@@ -98,7 +98,7 @@ class Tick:
         publish_ticks = self._publish_ticks
         if tick is None or publish_ticks.every_tick or publish_ticks.due(tick):
             publishers = self._state_publishers
-            publishers.force_muted = self._target.device_silent(stamp)
+            publishers.force_muted = self._target.device.silent(stamp)
             publishers.publish(stamp, state, force_stamp=force_stamp)
             if self.robot_outputs is not None:
                 self._publish_robot(stamp)

@@ -22,7 +22,7 @@ simulation's time after it is the simulation's own); /diagnostics reports the ru
 from dataclasses import dataclass
 from typing import Optional
 
-from ..monitoring.diagnostics import TickCounters
+from ..monitoring.tick_window import TickCounters
 
 
 @dataclass

@@ -15,11 +15,13 @@
 """
 The owner of the node's time: which driver runs the ticks, paused or running, the rate.
 
-One of three drivers runs ``Tick.run``: the node's own clock (``tick_loop.NodeClockTicks``, a
-timer on system time or on ``/clock`` with use_sim_time), the simulated clock paced by a
-steady-clock timer (``clock_ticks.ClockTicks``, ``publish_clock``), or a caller that steps the
-node (``stepped``; ``mouse_constraint_ros.testing`` does, in lockstep). With the last two the
-node is the clock: it publishes ``/clock`` and its stamps are the simulated time.
+One of three drivers (``Driver``) runs ``Tick.run``: the node's own clock
+(``tick_loop.NodeClockTicks``, a timer on system time or on ``/clock`` with use_sim_time), the
+simulated clock paced by a steady-clock timer (``clock_ticks.ClockTicks``, ``publish_clock``),
+or a caller that steps the node (``stepped``; ``mouse_constraint_ros.testing`` does, in
+lockstep); beside it, a device's poses run ticks too (below): four callers of ``Tick.run`` in
+all. With the last two drivers the node is the clock: it publishes ``/clock`` and its stamps
+are the simulated time.
 
 With ``tick_source: target_pose`` the device clocks the ticks (``timing.device_clock``): each
 valid pose runs one tick at once (``device_tick``: a tick of the simulated clock when the node

@@ -37,16 +37,21 @@ what the times are:
 network arrives 50-250 ms after its events; extrapolating the fit over all of that turns a stop
 into a fling and a still pointer's jitter into a wander (docs/dragging.md). So the stream is
 *presented at a delay*: at core time t the target is the fit at t - D, D the least latency of
-the stream's points (transport, a remote clock's offset). Past the latest stamp the fit is
-extrapolated only as far as a healthy stream needs before its next point arrives, the
-``horizon``: the longest interval between the window's stamps plus the spread of their
-latencies above D. A stream on time (D about 0) is followed without lag, its target at most
-that horizon ahead of the latest point; a late one has time to spare and is presented later
-still, by its ``Lag`` (``stream_lag``), to be extrapolated about one mean interval. Valve's
+the stream's points, the part of the latency every point has (transport, a remote clock's
+offset). Beyond the latest stamp the fit is extrapolated only as far as a healthy stream needs
+before its next point arrives, the ``horizon``: the longest interval between the window's
+stamps plus the spread of their latencies above D. A stream on time (D about 0) is thus
+followed without lag, its target running at most that horizon ahead of the latest point; a
+late one is followed at its delay, smoothly behind the received path, and never flung. Valve's
 Source engine renders remote entities in the past for the same reason (``cl_interp``) and
-extrapolates a capped time only when packets are missing. When no point comes within the
-horizon (the pointer stopped, or a point is late) the target eases back to the latest point
-over another horizon (a smoothstep, at most 1.5 times its speed), where a stopped drag ends.
+extrapolates only a capped time when packets are missing.
+
+A late stream has time to spare: it is presented later still, by its ``Lag`` (``stream_lag``),
+so that past its latest stamp it is extrapolated about one mean interval, not its whole horizon.
+
+When no point comes within the horizon (the pointer stopped, or a point is late) the
+extrapolation stops: the target eases back to the latest point over another horizon (a
+smoothstep, at most 1.5 times the speed it had), where a stopped drag ends.
 
 A point is part of the stream only if it comes within ``STREAM_GAP`` of the previous one,
 after it, and implies a speed no greater than the guide may move (``TargetMotion.max_speed``);
@@ -77,13 +82,14 @@ STREAM_GAP = 0.25
 # stream's last points.
 STREAM_SAMPLES = 8
 # From this many points on, the fit is a parabola: a curved drag is extrapolated along its curve
-# (bench/mouse_feel.py: a 1 m/s circle at 50 Hz, soft joint: 5 mm RMS error, against 19 mm with
-# a line); eight points keep its slope steady under arrival jitter (test_mouse_feel).
+# (bench/mouse_feel.py: a circle at 1 m/s, 50 Hz, soft 7.5 Hz joint: 5 mm RMS error, against
+# 19 mm with a line over as many points); eight points keep the parabola's slope as steady
+# under arrival jitter as a two-point difference is not (test_mouse_feel).
 QUADRATIC_SAMPLES = 4
 # Stamped streams: a polynomial of at most this degree over the points of the last
 # STAMPED_WINDOW seconds, at most STAMPED_SAMPLES of them (a browser's 20 Hz drag round a 1 m/s
 # circle of radius 0.25 m: anchor 0.9 mm and speed 1.1 % RMS off, against 23 mm and 17 % with a
-# parabola on the same stamps; ``python -m bench.stream_timing --estimators``). At most 4:
+# parabola on the same stamps; ``python -m bench.stream_estimators``). At most 4:
 # ``polynomial`` lays it out as a quartic.
 STAMPED_DEGREE = 4
 STAMPED_WINDOW = 0.4
@@ -97,7 +103,8 @@ BLEND_INTERVALS = 1.0
 # A stamped point whose latency lies farther than this (s) out of the range of the window's
 # latencies starts a new stream: a latency that jumps is another path or another clock.
 LATENCY_JUMP = 0.05
-# The stamped fit's weight of an unstamped point put on the stamps' base (its time is off).
+# The weight, in the stamped fit, of an unstamped point put on the stamps' base by its arrival:
+# its time is off by as much as the latencies spread.
 UNSTAMPED_WEIGHT = 0.25
 ZERO: Vector3 = (0.0, 0.0, 0.0)
 # Points closer in time than this (s) to the latest are at its time: they replace its point.
@@ -126,9 +133,12 @@ class TargetStream:
         self._curve: Optional[Curve] = None
         # How far (s) past the latest stamp the fit is extrapolated, and the delay (s) the
         # stream is presented at, both before a late stream's lag.
-        self._horizon = self._delay = 0.0
-        # A late stream's lag behind that delay; the mean interval of the stamps (s).
-        self._lag, self._interval = Lag(), 0.0
+        self._horizon = 0.0
+        self._delay = 0.0
+        # A late stream's lag behind that delay.
+        self._lag = Lag()
+        # The mean interval between the stream's points (s).
+        self._interval = 0.0
         # (time, point) of the latest point; its arrival time; whether times are stamps.
         self._latest: Optional[Tuple[float, Vector3]] = None
         self._arrival = 0.0
@@ -157,8 +167,10 @@ class TargetStream:
         self._points.clear()
         self._latencies.clear()
         self._floor = math.inf
-        self._curve = self._previous = None
-        self._horizon = self._delay = 0.0
+        self._curve = None
+        self._previous = None
+        self._horizon = 0.0
+        self._delay = 0.0
         self._lag.reset()
         self._latest = None
 
@@ -235,10 +247,11 @@ class TargetStream:
 
     def shift(self, seconds: float) -> None:
         """
-        Move every time the stream holds by ``seconds`` (its latencies stay).
+        Move every time the stream holds by ``seconds``: its points, fits, latest arrival and lag.
 
         The node's clock and the core's time moved apart (ticks were dropped, the node was
-        paused): a stamp mapped before now maps ``seconds`` later or earlier.
+        paused): a stamp mapped before now maps ``seconds`` later or earlier, and so do the
+        stream's times; its latencies stay.
         """
         self._points = deque(((t + seconds, p, exact) for t, p, exact in self._points),
                              maxlen=STAMPED_SAMPLES)
@@ -295,8 +308,11 @@ class TargetStream:
             design = np.vander(times, degree + 1, increasing=True)
             solution = np.linalg.lstsq(design, values, rcond=None)[0]
         coefficients = tuple(tuple(float(c) for c in row) for row in solution[1:])
-        return (polynomial(t_anchor, anchor, coefficients or (ZERO,)),
-                float((times[-1] - times[0]) / (count - 1)), float(np.diff(times).max()))
+        if not coefficients:
+            coefficients = (ZERO,)
+        mean_interval = float((times[-1] - times[0]) / (count - 1))
+        longest_interval = float(np.diff(times).max())
+        return polynomial(t_anchor, anchor, coefficients), mean_interval, longest_interval
 
     def predict(self, time: float) -> Tuple[Vector3, Vector3]:
         """
@@ -304,16 +320,19 @@ class TargetStream:
 
         The stream is presented at ``time - delay`` (a late stream's lag moving it): the fit
         there, extrapolated at most ``horizon`` past the latest point, then eased back to it
-        over as long. A stamped stream goes over from its previous fit to the new one in the
-        ``BLEND_INTERVALS`` after a point arrived, with the smoothstep weight of the fraction of
-        that time (projective velocity blending, as in C. Murphy, "Believable Dead Reckoning
-        for Networked Games", Game Engine Gems 2).
+        over as long.
+
+        A stamped stream goes over from its previous fit to the new one in the
+        ``BLEND_INTERVALS`` after a point arrived, with the smoothstep weight w = 3 s^2 - 2 s^3
+        of the fraction s of that time: position and velocity stay continuous where switching
+        fits would jump (projective velocity blending, as in C. Murphy, "Believable Dead
+        Reckoning for Networked Games", Game Engine Gems 2).
         """
         curve, (t_latest, latest) = self._curve, self._latest
         if curve is None:
             return latest, ZERO
         lag = self._lag.at(time)
-        presented, length = time - self._delay - lag, BLEND_INTERVALS * self._interval
+        presented = time - self._delay - lag
         past = presented - t_latest
         # At least half an interval: a lag aimed at a long interval held before the window.
         horizon = max(self._horizon - lag, 0.5 * self._interval)
@@ -332,12 +351,13 @@ class TargetStream:
         previous = self._previous
         if previous is None:
             return position, velocity
-        fraction = (time - self._arrival) / length
+        blend_length = BLEND_INTERVALS * self._interval
+        fraction = (time - self._arrival) / blend_length
         if fraction >= 1.0:
             self._previous = None
             return position, velocity
         weight, rate = _smoothstep(max(fraction, 0.0))
-        rate /= length
+        rate /= blend_length
         (ox, oy, oz), (ux, uy, uz) = around(previous, presented)
         (nx, ny, nz), (vx, vy, vz) = position, velocity
         return ((ox + (nx - ox) * weight, oy + (ny - oy) * weight, oz + (nz - oz) * weight),

@@ -63,13 +63,18 @@ from ..wire.messages import point_message
 # Only the newest pose and twist matter to the view: depth 1, best effort (a reliable
 # publisher serves it).
 LATEST_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)
-# Periods (s): the queued work and the throttle's flush, the panel's numbers, the look for
-# the node.
-WORK_PERIOD, PANEL_PERIOD, PRESENCE_PERIOD = 0.004, 0.2, 0.5
+# How often (s) the queued work runs and the throttle flushes.
+WORK_PERIOD = 0.004
+# How often (s) the panel's numbers are shown again.
+PANEL_PERIOD = 0.2
+# How often (s) the view looks for the node.
+PRESENCE_PERIOD = 0.5
 
 
 def _pose(message: PoseStamped) -> Pose:
-    p, q = message.pose.position, message.pose.orientation
+    """Return the pose of a PoseStamped."""
+    p = message.pose.position
+    q = message.pose.orientation
     return Pose((p.x, p.y, p.z), (q.x, q.y, q.z, q.w))
 
 
@@ -99,7 +104,8 @@ class MouseViewNode(Node):
         """Create the topics, services, timers and the scene."""
         super().__init__(VIEW_NODE_NAME, **kwargs)
         self.readouts = Readouts()
-        self.gestures, self.throttle = Gestures(), PushThrottle()
+        self.gestures = Gestures()
+        self.throttle = PushThrottle()
         # What the gestures send, stamped: nothing after a release goes before its answer.
         self.outbox: ReleaseOrder[Tuple[Action, int]] = ReleaseOrder(
             lambda item: item[0].kind == RELEASE)
@@ -134,9 +140,11 @@ class MouseViewNode(Node):
         self._bind_scene()
         # On the steady clock: the page stays live while a simulated clock stands still.
         steady = Clock(clock_type=ClockType.STEADY_TIME)
-        self._timers = [self.create_timer(period, callback, clock=steady) for period, callback in (
-            (WORK_PERIOD, self._run_work), (PANEL_PERIOD, self._update_panel),
-            (PRESENCE_PERIOD, self._look_for_node))]
+        self._timers = [
+            self.create_timer(WORK_PERIOD, self._run_work, clock=steady),
+            self.create_timer(PANEL_PERIOD, self._update_panel, clock=steady),
+            self.create_timer(PRESENCE_PERIOD, self._look_for_node, clock=steady),
+        ]
         self._look_for_node()
 
     # Work from viser's threads: queued with the event's time, run on the executor's.
@@ -146,6 +154,7 @@ class MouseViewNode(Node):
         self._work.put(work)
 
     def _run_work(self) -> None:
+        """Offer the newest pose (or joint_states) to the throttle, run the queued work."""
         self.calls.give_up_late()
         raw = self.pose_subscription.take()
         joints = self.robot.take()
@@ -170,6 +179,7 @@ class MouseViewNode(Node):
         self.send(self.gestures.due(self._monotonic()), self._now_ns())
 
     def _bind_scene(self) -> None:
+        """Have the body's gestures and the panel's buttons queue their work."""
         scene = self.scene
         scene.bind_body(self._on_drag, self._on_click)
         scene.on_button(scene.pause, lambda: self.queue(self.toggle_pause))
@@ -182,11 +192,16 @@ class MouseViewNode(Node):
         return self.get_clock().now().nanoseconds
 
     async def _on_drag(self, event) -> None:
-        stamp, at, hold = self._now_ns(), self._monotonic(), bool(self.scene.hold.value)
+        """Queue a drag's start, move or end (on viser's thread), with the time it came at."""
+        stamp = self._now_ns()
+        at = self._monotonic()
+        hold = bool(self.scene.hold.value)
         if event.phase == 'start':
             camera = _camera(event.client)
-            link = None if self.scene.robot is None else self.scene.robot.link_of(
-                getattr(event, 'target', None))
+            # A robot: the link pressed, as the page names its scene node.
+            link = None
+            if self.scene.robot is not None:
+                link = self.scene.robot.link_of(getattr(event, 'target', None))
             self.queue(lambda: self._start_drag(event.client_id, event.start_position,
                                                 camera, stamp, at, link))
         elif event.phase == 'update':
@@ -199,10 +214,13 @@ class MouseViewNode(Node):
 
     def _start_drag(self, client: int, pressed, camera: Optional[Camera], stamp: int,
                     at: float, link: Optional[str] = None) -> None:
-        now, shown = self.latest_pose(), self.scene.shown
+        """Send what a press sends: a grab where it landed on the body as drawn, or nothing."""
+        now = self.latest_pose()
+        shown = self.scene.shown
         if now is None or shown is None:
             return
-        if self.robot.active:  # the pressed link's pose as drawn and now
+        if self.robot.active:
+            # The pressed link's pose as drawn, and now.
             poses = self.robot.pressed(pressed, link, self.scene.shown_links, now)
             if poses is None:
                 return
@@ -214,7 +232,9 @@ class MouseViewNode(Node):
         self.send(actions, stamp)
 
     async def _on_click(self, event) -> None:
-        stamp, hold = self._now_ns(), bool(self.scene.hold.value)
+        """Queue what a click sends: a grab where its ray meets the body, or nothing."""
+        stamp = self._now_ns()
+        hold = bool(self.scene.hold.value)
 
         def click() -> None:
             now = self.latest_pose()
@@ -241,6 +261,7 @@ class MouseViewNode(Node):
         self._send_ready()
 
     def _send_ready(self) -> None:
+        """Send what the outbox lets go: grabs and targets published, a release called."""
         while (item := self.outbox.take(self._monotonic())) is not None:
             action, stamp_ns = item
             if action.kind == RELEASE:
@@ -250,10 +271,11 @@ class MouseViewNode(Node):
                     self.outbox.answered(release)
                 continue
             message = point_message(action.point, self.parameters.frame_id, stamp_ns)
-            (self.grab_publisher if action.kind == GRAB else self.target_publisher).publish(
-                message)
             if action.kind == GRAB:
+                self.grab_publisher.publish(message)
                 self.scene.grabbed()
+            else:
+                self.target_publisher.publish(message)
 
     def call(self, service: str, data: Optional[bool] = None, *,
              on_answer: Optional[Callable[[], None]] = None) -> bool:
@@ -272,7 +294,9 @@ class MouseViewNode(Node):
     # What the node publishes.
 
     def _on_pose(self, raw: bytes) -> None:
-        self._pose_raw, self._latest = raw, None
+        """Take the newest pose (decoded when used) and offer it to the throttle."""
+        self._pose_raw = raw
+        self._latest = None
         if self.throttle.offer(raw, self._monotonic()) is not None:
             self._push()
 
@@ -286,6 +310,7 @@ class MouseViewNode(Node):
         return self._latest
 
     def _push(self) -> None:
+        """Show the body (a robot's links) and its anchor at the latest pose."""
         pose = self.latest_pose()
         if pose is None:
             return
@@ -300,10 +325,12 @@ class MouseViewNode(Node):
         self.pushes += 1
 
     def _on_grab(self, message: PointStamped) -> None:
+        """Tell the robot's view of a grab, this view's or another client's."""
         p = message.point
         self.robot.heard_grab((p.x, p.y, p.z), self.parameters.grab_margin, self.latest_pose())
 
     def _on_markers(self, array: MarkerArray) -> None:
+        """Show the node's target marker, or none once it is deleted."""
         for marker in array.markers:
             if marker.ns == 'target':
                 p = marker.pose.position
@@ -311,6 +338,7 @@ class MouseViewNode(Node):
                                        else None)
 
     def _on_diagnostics(self, array: DiagnosticArray) -> None:
+        """Read what the node's /diagnostics say of it (``Readouts``)."""
         self.readouts = self.readouts.updated(array, self.target_node)
 
     @property
@@ -319,6 +347,7 @@ class MouseViewNode(Node):
         return self.follower.parameters
 
     def _parameters_changed(self, parameters: ViewParameters) -> None:
+        """Draw the body the node's parameters give: a robot's links, a URDF link or the box."""
         if self.robot.update(parameters) and self.robot.shape.error is not None:
             self.get_logger().warning(self.robot.shape.error)
         if self.robot.active:
@@ -329,12 +358,15 @@ class MouseViewNode(Node):
         self.scene.apply_parameters(parameters, self.shape.geometry)
 
     def _look_for_node(self) -> None:
+        """Look for the node; forget its readouts once it is gone."""
         self.follower.look()
         if self.follower.present is False:
             self.readouts = Readouts()
 
     def _update_panel(self) -> None:
-        speed, readouts = self.readings.speed(), self.readouts
+        """Show the panel's status line and numbers."""
+        speed = self.readings.speed()
+        readouts = self.readouts
         force = self.readings.force(self.follower.parameters.publish_force)
         self.scene.show_text(
             status=status_text(self.target_node, self.pose_subscription.topic_name,

@@ -1,0 +1,24 @@
+# Copyright 2026 The mouse_constraint_ros Authors
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""
+What ``mouse_ctl`` exits with when a stop ends it before it finished.
+
+Both its console script (``console``, before the command is imported) and the command (``ctl``,
+a call stopped before its answer) end so. Standard library only, nothing imported: the console
+script must load in no time.
+"""
+
+# The exit status of ``mouse_ctl`` when a stop comes before it finished a call: 128 + SIGINT.
+INTERRUPTED_STATUS = 130
