@@ -51,7 +51,7 @@ import numpy as np
 
 from .robot_block import solve_block
 from .robot_model import RobotModel
-from .robot_sweeps import sweep_rows
+from .robot_sweeps import sweep_rows, SweptRows
 
 # A joint's speed limit gets its row from this fraction of the limit on: the rows can push a
 # joint faster within the substep, but not from far below its limit.
@@ -393,7 +393,9 @@ def solve_rows(v: np.ndarray, rows: Rows, inverse_mass: np.ndarray, iterations: 
         impulse, held = solved
         v += mobility @ impulse
     else:
-        impulse = sweep_rows(v, rows, mobility, iterations)
+        impulse = sweep_rows(v, SweptRows(jacobian, rows.target, rows.lower, rows.upper,
+                                          rows.mouse_rows, rows.mass_scale, rows.bound),
+                             mobility, iterations)
         held = np.zeros(rows.count, dtype=int)
     if held_sets is not None:
         held_sets.remember(rows, held)
