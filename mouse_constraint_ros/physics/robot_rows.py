@@ -90,6 +90,7 @@ class JointArrays(NamedTuple):
     :param velocity: ``<limit velocity>`` (rad/s or m/s), +inf for none.
     :param effort: ``<limit effort>`` (N m or N).
     :param continuous: whether it is a continuous joint (q holds its cos and sin).
+    :param any_continuous: whether any joint is continuous.
     :param mimic_follower: each mimic joint's follower, as a number in the joints' order.
     :param mimic_leader: its leader, likewise.
     :param mimic_multiplier: q_follower = multiplier q_leader + offset.
@@ -105,6 +106,7 @@ class JointArrays(NamedTuple):
     velocity: np.ndarray
     effort: np.ndarray
     continuous: np.ndarray
+    any_continuous: bool
     mimic_follower: np.ndarray
     mimic_leader: np.ndarray
     mimic_multiplier: np.ndarray
@@ -129,6 +131,7 @@ def joint_arrays(model: RobotModel) -> JointArrays:
         velocity=column(j.velocity for j in joints),
         effort=column(j.effort for j in joints),
         continuous=column((j.kind == 'continuous' for j in joints), bool),
+        any_continuous=any(j.kind == 'continuous' for j in joints),
         mimic_follower=column((number[m.follower.name] for m in model.mimics), int),
         mimic_leader=column((number[m.leader.name] for m in model.mimics), int),
         mimic_multiplier=column(m.multiplier for m in model.mimics),
@@ -138,7 +141,7 @@ def joint_arrays(model: RobotModel) -> JointArrays:
 def joint_positions(arrays: JointArrays, q: np.ndarray) -> np.ndarray:
     """Return each moving joint's position (rad or m), a continuous joint's as its angle."""
     positions = q[arrays.q_index]
-    if arrays.continuous.any():
+    if arrays.any_continuous:
         index = arrays.q_index[arrays.continuous]
         positions[arrays.continuous] = np.arctan2(q[index + 1], q[index])
     return positions
@@ -233,6 +236,10 @@ class RowTable:
         # distance to each stop = side * position + offset: position - lower, upper - position.
         self.side = np.array(((1.0,), (-1.0,)))
         self.offset = np.stack((-arrays.lower, arrays.upper))
+        # the lower stop's row aims at -(the speed allowed toward it), the upper's at +.
+        self.stop_sign = -self.side
+        self.reach = limits.slop * LIMIT_REACH_SLOPS
+        self.reach_per_speed = LIMIT_REACH_SUBSTEPS * h
         self.speed_from = SPEED_ROW_FROM * arrays.velocity
 
 
@@ -294,14 +301,13 @@ def prepare_rows(table: RowTable, q: np.ndarray, v: np.ndarray,
     speed = np.abs(joint_v)
     positions = joint_positions(arrays, q)
     distance = table.side * positions + table.offset
-    np.less_equal(distance, limits.slop * LIMIT_REACH_SLOPS + LIMIT_REACH_SUBSTEPS * h * speed,
-                  out=table.stop_mask)
+    np.less_equal(distance, table.reach + table.reach_per_speed * speed, out=table.stop_mask)
     table.stop_mask &= arrays.limited
     # toward a stop: arrive at it in the substep; past it by more than the slop, back out by
-    # ``baumgarte`` of the rest. The lower stop's row aims at -that, the upper's at +that.
+    # ``baumgarte`` of the rest.
     allowed = np.where(distance >= 0.0, distance,
                        limits.baumgarte * np.minimum(distance + limits.slop, 0.0)) / h
-    np.multiply(allowed, -table.side, out=table.stop_target)
+    np.multiply(allowed, table.stop_sign, out=table.stop_target)
     braking = speed > table.speed_from
     forward = joint_v > 0.0
     np.logical_and(braking, forward, out=table.brake_mask[0])

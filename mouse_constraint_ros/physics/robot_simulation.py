@@ -338,7 +338,8 @@ class RobotSimulation:
         v = self._inverse_mass @ p
         damped = self._damped
         if damped:
-            damped_mass = self._mass_matrix + np.diag(h * self._damping)
+            damped_mass = self._mass_matrix.copy()
+            damped_mass.flat[::self.model.nv + 1] += h * self._damping
         for _ in range(FIXED_POINT_PASSES):
             momentum = p + h * (self._coriolis_rate(q, v) + applied)
             if not damped:
