@@ -32,6 +32,7 @@ from typing import List, Optional, Tuple
 import rclpy
 from rclpy.node import Node
 
+from .exit_status import INTERRUPTED_STATUS
 from ..wire.interface import NODE_NAME, node_name
 
 DISCOVERY_SECONDS = 3.0
@@ -76,7 +77,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         found = running(node, namespace=arguments.namespace, seconds=arguments.seconds)
         node.destroy_node()
     except KeyboardInterrupt:
-        return 130
+        return INTERRUPTED_STATUS
     finally:
         rclpy.try_shutdown(context=context)
     if found:

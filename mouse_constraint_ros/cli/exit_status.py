@@ -13,12 +13,13 @@
 # limitations under the License.
 
 """
-What ``mouse_ctl`` exits with when a stop ends it before it finished.
+What a command line tool exits with when a stop ends it before it finished.
 
-Both its console script (``console``, before the command is imported) and the command (``ctl``,
-a call stopped before its answer) end so. Standard library only, nothing imported: the console
-script must load in no time.
+``mouse_ctl``'s console script (``console``, before the command is imported) and its command
+(``ctl``, a call stopped before its answer), ``mouse_record`` stopped before the first pose
+(nothing recorded) and the check for a running node all end so. Standard library only, nothing
+imported: a console script must load in no time.
 """
 
-# The exit status of ``mouse_ctl`` when a stop comes before it finished a call: 128 + SIGINT.
+# The exit status of a tool stopped before it finished: 128 + SIGINT.
 INTERRUPTED_STATUS = 130

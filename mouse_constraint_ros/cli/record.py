@@ -61,6 +61,7 @@ from rclpy.experimental import EventsExecutor
 from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
+from .exit_status import INTERRUPTED_STATUS
 from .help_text import plain_text
 from ..recording.body_outline import body_hull
 from ..recording.capture import capture, Progress, Recorder, start_request
@@ -70,8 +71,6 @@ from ..recording.recording_files import RecordingFiles
 from ..timing.spin import Interrupted, SpinEnd, StopRequest, wait_until
 from ..wire.interface import NODE_NAME, POSE_TOPIC
 
-# The exit status when a stop comes before the first pose: nothing was recorded.
-INTERRUPTED_STATUS = 130
 # With --anchor, how long the recorded node's parameters are waited for once poses come (s).
 ANCHOR_FETCH_SECONDS = 2.0
 # The longest recording (s): the stamps' seconds are an int32, no node's clock runs longer.
