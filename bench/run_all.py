@@ -60,6 +60,7 @@ SUITE = [
     ('latency', 'target published -> first pose reflecting it, at 1 kHz'),
     ('force_latency', 'target pose published -> first force reflecting it, config/haptic.yaml'),
     ('device_stream', "a device at the node's rate: each pose -> its force, against an echo"),
+    ('device_load', 'a device at 1 kHz, two busy processes per core: poses served or counted'),
     ('discovery', 'mouse_ctl release against the node, with and without its Fast DDS profile'),
     ('help_time', "each console script's --help against a bare import of rclpy and messages"),
     ('first_output', 'from a start to the first output: a bare publisher, the node, the recorder'),
