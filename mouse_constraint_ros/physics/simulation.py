@@ -23,8 +23,9 @@ substep is symplectic Euler, as Box2D and Bounce order it:
 2. the mouse constraint, when there is a target: the net impulse P = -K^-1 (a J V + b C) with
    |P| <= h F_max (``mouse_joint``, seed eqs. 1.1-1.10), applied as v += P / m and
    w += I_w^-1 (r x P); its position part may turn the body by at most ``MAX_CORRECTION_TURN``;
-3. the floor, when a corner is within its margin: sequential impulses on the corners
-   (``floor_contact.solve``), whose split impulses give the velocity that moves the positions;
+3. the floor, when a point of the body (a box's corner, a hull's vertex) is within its
+   margin: sequential impulses on those points (``floor_contact.solve``), whose split
+   impulses give the velocity that moves the positions;
 4. positions: x += h v and the orientation rotated by w h, renormalized; a free body's by its
    gyroscopic step's own turn instead (``gyroscopic.free_rotation``), which keeps its world L.
 
@@ -66,7 +67,8 @@ class MouseSimulation:
         self._target: Optional[Vector3] = None
         # The last substep's impulse P and its h: the constraint force P / h, divided when read.
         self._impulse: Tuple[Vector3, float] = (ZERO, 1.0)
-        self._tick_impulse: Tuple[Vector3, float] = (ZERO, 0.0)  # The last step's, and its dt.
+        # The last step's impulse summed over its substeps, and its dt.
+        self._tick_impulse: Tuple[Vector3, float] = (ZERO, 0.0)
         self._wrench: Tuple[Vector3, Vector3] = (ZERO, ZERO)
         self._friction_torque = 0.0
         # Simulated time (s): the sum of the steps taken; targets' arrival times are on it.
@@ -78,7 +80,9 @@ class MouseSimulation:
         self._staggered = False
         # The prepare stage of the steps (``step_plan``), made again when settings or h change.
         self._plan: Optional[StepPlan] = None
-        self._contacts: list = []  # The last substep's (the floor's warm start), their COM:
+        # The last substep's floor contacts (the next substep's warm start), and the COM they
+        # were measured from.
+        self._contacts: list = []
         self._contact_origin: Vector3 = ZERO
 
     @property
@@ -123,7 +127,7 @@ class MouseSimulation:
 
     @property
     def contact_count(self) -> int:
-        """Return how many of the box's corners touched the floor in the last substep."""
+        """Return how many of the body's points touched the floor in the last substep."""
         return len(self._contacts)
 
     @property
@@ -304,7 +308,9 @@ class MouseSimulation:
             touch = floor is not None and touching(floor, pz, q)
             v, w, impulse, friction_torque, turn = velocities(
                 px, py, pz, q, v, w, h, cached, joint, wrench, friction_torque, touch)
-            sum_x, sum_y, sum_z = sum_x + impulse[0], sum_y + impulse[1], sum_z + impulse[2]
+            sum_x += impulse[0]
+            sum_y += impulse[1]
+            sum_z += impulse[2]
             if touch:
                 body = settings.body
                 origin = self._contact_origin = (px, py, pz)
