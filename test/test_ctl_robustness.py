@@ -59,7 +59,7 @@ def slow_node():
 
     def step(_request, response):
         node.served.append(None)
-        time.sleep(1.5)
+        time.sleep(1.5)  # not a wait: the late answer under test
         response.success = True
         response.message = f'step {len(node.served)}'
         return response
@@ -166,7 +166,7 @@ def test_ctrl_c_while_the_command_starts_is_exit_130_without_a_traceback(delay):
         while not mapped(process.pid, '_rclpy_pybind11'):
             assert time.monotonic() < deadline and process.poll() is None
             time.sleep(0.001)
-        time.sleep(delay)
+        time.sleep(delay)  # not a wait: the moment of start-up under test
         process.send_signal(signal.SIGINT)
         status = process.wait(timeout=20.0)
     finally:

@@ -184,7 +184,9 @@ def test_a_late_loop_call_runs_its_tick_before_the_messages_queued_meanwhile(ros
         serve(lambda: record.ticks_run > 3 and target.get_subscription_count() > 0)
         for k in range(50):
             target.publish(point_message((0.01 * k, 0.0, 1.0), 'world', 0))
-        time.sleep(0.03)  # the burst delivered to the node's reader, the loop's call late
+        # Not a wait: the burst is in the node's reader once published (one participant), and
+        # the loop's call comes 30 ms late, its ticks due: the case under test.
+        time.sleep(0.03)
         ran, refused = record.ticks_run, node.refusals[0]
         node.ticker.run_due()
         assert record.ticks_run > ran

@@ -222,24 +222,47 @@ def test_ctrl_z_of_make_run_stops_it_until_fg():
         status = wait(pid, os.WUNTRACED)
         assert status is not None and os.WIFSTOPPED(status)
         os.killpg(pid, signal.SIGCONT)  # fg: make goes on, and gives the node the terminal
-        time.sleep(0.5)
+        assert wait_until(lambda: foreground_runs(fd, pid)), 'the node not in the foreground'
         os.write(fd, b'\x03')
         status = wait(pid)
         assert status is not None and os.waitstatus_to_exitcode(status) == 0, status
 
 
-def kill_session(session: int) -> None:
-    """Kill every process of the terminal's session ``session``, whatever its process group."""
+def wait_until(condition, timeout: float = 20.0) -> bool:
+    """Return whether ``condition()`` held within ``timeout`` s."""
+    deadline = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.02)
+    return True
+
+
+def processes_of(session: int):
+    """Yield (pid, state, process group) of each process of the session ``session``."""
     for stat in Path('/proc').glob('[0-9]*/stat'):
         try:
             fields = stat.read_text().rsplit(')', 1)[1].split()
         except OSError:
             continue
         if int(fields[3]) == session:  # the session id, after state, ppid and pgrp
-            try:
-                os.kill(int(stat.parent.name), signal.SIGKILL)
-            except ProcessLookupError:
-                pass
+            yield int(stat.parent.name), fields[0], int(fields[2])
+
+
+def foreground_runs(fd: int, session: int) -> bool:
+    """Return whether a group other than make's has the terminal ``fd``, none of it stopped."""
+    group = os.tcgetpgrp(fd)
+    states = [state for _, state, pgrp in processes_of(session) if pgrp == group]
+    return group != session and bool(states) and not any(s in 'Tt' for s in states)
+
+
+def kill_session(session: int) -> None:
+    """Kill every process of the terminal's session ``session``, whatever its process group."""
+    for pid, _, _ in list(processes_of(session)):
+        try:
+            os.kill(pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
 
 
 def recipe_lines() -> list:

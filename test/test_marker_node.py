@@ -50,6 +50,7 @@ from mouse_constraint_ros.timing.spin import call_until_answered, StopRequest
 from mouse_constraint_ros.wire.interface import (MARKER_FEEDBACK_TOPIC, MARKER_QOS,
                                                  MARKER_SERVICE, MARKER_UPDATE_TOPIC)
 from test_support.robots import double_pendulum
+from test_support.ros_harness import service_of, waits_at
 
 BIN = Path(sys.executable).parent
 FRAME_PERIOD = 1.0 / 30.0
@@ -400,7 +401,8 @@ def test_a_press_right_after_a_release_grabs_once_the_node_answered_the_release(
             event, shown, None if local is None else world_point(shown, local)))
         marker._work()
     assert [kind for _, kind in sent] == ['grab', 'release']
-    time.sleep(0.1)  # the release delivered before the node's next wait
+    # The release delivered before the node's next wait: it finds it waiting.
+    assert waits_at(service_of(node, '/release'), ros.context)
     assert ros.spin_until(lambda: len(sent) == 3)
     assert [kind for _, kind in sent] == ['grab', 'release', 'grab']
     assert ros.spin_until(lambda: np.allclose(node.get_parameter('anchor').value,

@@ -61,7 +61,7 @@ def test_a_signal_during_start_up_exits_0_without_a_traceback(signum, delay):
         while not caught(process.pid) & (1 << (signal.SIGHUP - 1)):
             assert time.monotonic() < deadline and process.poll() is None
             time.sleep(0.001)
-        time.sleep(delay)
+        time.sleep(delay)  # not a wait: the moment of start-up under test
         process.send_signal(signum)
         status = process.wait(timeout=20.0)
     finally:
@@ -95,7 +95,7 @@ def test_a_second_signal_soon_after_the_first_still_exits_0(signum, gap):
             assert line, ''.join(lines)
             lines.append(line)
         process.send_signal(signum)
-        time.sleep(gap)
+        time.sleep(gap)  # not a wait: the gap between the signals under test
         process.send_signal(signum)
         status = process.wait(timeout=20.0)
     finally:

@@ -23,10 +23,11 @@ at a readable size, presses on the body and checks the node's
 ``anchor`` parameter becomes a point on the body, drags and checks the target is the pointer's
 ray met with the camera-facing plane through the grabbed point and that the anchor follows it,
 then releases and checks the body is free; grabs again and lets go with shift pressed 30 ms
-before, and checks the body stays held. It checks the panel's hint and that the hold toggle's
-label reads dark. It saves a screenshot of the drag: to
-``MOUSE_VIEW_SCREENSHOT`` when set (``docs/view.md`` names the command), else to the test's
-temporary folder.
+before, and checks the body stays held once the view is done with the drag. It checks the
+panel's hint and that the hold toggle's label reads dark. It saves a screenshot of the drag,
+once the body is on its way back: to ``MOUSE_VIEW_SCREENSHOT`` when set (``docs/view.md`` names
+the command), else to the test's temporary folder; and checks what it shows: the body's colour on
+a point of the grabbed face, the neutral background off the body.
 """
 
 import itertools
@@ -35,6 +36,7 @@ from pathlib import Path
 import time
 
 import numpy as np
+from PIL import Image
 import pytest
 from rclpy.parameter import Parameter
 from scipy.spatial.transform import Rotation
@@ -42,16 +44,18 @@ from scipy.spatial.transform import Rotation
 # mouse_view serves its page with viser (requirements/view.txt; no rosdep key: package.xml).
 pytest.importorskip('viser', reason='mouse_view needs viser: pip install -r requirements/view.txt')
 from mouse_constraint_ros.inputs.grab import box_distance
+from mouse_constraint_ros.monitoring.markers import BODY_COLOR
 from mouse_constraint_ros.node.mouse_constraint_node import MouseConstraintNode
 from mouse_constraint_ros.pointer.geometry import FRAME_FRACTION, world_point
 from mouse_constraint_ros.view.command import page_address
 from mouse_constraint_ros.view.node import MouseViewNode
-from mouse_constraint_ros.view.scene import ViewScene
+from mouse_constraint_ros.view.scene import FLOOR_COLOR, ViewScene
 from mouse_constraint_ros.view.server import start
 from test_support import browser_page
-from test_support.browser_page import (camera_known, clear_of_the_panel, drag_and_follow,
-                                       newest_client, PinholeCamera, press_until_grabbed,
-                                       spinning, VIEWPORT, wait_for)
+from test_support.browser_page import (camera_known, CameraReports, clear_of_the_panel,
+                                       drag_and_follow, held, let_go, newest_client,
+                                       PinholeCamera, press_until_grabbed, spinning, VIEWPORT,
+                                       wait_for)
 
 pytestmark = pytest.mark.browser
 
@@ -71,6 +75,14 @@ DRAG = np.array([120.0, -80.0])
 GRAB_TIMEOUT = 180.0
 # The hint's first words.
 HINT_START = 'Press on the body'
+# How far the anchor has gone back from the drag's end when the picture is taken (m).
+ON_ITS_WAY = 0.05
+# How far (CSS px) a checked pixel keeps from the drawn target, line and trail: more than the
+# spheres' radius there (a twentieth of the box's longest edge, some 10 px).
+CLEARANCE = 20.0
+# The points of a face the body's pixel is chosen from: on the line through its middle along
+# its longer edge, in fractions of that edge from the middle.
+FACE_LINE = (-0.3, -0.15, 0.15, 0.3)
 
 
 @pytest.fixture
@@ -88,6 +100,7 @@ def test_a_real_mouse_grabs_drags_and_releases_the_body(ros, chromium_page, tmp_
             Parameter(name, value=value) for name, value in AT_REST.items()]))
         view = ros.add(MouseViewNode(scene_factory=lambda p: ViewScene(server, p),
                                      context=ros.context))
+        reports = CameraReports(server)
         page = chromium_page
         with spinning(ros):
             page.goto(page_address('127.0.0.1', server.get_port()), timeout=60_000)
@@ -95,40 +108,54 @@ def test_a_real_mouse_grabs_drags_and_releases_the_body(ros, chromium_page, tmp_
                      60.0, 'the browser reported its camera')
             _assert_framed(server, view)
             _check_the_panel(page)
-            camera, press = _grab(page, node, lambda: _aim(server, view))
+            camera, press = _grab(page, server, view, node, reports)
             anchor = np.array(node.get_parameter('anchor').value)
+            assert not np.allclose(anchor, DEFAULT_ANCHOR)
             assert box_distance(anchor, BOX) <= node.get_parameter('grab_margin').value
+            grabbed = world_point(view.latest_pose(), anchor)
             end = press + DRAG
             drag_and_follow(page, node, view, camera, end, anchor=anchor, steps=12,
                             tolerance=0.01)
             # The picture while the body is on its way back: target, line and trail in sight.
+            dragged = world_point(view.latest_pose(), anchor)
             page.mouse.move(*(end - 1.5 * DRAG), steps=4)
-            time.sleep(1.0)
+            wait_for(lambda: np.linalg.norm(np.subtract(
+                world_point(view.latest_pose(), anchor), dragged)) > ON_ITS_WAY, 30.0,
+                'the body on its way back')
             shot = Path(os.environ.get('MOUSE_VIEW_SCREENSHOT', tmp_path / 'view.png'))
+            before = view.latest_pose()
             page.screenshot(path=str(shot))
-            assert shot.stat().st_size > 10_000
+            after = view.latest_pose()
+            _check_the_picture(shot, camera, (before, after), anchor,
+                               [grabbed, dragged, world_point(before, anchor),
+                                world_point(after, anchor), node.simulation.target])
             page.mouse.up()
             wait_for(lambda: node.simulation.target is None, 10.0, 'the release freed the body')
             assert not page.get_by_text(HINT_START).is_visible()
-            _shift_at_the_release_holds(page, node, lambda: _aim(server, view))
+            _shift_at_the_release_holds(page, server, view, node, reports)
     finally:
         server.stop()
 
 
-def _shift_at_the_release_holds(page, node, aim) -> None:
+def _shift_at_the_release_holds(page, server, view, node, reports: CameraReports) -> None:
     """
     README: hold shift to keep the body held where you let go; shift goes down 30 ms before.
 
     The browser ends the drag's segment when shift goes down and holds back the next one; the
-    page confirms it at once and the view takes it as the same drag, held at the release.
+    page confirms it at once and the view takes it as the same drag, held at the release. The
+    view is done with the drag when it has taken its end, no next segment is awaited and nothing
+    waits or is called: a release would have reached the node by then.
     """
-    _, press = _grab(page, node, aim, lambda: node.simulation.target is not None)
+    _, press = _grab(page, server, view, node, reports)
     page.mouse.move(*(press + 0.5 * DRAG), steps=6)
     page.keyboard.down('Shift')
-    time.sleep(0.03)
+    time.sleep(0.03)  # not a wait: shift down 30 ms before the release, the gesture tested
     page.mouse.up()
     page.keyboard.up('Shift')
-    time.sleep(1.0)  # far longer than SEGMENT_GAP: a release would have gone
+    client = newest_client(server).client_id
+    wait_for(lambda: not view.gestures.dragging(client) and not view.gestures.ending(client)
+             and view.outbox.waiting == 0 and view.calls.pending == 0, 30.0,
+             'the view done with the drag')
     assert node.simulation.target is not None, 'shift down at the release let the body go'
 
 
@@ -177,22 +204,96 @@ def _assert_framed(server, view) -> None:
     assert np.allclose(center, (VIEWPORT['width'] / 2, VIEWPORT['height'] / 2), atol=40.0)
 
 
+def _chromaticity(rgb) -> np.ndarray:
+    rgb = np.asarray(rgb, dtype=float)[:3]
+    return rgb / max(rgb.sum(), 1e-9)
+
+
+def _looks_like_the_body(rgb) -> bool:
+    """
+    Return whether a pixel's colour is the body's rather than the background's.
+
+    Shading scales a colour and the body's translucency mixes in what lies behind it, so the
+    hue decides: the chromaticity nearer BODY_COLOR's than the background's, which is neutral
+    (the page's white, the floor's FLOOR_COLOR, the grid's grey).
+    """
+    colour = _chromaticity(rgb)
+    return bool(np.linalg.norm(colour - _chromaticity(BODY_COLOR))
+                < np.linalg.norm(colour - _chromaticity(FLOOR_COLOR)))
+
+
+def _distance_to_path(pixel, path) -> float:
+    """Return the distance (px) from ``pixel`` to the polyline through the pixels ``path``."""
+    pixel = np.asarray(pixel)
+    distances = []
+    for a, b in zip(path[:-1], path[1:]):
+        a, b = np.asarray(a), np.asarray(b)
+        t = np.clip(np.dot(pixel - a, b - a) / max(np.dot(b - a, b - a), 1e-9), 0.0, 1.0)
+        distances.append(np.linalg.norm(pixel - (a + t * (b - a))))
+    return float(min(distances))
+
+
+def _check_the_picture(shot: Path, camera: PinholeCamera, poses, anchor, path) -> None:
+    """
+    Check the screenshot shows the body on the grabbed face and the background off the body.
+
+    The body moves while the picture is taken: it is drawn between its poses before and after
+    (``poses``), and a point of it is looked for between the two. The body's pixel is a point
+    of the grabbed face (``anchor`` on it, in the body frame) away from its edges
+    (``FACE_LINE``), the one farthest from the drawn anchor, target, line and trail (``path``:
+    world points from the grab to the target); the background's is beside the body, as far
+    again from it as its drawn corners reach, clear of the panel, the path and the world's
+    axes.
+    """
+    image = np.asarray(Image.open(shot).convert('RGB'))
+    scale = image.shape[1] / VIEWPORT['width']
+
+    def colour(pixel) -> np.ndarray:
+        column, row = (np.asarray(pixel) * scale).astype(int)
+        return image[row, column]
+    path_pixels = [camera.pixel(point) for point in path if point is not None]
+    axis = int(np.argmax(np.abs(anchor) / np.array(BOX)))  # the face the anchor lies on
+    longer, shorter = sorted((i for i in range(3) if i != axis), key=lambda i: -BOX[i])
+    candidates = []
+    for fraction in FACE_LINE:
+        local = np.array(anchor, dtype=float)
+        local[longer], local[shorter] = fraction * BOX[longer], 0.0
+        candidates.append(np.mean([camera.pixel(world_point(pose, local)) for pose in poses],
+                                  axis=0))
+    on_body = max(candidates, key=lambda pixel: _distance_to_path(pixel, path_pixels))
+    assert _distance_to_path(on_body, path_pixels) > CLEARANCE, (on_body, path_pixels)
+    assert _looks_like_the_body(colour(on_body)), (
+        f'no body at {on_body}: {colour(on_body)}, see {shot}')
+    corners = np.array([camera.pixel(world_point(pose, np.multiply(signs, BOX) / 2))
+                        for signs in itertools.product((-1.0, 1.0), repeat=3)
+                        for pose in poses])
+    middle = corners.mean(axis=0)
+    reach = 2.0 * np.max(np.linalg.norm(corners - middle, axis=1)) + CLEARANCE
+    origin = camera.pixel((0.0, 0.0, 0.0))
+    beside = [middle + reach * np.array([np.cos(angle), np.sin(angle)])
+              for angle in np.linspace(0.0, 2.0 * np.pi, 24, endpoint=False)]
+    clear = [pixel for pixel in beside if clear_of_the_panel(pixel)
+             and _distance_to_path(pixel, path_pixels) > CLEARANCE
+             and np.linalg.norm(pixel - origin) > 4.0 * CLEARANCE]
+    assert clear, f'no pixel beside the body clear of the rest: {middle}, {reach}'
+    off_body = clear[0]
+    assert not _looks_like_the_body(colour(off_body)), (
+        f'the body at {off_body}: {colour(off_body)}, see {shot}')
+
+
 def _facing(pose, local, camera: PinholeCamera) -> float:
     normal = Rotation.from_quat(pose.orientation).apply(np.sign(local) * (np.abs(local) > 0))
     return float(np.dot(normal, camera.forward))
 
 
-def _aim(server, view):
+def _aim(reports: CameraReports, view):
     """
     Return the browser's camera and the pixel of the centre of the face that looks at it.
 
-    The camera is turned to the body again first: a press before the page has drawn the body
-    orbits it.
+    The camera is turned to the body again first, and taken once the page reports it: a press
+    before the page has drawn the body orbits it.
     """
-    client = newest_client(server)
-    view.scene.frame(client)
-    time.sleep(0.5)
-    camera = PinholeCamera(client.camera)
+    camera = reports.framed(view)
     assert abs(camera.aspect - 1280 / 720) < 0.05
     pose = view.latest_pose()
     faces = [tuple(s * h if i == axis else 0.0 for i, h in enumerate(np.array(BOX) / 2))
@@ -203,16 +304,14 @@ def _aim(server, view):
     return camera, press
 
 
-def _grab(page, node, aim, grabbed=None):
+def _grab(page, server, view, node, reports: CameraReports):
     """
-    Press on the body and move past the drag threshold until the node takes the grab.
+    Press on the body and move past the drag threshold until the page's drag holds it.
 
     Each try aims anew, the camera put back where it starts.
 
-    :param grabbed: whether the node took the grab (default: its anchor left the default).
     :returns: the camera and the pressed pixel of the try that grabbed.
     """
-    if grabbed is None:
-        def grabbed() -> bool:
-            return not np.allclose(node.get_parameter('anchor').value, DEFAULT_ANCHOR)
-    return press_until_grabbed(page, aim, grabbed, GRAB_TIMEOUT)
+    return press_until_grabbed(page, lambda: _aim(reports, view),
+                               lambda: held(server, view, node), GRAB_TIMEOUT,
+                               missed=reports.turned, over=lambda: let_go(server, view, node))

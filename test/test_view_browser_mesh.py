@@ -26,7 +26,6 @@ camera-facing plane through the grabbed point and that the body moved with it; t
 """
 
 from pathlib import Path
-import time
 
 import numpy as np
 import pytest
@@ -42,9 +41,9 @@ from mouse_constraint_ros.view.node import MouseViewNode
 from mouse_constraint_ros.view.scene import ViewScene
 from mouse_constraint_ros.view.server import start
 from test_support import browser_page
-from test_support.browser_page import (camera_known, clear_of_the_panel, drag_and_follow,
-                                       newest_client, PinholeCamera, press_until_grabbed,
-                                       spinning, wait_for)
+from test_support.browser_page import (camera_known, CameraReports, clear_of_the_panel,
+                                       drag_and_follow, held, let_go, newest_client,
+                                       press_until_grabbed, spinning, wait_for)
 from test_support.meshes import geometry, MUG_HEIGHT, MUG_RADIUS, urdf, write
 from test_support.meshes import mug as mug_mesh
 
@@ -86,6 +85,7 @@ def test_a_real_mouse_grabs_the_mug_on_its_mesh_and_drags_it(ros, chromium_page,
             {**AT_REST, 'robot_description': description}.items()]))
         view = ros.add(MouseViewNode(scene_factory=lambda p: ViewScene(server, p),
                                      context=ros.context))
+        reports = CameraReports(server)
         page = chromium_page
         with spinning(ros):
             page.goto(page_address('127.0.0.1', server.get_port()), timeout=60_000)
@@ -98,8 +98,10 @@ def test_a_real_mouse_grabs_the_mug_on_its_mesh_and_drags_it(ros, chromium_page,
             _wait_framed(server, view)
             start_position = np.array(view.latest_pose().position)
             camera, press = press_until_grabbed(
-                page, lambda: _aim(server, view), lambda: not np.allclose(
-                    node.get_parameter('anchor').value, START_ANCHOR), GRAB_TIMEOUT)
+                page, lambda: _aim(reports, view), lambda: held(server, view, node),
+                GRAB_TIMEOUT, missed=reports.turned,
+                over=lambda: let_go(server, view, node))
+            assert not np.allclose(node.get_parameter('anchor').value, START_ANCHOR)
             anchor = np.array(node.get_parameter('anchor').value)
             _, distance, _ = trimesh.proximity.closest_point(mesh, [anchor])
             print(f'the anchor lies {distance[0]:.3g} m from the mesh surface')
@@ -126,17 +128,14 @@ def _wait_framed(server, view) -> None:
     wait_for(turned, 60.0, "the page turned to the mug's middle")
 
 
-def _aim(server, view):
+def _aim(reports: CameraReports, view):
     """
     Return the browser's camera and the pixel of the mug's outer wall that faces it, half way up.
 
-    The camera is turned to the body again first: a press before the page has drawn the body
-    orbits it.
+    The camera is turned to the body again first, and taken once the page reports it: a press
+    before the page has drawn the body orbits it.
     """
-    client = newest_client(server)
-    view.scene.frame(client)
-    time.sleep(0.5)  # the page takes the camera and reports it back
-    camera = PinholeCamera(client.camera)
+    camera = reports.framed(view)
     pose = view.latest_pose()
     toward = np.subtract(local_point(camera.position, pose), START_ANCHOR)[:2]
     toward /= np.linalg.norm(toward)

@@ -40,8 +40,9 @@ from mouse_constraint_ros.view.node import MouseViewNode
 from mouse_constraint_ros.view.scene import ViewScene
 from mouse_constraint_ros.view.server import start
 from test_support import browser_page
-from test_support.browser_page import (camera_known, clear_of_the_panel, newest_client,
-                                       PinholeCamera, press_until_grabbed, spinning, wait_for)
+from test_support.browser_page import (camera_known, CameraReports, clear_of_the_panel, held,
+                                       let_go, newest_client, press_until_grabbed, spinning,
+                                       wait_for)
 from test_support.robots import double_pendulum
 
 pytestmark = pytest.mark.browser
@@ -78,6 +79,7 @@ def test_a_real_mouse_grabs_the_upper_rod_and_drags_the_robot(ros, chromium_page
             Parameter(name, value=value) for name, value in AT_REST.items()]))
         view = ros.add(MouseViewNode(scene_factory=lambda p: ViewScene(server, p),
                                      context=ros.context))
+        reports = CameraReports(server)
         page = chromium_page
         with spinning(ros):
             page.goto(page_address('127.0.0.1', server.get_port()), timeout=60_000)
@@ -85,8 +87,10 @@ def test_a_real_mouse_grabs_the_upper_rod_and_drags_the_robot(ros, chromium_page
                      60.0, 'the browser reported its camera')
             wait_for(lambda: _framed(server, view), 60.0, 'the page turned to the robot')
             assert node.simulation.grabbed_link == 'tip'  # the tracked link, until a grab
-            camera, press = press_until_grabbed(page, lambda: _aim(server, view),
-                                                lambda: _held(server, view, node), GRAB_TIMEOUT)
+            camera, press = press_until_grabbed(page, lambda: _aim(reports, view),
+                                                lambda: _held(server, view, node), GRAB_TIMEOUT,
+                                                missed=reports.turned,
+                                                over=lambda: let_go(server, view, node))
             anchor = np.array(node.get_parameter('anchor').value)
             rod = view.robot.shape.geometries['upper']
             assert rod.distance(anchor) <= node.get_parameter('grab_margin').value, anchor
@@ -115,15 +119,8 @@ def test_a_real_mouse_grabs_the_upper_rod_and_drags_the_robot(ros, chromium_page
 
 
 def _held(server, view, node) -> bool:
-    """
-    Return whether the page's drag holds the upper rod: its grab taken, nothing before it due.
-
-    A try that the page took late ends with a release; the next try's grab goes once the node
-    answered that release (``ReleaseOrder``): with nothing waiting in the view, a target in the
-    node is this drag's.
-    """
-    return (view.gestures.dragging(newest_client(server).client_id) and view.outbox.waiting == 0
-            and node.simulation.target is not None and node.simulation.grabbed_link == 'upper')
+    """Return whether the page's drag holds the upper rod (``browser_page.held``)."""
+    return held(server, view, node) and node.simulation.grabbed_link == 'upper'
 
 
 def _framed(server, view) -> bool:
@@ -137,16 +134,14 @@ def _framed(server, view) -> bool:
             and np.allclose(client.camera.position, expected.position, atol=1e-3))
 
 
-def _aim(server, view):
+def _aim(reports: CameraReports, view):
     """
     Return the browser's camera and the pixel of the upper rod's face that looks at it.
 
-    The camera is turned to the robot again first: a press before the page has drawn the robot
-    orbits it (a press the page takes before the turn misses, and is tried again).
+    The camera is turned to the robot again first, and taken once the page reports it: a press
+    before the page has drawn the robot orbits it.
     """
-    client = newest_client(server)
-    view.scene.frame(client)
-    camera = PinholeCamera(client.camera)
+    camera = reports.framed(view)
     press = camera.pixel(world_point(view.scene.shown_links['upper'], ON_UPPER))
     assert clear_of_the_panel(press), press
     return camera, press

@@ -215,13 +215,14 @@ def test_shift_pressed_before_the_release_holds_the_body_and_the_drag_goes_on():
     far = (0.5, 2.0, 1.5)
     [target] = gestures.move(5, far)
     assert gestures.end(5, far, modifier=None, hold=False, at=1.2) == [target]
-    assert gestures.due(1.2 + 0.5 * SEGMENT_GAP) == []
+    assert gestures.due(1.2 + 0.5 * SEGMENT_GAP) == [] and gestures.ending(5)
     # shift down: the next segment starts, where the pointer is; the drag is the same one
     assert gestures.start(5, pressed=far, camera=None, shown=AT_REST, now=AT_REST,
                           at=1.2 + 0.5 * SEGMENT_GAP) == []
-    assert gestures.dragging(5) and gestures.move(5, far) == [target]
+    assert gestures.dragging(5) and not gestures.ending(5) and gestures.move(5, far) == [target]
     assert gestures.end(5, far, modifier=HOLD_MODIFIER, hold=False, at=1.3) == [target]
-    assert gestures.due(10.0) == [] and not gestures.dragging(5)
+    assert gestures.ending(5)
+    assert gestures.due(10.0) == [] and not gestures.dragging(5) and not gestures.ending(5)
 
 
 def test_a_plain_release_goes_once_no_next_segment_came():

@@ -41,6 +41,7 @@ from mouse_constraint_ros.view.node import MouseViewNode
 from mouse_constraint_ros.view.scene import FLOOR_GAP, FLOOR_THICKNESS, ViewScene
 from mouse_constraint_ros.view.server import start
 from test_support import viser_client
+from test_support.ros_harness import service_of, waits_at
 
 AT_REST = {'gravity': [0.0, 0.0, 0.0], 'hold_initial_anchor': False}
 CAMERA = SimpleNamespace(position=np.array([0.0, -3.0, 1.0]), look_at=np.array([0.0, 0.0, 1.0]))
@@ -142,7 +143,8 @@ def test_a_grab_right_after_a_release_goes_once_the_node_answered_it(ros, server
     grab = world_point(view.latest_pose(), (-0.1, -0.1, 0.0))
     view.send([Action(RELEASE), Action(GRAB, grab)], view._now_ns())
     assert view.outbox.waiting == 1  # the grab, behind the release
-    time.sleep(0.1)  # the release delivered before the node's next wait
+    # The release delivered before the node's next wait: it finds it waiting.
+    assert waits_at(service_of(node, '/release'), ros.context)
     assert ros.spin_until(
         lambda: view.scene.reply.content == '/mouse_constraint/release: released')
     assert ros.spin_until(lambda: node.simulation.target is not None)
@@ -152,7 +154,7 @@ def test_a_grab_right_after_a_release_goes_once_the_node_answered_it(ros, server
     _drag(view, 'start', start=world_point(view.latest_pose(), local))
     view._run_work()  # the press, queued by viser's thread, handled at once
     assert view.outbox.waiting == 1
-    time.sleep(0.1)
+    assert waits_at(service_of(node, '/release'), ros.context)
     assert ros.spin_until(lambda: np.allclose(node.get_parameter('anchor').value, local,
                                               atol=1e-6))
     ros.spin_for(0.2)

@@ -19,9 +19,11 @@ The browser tier's page and camera: Debian's chromium, headless, driven by Playw
 missing); ``spinning`` spins an in-process harness on a thread while Playwright drives the
 browser; ``PinholeCamera`` turns the camera a page reports into pixels and rays, so that the
 mouse is aimed at a point of the body; ``newest_client`` is the page's connection to aim with;
-``press_until_grabbed`` presses on the body until the node took the grab (the page's first frame
-comes late in software rendering); ``drag_and_follow`` drags it to a pixel and waits for the
-target and the anchor to reach the pointer's plane point.
+``CameraReports`` keeps each camera the pages report, and turns a page to the body and waits
+until it reports that camera; ``press_until_grabbed`` presses on the body until the page's drag
+holds it (``held``; the page's first frame comes late in software rendering), letting a try go
+until the view and the node are done with it (``let_go``); ``drag_and_follow`` drags it to a
+pixel and waits for the target and the anchor to reach the pointer's plane point.
 """
 
 import contextlib
@@ -29,7 +31,8 @@ import os
 from pathlib import Path
 import threading
 import time
-from typing import Callable, Iterator, Tuple
+from types import SimpleNamespace
+from typing import Callable, Dict, Iterator, Optional, Tuple
 
 import numpy as np
 import pytest
@@ -46,6 +49,9 @@ VIEWPORT = {'width': 1280, 'height': 720}
 # mouse and the camera are in CSS pixels all the same. The screenshot for the docs
 # (MOUSE_VIEW_SCREENSHOT set) is drawn at full size.
 SCALE = 1.0 if 'MOUSE_VIEW_SCREENSHOT' in os.environ else 0.25
+# How long a press may go untaken by the page before it is let go and tried again (s): a page
+# drawing in software takes it within seconds, several times that on a loaded machine.
+TRY_TIMEOUT = 60.0
 
 
 @contextlib.contextmanager
@@ -142,20 +148,115 @@ def newest_client(server):
     return clients[max(clients)]
 
 
+class CameraReports:
+    """
+    The camera each page reported last, whole as it came (a viser camera message).
+
+    Made before the page connects: every report from its first on is kept. The camera a client
+    handle holds is written field by field where the server sets it; a report is one message.
+
+    :param server: the viser server the pages connect to.
+    """
+
+    def __init__(self, server) -> None:
+        """Follow the camera of every page that connects to ``server`` from now on."""
+        self._server = server
+        self._latest: Dict[int, SimpleNamespace] = {}
+        self._framed: Optional[Tuple[int, np.ndarray, np.ndarray]] = None
+        server.on_client_connect(self._follow)
+
+    async def _follow(self, client) -> None:  # async: on viser's loop, before its first report
+        client.camera.on_update(self._report)
+
+    async def _report(self, camera) -> None:
+        self._latest[camera.client.client_id] = SimpleNamespace(
+            position=np.array(camera.position), wxyz=np.array(camera.wxyz),
+            look_at=np.array(camera.look_at), fov=float(camera.fov),
+            image_width=camera.image_width, image_height=camera.image_height)
+
+    def framed(self, view, timeout: float = 30.0) -> 'PinholeCamera':
+        """
+        Turn the newest page's camera to the body (``ViewScene.frame``); return it once reported.
+
+        The page has taken the camera when it reports it back: its position and look-at point
+        are the framing's (the server's initial camera, which ``frame`` sets), and it looks
+        from the one to the other (a report made while the page turns may not yet).
+
+        :param view: the ``MouseViewNode`` whose scene frames the body.
+        """
+        client = newest_client(self._server)
+        view.scene.frame(client)
+        initial = self._server.initial_camera
+        position, look_at = np.array(initial.position), np.array(initial.look_at)
+        sight = look_at - position
+
+        def reported() -> bool:
+            camera = self._latest.get(client.client_id)
+            return (camera is not None and np.allclose(camera.position, position, atol=1e-3)
+                    and np.allclose(camera.look_at, look_at, atol=1e-3)
+                    and np.dot(PinholeCamera(camera).forward, sight)
+                    > (1.0 - 1e-6) * np.linalg.norm(sight))
+        wait_for(reported, timeout, 'the page reported the camera turned to the body')
+        self._framed = (client.client_id, position, look_at)
+        return PinholeCamera(self._latest[client.client_id])
+
+    def turned(self) -> bool:
+        """Return whether the page last framed has reported its view turned away since."""
+        if self._framed is None:
+            return False
+        client_id, position, look_at = self._framed
+        camera = self._latest[client_id]
+        return not (np.allclose(camera.position, position, atol=1e-3)
+                    and np.allclose(camera.look_at, look_at, atol=1e-3))
+
+
+def held(server, view, node) -> bool:
+    """
+    Return whether the page's drag holds the body: its grab taken, nothing before it due.
+
+    A try that the page took late ends with a release; the next try's grab goes once the node
+    answered that release (``ReleaseOrder``): with nothing waiting in the view, a target in the
+    node is this drag's.
+
+    :param node: the ``MouseConstraintNode``.
+    """
+    return (view.gestures.dragging(newest_client(server).client_id) and view.outbox.waiting == 0
+            and node.simulation.target is not None)
+
+
+def let_go(server, view, node) -> bool:
+    """
+    Return whether a try let go is over: no drag in the view, nothing waiting, the node free.
+
+    A drag the view took ends with a release a segment gap after the button (``Gestures``):
+    until the node answered it, a press would go on with that drag.
+    """
+    return (not view.gestures.dragging(newest_client(server).client_id)
+            and view.outbox.waiting == 0 and view.calls.pending == 0
+            and node.simulation.target is None)
+
+
 def clear_of_the_panel(pixel) -> bool:
     """Return whether ``pixel`` lies in the canvas away from the panel and the page's notes."""
     return 100 < pixel[0] < 900 and 150 < pixel[1] < 650
 
 
 def press_until_grabbed(page, aim: Callable[[], Tuple[PinholeCamera, np.ndarray]],
-                        grabbed: Callable[[], bool], timeout: float):
+                        grabbed: Callable[[], bool], timeout: float, *,
+                        missed: Callable[[], bool], over: Callable[[], bool]):
     """
     Press on the body and move past the drag threshold until the node takes the grab.
 
-    Each try aims anew (``aim``: the camera put back where it starts, and the pixel to press);
-    a try the node did not take within 3 s is let go and pressed again, until ``timeout`` s.
+    Each try aims anew (``aim``: the camera put back where it starts, and the pixel to press)
+    and ends when the page took it: as a drag that holds the body (``grabbed``), or, pressed
+    before the page drew the body there, as a turn of the view (``missed``); a try that neither
+    within ``TRY_TIMEOUT`` counts as missed. A missed try is let go, and pressed again once it is
+    over, until ``timeout`` s.
 
-    :param grabbed: whether the node took the grab.
+    :param grabbed: whether the page's drag holds the body (``held``).
+    :param missed: whether the page turned the view since it was aimed
+        (``CameraReports.turned``).
+    :param over: whether a try let go is over (``let_go``).
     :returns: the camera and the pressed pixel of the try that grabbed.
     """
     deadline = time.monotonic() + timeout
@@ -165,16 +266,18 @@ def press_until_grabbed(page, aim: Callable[[], Tuple[PinholeCamera, np.ndarray]
         page.mouse.down()
         page.mouse.move(*(press + (6.0, 0.0)), steps=3)
         try:
-            wait_for(grabbed, 3.0, 'grab')
-            return camera, press
+            wait_for(lambda: grabbed() or missed(), TRY_TIMEOUT, 'the page took the press')
         except pytest.fail.Exception:
-            page.mouse.up()  # the page was not drawn yet: press again
-            if time.monotonic() > deadline:
-                shot = Path(os.environ.get('MOUSE_VIEW_SCREENSHOT', '/tmp/view.png'))
-                page.screenshot(path=str(shot.with_name('view-no-grab.png')))
-                pytest.fail(f'no grab reached the node within {timeout:g} s of pressing at '
-                            f'{press}: see {shot.with_name("view-no-grab.png")}')
-            time.sleep(1.0)
+            pass
+        if grabbed():
+            return camera, press
+        page.mouse.up()  # the page was not drawn yet: press again
+        if time.monotonic() > deadline:
+            shot = Path(os.environ.get('MOUSE_VIEW_SCREENSHOT', '/tmp/view.png'))
+            page.screenshot(path=str(shot.with_name('view-no-grab.png')))
+            pytest.fail(f'no grab reached the node within {timeout:g} s of pressing at '
+                        f'{press}: see {shot.with_name("view-no-grab.png")}')
+        wait_for(over, 30.0, 'the try let go was over')
 
 
 def drag_and_follow(page, node, view, camera: PinholeCamera, pixel, *, anchor, steps: int,

@@ -175,7 +175,7 @@ def flood_main(argv: Sequence[str]) -> int:
             break
         due = int((now - start) * options.rate) if options.rate > 0.0 else sent + 1000
         if sent >= due:
-            time.sleep(0.0002)
+            time.sleep(0.0002)  # not a wait: the stream paced at its rate
             continue
         for _ in range(min(due - sent, 1000)):
             sent += 1

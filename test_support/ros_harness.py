@@ -22,6 +22,7 @@ import numpy as np
 from rcl_interfaces.srv import ListParameters
 import rclpy
 from rclpy.executors import SingleThreadedExecutor
+from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 from rosgraph_msgs.msg import Clock
@@ -124,6 +125,29 @@ def spin_until(executor, condition: Callable[[], bool], timeout: float = 10.0) -
             return False
         executor.spin_once(timeout_sec=0.01)
     return True
+
+
+def service_of(node: Node, name: str):
+    """Return ``node``'s service whose name ends with ``name`` (as ``/release``)."""
+    [service] = [s for s in node.services if s.srv_name.endswith(name)]
+    return service
+
+
+def waits_at(service, context, timeout: float = 10.0) -> bool:
+    """
+    Wait until a request waits at ``service`` to be taken; return whether one came in time.
+
+    Nothing is taken: the executor that spins the service's node finds the request as it
+    waited. Call it while nothing spins that node.
+
+    :param context: the rclpy context of the service's node.
+    """
+    with service.handle, context.handle:
+        wait_set = _rclpy.WaitSet(0, 0, 0, 0, 1, 0, context.handle)
+        wait_set.clear_entities()
+        wait_set.add_service(service.handle)
+        wait_set.wait(int(timeout * 1e9))
+        return service.handle.pointer in wait_set.get_ready_entities('service')
 
 
 def assert_on_grid(stamps: Sequence[int], period_ns: int, dropped: int) -> None:

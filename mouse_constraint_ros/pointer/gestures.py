@@ -106,6 +106,10 @@ class Gestures:
         """Return whether browser ``client`` is dragging the body."""
         return client in self._drags
 
+    def ending(self, client: int) -> bool:
+        """Return whether browser ``client``'s drag ended and waits for its next segment."""
+        return client in self._endings
+
     def start(self, client: int, *, pressed: Sequence[float], camera: Optional[Camera],
               shown: Pose, now: Pose, at: float) -> List[Action]:
         """
