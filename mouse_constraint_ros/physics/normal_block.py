@@ -56,7 +56,6 @@ import math
 from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
-from scipy.linalg import solve_triangular
 
 # The most contacts solved as a block: their active sets, 2^n of them, are tried in turn.
 MOST_CONTACTS = 4
@@ -145,7 +144,7 @@ def _least_norm(geometry: np.ndarray, root: np.ndarray, c: np.ndarray) -> Option
     r = np.linalg.qr(root.T @ v, mode='r')
     if not np.all(np.abs(np.diag(r)) > 0.0):
         return None
-    t = solve_triangular(r, solve_triangular(r, (u.T @ c) / s, trans='T'))
+    t = np.linalg.solve(r, np.linalg.solve(r.T, (u.T @ c) / s))
     return u @ (t / s)
 
 
