@@ -126,7 +126,8 @@ def test_the_block_solve_meets_every_complementarity_condition(seed):
     warm = np.where(rng.random(n) < 0.5, rng.uniform(0.0, 0.01, n), 0.0)
     rows = rows_for(points, inverse_inertia, goals, warm)
     vz, wx, wy = rng.normal(scale=0.5, size=3)
-    result = normal_block.impulses(rows, vz, wx, wy, im, 1e-9, [])
+    weights = (im, inverse_inertia[0, 0], inverse_inertia[0, 1], inverse_inertia[1, 1])
+    result = normal_block.impulses(rows, vz, wx, wy, weights, 1e-9, [])
     assert result is not None
     change = np.array(result) - warm
     k = np.array([[im + a[2] * b[5] - a[1] * b[6] for b in rows] for a in rows])
@@ -141,7 +142,7 @@ def test_four_coplanar_contacts_share_the_load_evenly():
     points = [(x, y, -0.05) for x in (-0.1, 0.1) for y in (-0.1, 0.1)]
     rows = rows_for(points, np.diag([20.0, 30.0, 40.0]), [0.0] * 4, [0.0] * 4)
     im = 0.5
-    result = normal_block.impulses(rows, -1.0, 0.0, 0.0, im, 1e-12, [])
+    result = normal_block.impulses(rows, -1.0, 0.0, 0.0, (im, 20.0, 0.0, 30.0), 1e-12, [])
     assert result == pytest.approx([1.0 / (4 * im)] * 4, rel=1e-6)
 
 

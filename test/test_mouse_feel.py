@@ -224,7 +224,12 @@ def _shipped() -> tuple:
 
 
 def test_a_drag_that_stops_ends_on_the_last_point():
-    """Extrapolation runs out 1.5 intervals after the last point: the anchor ends on it."""
+    """
+    Extrapolation runs out 1.5 intervals after the last point: the anchor ends on it.
+
+    The guide rests on the last point exactly; the body swings on from the drag, so the rigid
+    joint holds the anchor there to its residual on a swinging body (2 um at 4 rad/s).
+    """
     simulation = MouseSimulation(*_shipped())
     simulation.target = simulation.anchor_position()
     start = np.array(simulation.anchor_position())
@@ -236,4 +241,5 @@ def test_a_drag_that_stops_ends_on_the_last_point():
         if tick == 505:
             # Still extrapolating the 1 m/s stream.
             assert simulation.joint_target[0] > last[0]
-    assert math.dist(simulation.anchor_position(), last) < 1e-6
+    assert simulation.joint_target == last
+    assert math.dist(simulation.anchor_position(), last) < 1e-5

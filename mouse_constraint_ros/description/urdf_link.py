@@ -41,6 +41,7 @@ import yourdfpy
 
 from .body_geometry import BodyGeometry, Piece
 from .hull import hull_vertices, HullError
+from .inertia_check import gyration_note
 from .mesh_files import ament_share, MeshFiles, PackageFinder
 from .urdf_checks import check_link, checked_root, link_elements
 from ..physics.algebra import Symmetric3
@@ -58,6 +59,7 @@ class BodyModel(NamedTuple):
     mass: float
     inertia: Symmetric3
     geometry: BodyGeometry
+    notes: Tuple[str, ...] = ()  # warnings of one line each (``inertia_check``)
 
     def rigid_body(self) -> RigidBody:
         """Return the physics' body, validated (mass and inertia ranges, triangle inequality)."""
@@ -117,8 +119,10 @@ def _body_model(text: str, name: str, density: float, find_package: PackageFinde
         pieces[kind] = tuple(built)
     where[0] = f'link {link.name!r}'
     _check_hulls(link.name, pieces['collision'])
+    notes: Tuple[str, ...] = ()
     if link.inertial is not None:
         mass, inertia, com = _inertial(link)
+        notes = _inertia_notes(link.name, mass, inertia, pieces['collision'])
     elif density > 0.0:
         mass, inertia, com = _from_density(pieces['collision'], density, link.name)
     else:
@@ -127,9 +131,20 @@ def _body_model(text: str, name: str, density: float, find_package: PackageFinde
             'inertia) or set density (kg/m^3) to compute them from its collision geometry')
     geometry = BodyGeometry(link.name, tuple(float(c) for c in com), pieces['collision'],
                             pieces['visual'])
-    model = BodyModel(mass, inertia, geometry)
+    model = BodyModel(mass, inertia, geometry, notes)
     model.rigid_body()
     return model
+
+
+def _inertia_notes(link: str, mass: float, inertia: Symmetric3,
+                   pieces: Tuple[Piece, ...]) -> Tuple[str, ...]:
+    """Return the warning of ``inertia_check`` for the link's inertial, if it gives one."""
+    try:
+        geometry_mass, geometry_inertia, _ = _from_density(pieces, 1.0, link)
+    except (ValueError, ZeroDivisionError, FloatingPointError):
+        return ()  # a geometry whose volume cannot be integrated says nothing
+    note = gyration_note(link, mass, inertia, geometry_mass, geometry_inertia)
+    return () if note is None else (note,)
 
 
 def _link(text: str, name: str):

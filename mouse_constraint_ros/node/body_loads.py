@@ -113,7 +113,13 @@ class BodyLoads:
         if key != self._key:
             self._model = load_body(description, link, density)
             self._key = key
+            self._warn(self._model)
         return self._model
+
+    def _warn(self, model) -> None:
+        """Log the loaded body's warnings (``BodyModel.notes``), one line each."""
+        for line in getattr(model, 'notes', ()):
+            self._node.get_logger().warning(line)
 
     def refusal(self, values: Mapping[str, Any], changes: List[Parameter]) -> Optional[str]:
         """
@@ -177,6 +183,7 @@ class BodyLoads:
             reason = self._apply(job.outcome, job.changes)
         if reason is None:
             self._key, self._model = job.key, job.model
+            self._warn(job.model)
             return None
         self._node.get_logger().error(f'robot_description refused: {reason}; the body and the '
                                       'parameters stay as they were')

@@ -171,8 +171,9 @@ PARAMETERS = (
                   'gravity when gravity is zero); .inf = none. Applies with max_force.',
                   (0.0, math.inf)),
     ParameterSpec('angular_friction', 0.25,
-                  'Angular friction while a target is held: the spin is stopped by a torque of '
-                  'at most this times mass |gravity| sqrt(I_mean / mass) (N m); 0 = none.',
+                  'Angular friction while a target is held: the spin about the line from the '
+                  'anchor to the COM is stopped by a torque of at most this times mass '
+                  '|gravity| sqrt(I_mean / mass) (N m); the swing is left alone. 0 = none.',
                   (0.0, FINITE_MAX)),
     ParameterSpec('gravity_feed_forward', True,
                   'Soft mode: the joint carries the weight outright, so the spring does not sag '

@@ -29,9 +29,12 @@ direction d changes it by K P, K = 1 / m + (r x d) . I_w^-1 (r x d).
   velocity before the solve), in a pass after the sweeps (``floor_energy.bounce``).
 - Friction: both tangential impulses together stay within the cone |P_t| <= mu P_n.
 - Sweeps: a contact's friction, then its normal row (``_sweeps``), so that each sweep ends
-  with non-penetration met. A many-vertex hull's few contacts sit close together, where the
-  sweeps alone settle slowly: after a sweep that has not converged, their normal rows are
-  solved together, exactly (``normal_block``).
+  with non-penetration met. Where the rows couple strongly the sweeps alone settle slowly: a
+  many-vertex hull's few contacts close together, and any body whose inertia is far from
+  m r^2 (a row's effective mass is then that of turning the body, not of lifting it). After a
+  sweep that has not converged, two to four contacts' normal rows are solved together,
+  exactly (``normal_block``); sweeps that end unconverged leave the pushing contacts to be
+  held at once, friction and all, where they can be (``floor_sticking``).
 - Warm start: each contact starts from the impulses its point had in the previous substep;
   if the sweeps end unconverged with more energy than the substep started with
   (``floor_energy.twice_energy``), the contacts are solved again from zero impulses.
@@ -44,9 +47,9 @@ operations per sweep, and Python calls and tuples would cost more than that.
 """
 
 import math
-from typing import List, Tuple
+from typing import List, Optional, Tuple
 
-from . import floor_energy, normal_block
+from . import floor_energy, floor_sticking, normal_block
 from .algebra import congruence, rotation_matrix, Vector3
 from .floor_energy import CONVERGED_SPEED, twice_energy
 
@@ -154,9 +157,15 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
             wz += pn * nz + pt * tz + pb * bz
         rows.append([index, rx, ry, rz, s, nx, ny, nz, tx, ty, tz, bx, by, bz,
                      kn, 1.0 / kn, 1.0 / kt, 1.0 / kb, goal, pn, pt, pb, bounce])
-    block = shape.hull is not None and 1 < len(rows) <= normal_block.MOST_CONTACTS
+    block = (im, i00, i01, i11) if 1 < len(rows) <= normal_block.MOST_CONTACTS else None
     velocities, converged = _sweeps(rows, (vx, vy, vz, wx, wy, wz), im, friction, iterations,
                                     block)
+    if not converged:
+        # Sweeps that did not settle: the pushing contacts held at once, if they can be.
+        held = floor_sticking.stick(rows, velocities, im, congruence(rotation, inertia),
+                                    friction, CONVERGED_SPEED)
+        if held is not None:
+            velocities, converged = held, True
     if warmed and not converged:
         # A warm start that the sweeps could not undo may leave an old impulse pushing a
         # contact that now separates, which adds energy. Then the contacts are solved cold.
@@ -208,7 +217,8 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
 
 
 def _sweeps(rows: Rows, velocities: Tuple[float, ...], im: float, friction: float,
-            iterations: int, block: bool = False) -> Tuple[Tuple[float, ...], bool]:
+            iterations: int, block: Optional[Tuple[float, float, float, float]] = None
+            ) -> Tuple[Tuple[float, ...], bool]:
     """
     Return the velocities after the sequential-impulse sweeps over ``rows``, and if converged.
 
@@ -269,10 +279,10 @@ def _sweeps(rows: Rows, velocities: Tuple[float, ...], im: float, friction: floa
             row[19], row[20], row[21] = pn, pt, pb
         if largest <= CONVERGED_SPEED:
             return (vx, vy, vz, wx, wy, wz), True
-        if block:
-            impulses = normal_block.impulses(rows, vz, wx, wy, im, CONVERGED_SPEED, memo)
+        if block is not None:
+            impulses = normal_block.impulses(rows, vz, wx, wy, block, CONVERGED_SPEED, memo)
             if impulses is None:
-                block = False
+                block = None
                 continue
             for row, total in zip(rows, impulses):
                 d = total - row[19]

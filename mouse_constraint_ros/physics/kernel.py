@@ -13,13 +13,22 @@
 # limitations under the License.
 
 """
-The step kernel: one substep's velocity stage, and the coefficients it takes from the settings.
+The step kernel: one substep's velocity stage, and the start that staggers a new state.
 
 ``velocities`` applies, in this order, gravity and the external wrench, exponential damping, the
-gyroscopic term (``gyroscopic``), the angular friction while a target is held and the mouse
-constraint's impulse P = -K^-1 (a J V + b C), |P| <= h F_max (``mouse_joint``, seed eqs.
-1.1-1.10). ``coefficients`` computes once per settings and substep everything of that which does
-not change from one substep to the next. ``simulation.MouseSimulation`` calls both.
+gyroscopic term (``gyroscopic``), the mouse constraint's impulse P = -K^-1 (a J V + b C),
+|P| <= h F_max (``mouse_joint``, seed eqs. 1.1-1.10) and the angular friction while a target is
+held, on the coefficients ``step_plan.coefficients`` computes once per settings and substep.
+``simulation.MouseSimulation`` calls it.
+
+The angular friction acts on the spin about the line from the anchor to the COM alone: the
+velocity row w . n = 0, its torque bounded by ``settings.friction_torque_bound``, solved after
+the joint with the effective mass of the body turning about its anchor, the joint carrying the
+reaction (``step_plan.spin_axis``). The joint's rows and this one are then solved as together:
+a hung body's spin about its hanging line dies down, and its swing, a turn about an axis across
+that line, is the compound pendulum's, its energy kept. Friction on the whole spin (as Box2D's
+2D mouse joint damps its one angular velocity, the swing's too) holds a small swing still: at
+0.25 the bound is above the shipped corner pendulum's gravity torque below 7 degrees.
 
 The force bound F_max (``force_bound``: ``max_force``, ``max_force_per_weight`` body weights)
 lets a rigid joint keep the anchor on the guide through a click's fastest turns: a free body
@@ -42,12 +51,11 @@ mode's b = delta / h would close 4 cm at 16 m/s, a snap that flings the box.
 import math
 from typing import Optional, Tuple
 
-from .algebra import cholesky, multiply_symmetric, multiply_transposed, solve_cholesky, Vector3
-from .body import RigidBody
-from .gyroscopic import free_rotation, gyroscopic_step, gyroscopic_step_diagonal
-from .mouse_joint import effective_mass
-from .settings import follow_force, force_bound, friction_torque_bound, Settings
+from .algebra import multiply_symmetric, multiply_transposed, Vector3
+from .gyroscopic import free_rotation
+from .settings import Settings
 from .state import BodyState
+from .step_plan import coefficients
 
 # The most a substep's position correction may turn the body (rad). The impulse is solved for
 # the linearized constraint, which holds while the body turns little in a substep; a far target
@@ -55,11 +63,6 @@ from .state import BodyState
 # would miss, and the missed error would pump energy in. Only corrections of large errors meet
 # the limit; they then close at this turn per substep instead of at delta per substep.
 MAX_CORRECTION_TURN = 0.2
-# The leapfrog start kicks a soft spring back by its own acceleration only while the step
-# resolves it (2 zeta omega h and (omega h)^2 below this); a stiffer one is started like rigid
-# mode, since a first-order kick of a spring that settles within a step adds energy. Likewise
-# damping: undone over h / 2 only while its rate times h is below this.
-STIFF_START = 0.5
 # Held back: an anchor farther than HELD_BACK_START (m) from where the joint pulls it is pulled
 # with less than the full force bound, down to the follow force (``settings.follow_force``)
 # from HELD_BACK_FULL on. A rigid joint keeps a free anchor on the guide to micrometres, a soft
@@ -95,7 +98,7 @@ def velocities(px: float, py: float, pz: float, q, v: Vector3, w: Vector3, h: fl
     """
     (gx, gy, gz, linear_decay, angular_decay, a, b, max_impulse, follow_impulse, catch_up,
      max_turn_impulse, carry, kick, gyroscopic, inertia, joint_body, body_inertia,
-     inverse_inertia) = coefficients
+     inverse_inertia, spin_axis) = coefficients
     # R(q), as algebra.rotation_matrix.
     x, y, z, qw = q
     xx, yy, zz = x * x, y * y, z * z
@@ -141,21 +144,7 @@ def velocities(px: float, py: float, pz: float, q, v: Vector3, w: Vector3, h: fl
                  wz + 2.0 * (tw * cz + tx * cy - ty * cx)),
                 ZERO, friction_torque, (tx, ty, tz, tw))
     wbx, wby, wbz = gyroscopic(inertia, w_body, h)
-    if joint is not None and max_turn_impulse > 0.0:
-        # Angular friction: the angular impulse that stops the spin, I w, within its bound;
-        # it scales w, as I w and w differ by the positive definite I.
-        ixx, ixy, ixz, iyy, iyz, izz = body_inertia
-        lx = ixx * wbx + ixy * wby + ixz * wbz
-        ly = ixy * wbx + iyy * wby + iyz * wbz
-        lz = ixz * wbx + iyz * wby + izz * wbz
-        spin = math.sqrt(lx * lx + ly * ly + lz * lz)
-        if spin > 0.0:
-            kept = max(0.0, 1.0 - max_turn_impulse / spin)
-            friction_torque = spin * (1.0 - kept) / abs(h)
-            wbx, wby, wbz = wbx * kept, wby * kept, wbz * kept
-        else:
-            friction_torque = 0.0
-    elif h > 0.0:
+    if h > 0.0:
         friction_torque = 0.0
     if joint is None:
         # w = R w_body, damped.
@@ -169,7 +158,7 @@ def velocities(px: float, py: float, pz: float, q, v: Vector3, w: Vector3, h: fl
     # K_b = m^-1 I3 + [r_b]x I_b^-1 [r_b]x^T (eq. 1.10 in the body frame), so
     # P = R P_b with P_b = -K_b^-1 R^T (a J V + b C), and the angular velocity change
     # I_w^-1 (r x P) = R I_b^-1 [r_b]x P_b. K_b^-1 and I_b^-1 [r_b]x are computed once per
-    # settings (``_coefficients``); rotations keep every norm below.
+    # settings (``step_plan.coefficients``); rotations keep every norm below.
     (rbx, rby, rbz), (k00, k01, k02, k11, k12, k22), \
         (m00, m01, m02, m10, m11, m12, m20, m21, m22), inverse_mass = joint_body
     wbx *= angular_decay
@@ -238,6 +227,35 @@ def velocities(px: float, py: float, pz: float, q, v: Vector3, w: Vector3, h: fl
     wbx += m00 * ix + m01 * iy + m02 * iz
     wby += m10 * ix + m11 * iy + m12 * iz
     wbz += m20 * ix + m21 * iy + m22 * iz
+    if max_turn_impulse > 0.0 and spin_axis is not None:
+        # Angular friction, after the joint: the row w . n = 0 on the spin about the line n
+        # from the COM to the anchor, its angular impulse within the bound. The body turns
+        # about the anchor, whose velocity it keeps, as the joint carries the reaction
+        # (``step_plan.spin_axis``); the spin then stops and the swing across n is untouched,
+        # as the two rows solved together would leave them. A joint at its force bound does
+        # not carry it, and the friction then turns the free body.
+        nx, ny, nz, pinned_mass, (ux, uy, uz), (fx, fy, fz), free_mass, free_turn = spin_axis
+        spin = nx * wbx + ny * wby + nz * wbz
+        stop = max(-max_turn_impulse, min(max_turn_impulse, -pinned_mass * spin))
+        jx, jy, jz = ix + stop * fx, iy + stop * fy, iz + stop * fz
+        if jx * jx + jy * jy + jz * jz <= max_impulse * max_impulse:
+            ix, iy, iz = jx, jy, jz
+        else:
+            stop = max(-max_turn_impulse, min(max_turn_impulse, -free_mass * spin))
+            ux, uy, uz = free_turn
+        wbx, wby, wbz = wbx + stop * ux, wby + stop * uy, wbz + stop * uz
+        friction_torque = abs(stop) / h
+    elif max_turn_impulse > 0.0:
+        # An anchor at the COM, which has no line: the whole spin is stopped, I w within the
+        # bound; the impulse scales w, as I w and w differ by the positive definite I.
+        ixx, ixy, ixz, iyy, iyz, izz = body_inertia
+        lx = ixx * wbx + ixy * wby + ixz * wbz
+        ly = ixy * wbx + iyy * wby + iyz * wbz
+        lz = ixz * wbx + iyz * wby + izz * wbz
+        spin = math.sqrt(lx * lx + ly * ly + lz * lz)
+        kept = max(0.0, 1.0 - max_turn_impulse / spin) if spin > 0.0 else 1.0
+        friction_torque = spin * (1.0 - kept) / h
+        wbx, wby, wbz = wbx * kept, wby * kept, wbz * kept
     # Back to the world frame: P = R P_b, w = R w_b.
     ix, iy, iz = (r00 * ix + r01 * iy + r02 * iz, r10 * ix + r11 * iy + r12 * iz,
                   r20 * ix + r21 * iy + r22 * iz)
@@ -245,77 +263,6 @@ def velocities(px: float, py: float, pz: float, q, v: Vector3, w: Vector3, h: fl
             (r00 * wbx + r01 * wby + r02 * wbz, r10 * wbx + r11 * wby + r12 * wbz,
              r20 * wbx + r21 * wby + r22 * wbz),
             (ix, iy, iz), friction_torque, None)
-
-
-def coefficients(settings: Settings, h: float, start: bool = False) -> Tuple[float, ...]:
-    """
-    Return what a substep of ``h`` needs from ``settings``, computed once per change.
-
-    :param h: the substep; negative for the backward half step that starts a new state.
-    :param start: for that start: the physical part of the constraint only
-        (no Baumgarte correction; the spring's own acceleration).
-    """
-    gx, gy, gz = settings.gravity
-    constraint = settings.constraint
-    omega = 2.0 * math.pi * constraint.frequency_hz
-    damping = 2.0 * constraint.damping_ratio * omega * abs(h)
-    if not start:
-        a, b = constraint.gains(h)
-    elif constraint.rigid or max(damping, (omega * h) ** 2) > STIFF_START:
-        # Rigid, or a spring too stiff for the step to resolve (it settles within one): the
-        # constraint's reaction alone, which removes the anchor's velocity and adds no energy.
-        a, b = 1.0, 0.0
-    else:
-        # The spring-damper's own acceleration -omega^2 C - 2 zeta omega dC/dt, applied
-        # over h (< 0): a first-order kick, as running a damped spring backwards exactly
-        # would amplify it exponentially.
-        a, b = -damping, omega * omega * h
-    body = settings.body
-    return (gx * h, gy * h, gz * h, _decay(settings.linear_damping, h, start),
-            _decay(settings.angular_damping, h, start), a, b,
-            force_bound(settings) * abs(h),
-            math.inf if start else follow_force(settings) * abs(h),
-            math.inf if start else 2.0 * settings.target_motion.max_acceleration,
-            0.0 if start else friction_torque_bound(settings) * abs(h),
-            1.0 - a if constraint.gravity_feed_forward and not start else 0.0,
-            h * body.inverse_mass, *_gyroscopic(body),
-            _body_frame_joint(body, constraint.anchor), body.inertia, body.inverse_inertia)
-
-
-def _gyroscopic(body: RigidBody) -> Tuple:
-    """Return the gyroscopic step for ``body`` and its inertia argument, diagonal where it is."""
-    ixx, ixy, ixz, iyy, iyz, izz = body.inertia
-    if ixy == 0.0 and ixz == 0.0 and iyz == 0.0:
-        return gyroscopic_step_diagonal, (ixx, iyy, izz)
-    return gyroscopic_step, body.inertia
-
-
-def _body_frame_joint(body: RigidBody, anchor: Vector3) -> Tuple:
-    """
-    Return what the body-frame constraint solve holds constant: r_b, K_b^-1, I_b^-1 [r_b]x, 1/m.
-
-    K_b = m^-1 I3 + [r_b]x I_b^-1 [r_b]x^T is eq. 1.10 in the body frame (K = R K_b R^T); its
-    inverse is built from its Cholesky factor, column by column, as a symmetric 6-tuple. The
-    lever I_b^-1 [r_b]x maps an impulse P_b at the anchor to the angular velocity change
-    I_b^-1 (r_b x P_b), row-major.
-    """
-    factor = cholesky(effective_mass(body.inverse_mass, body.inverse_inertia, anchor))
-    c0 = solve_cholesky(factor, (1.0, 0.0, 0.0))
-    c1 = solve_cholesky(factor, (0.0, 1.0, 0.0))
-    c2 = solve_cholesky(factor, (0.0, 0.0, 1.0))
-    a00, a01, a02, a11, a12, a22 = body.inverse_inertia
-    rx, ry, rz = anchor
-    lever = (a01 * rz - a02 * ry, a02 * rx - a00 * rz, a00 * ry - a01 * rx,
-             a11 * rz - a12 * ry, a12 * rx - a01 * rz, a01 * ry - a11 * rx,
-             a12 * rz - a22 * ry, a22 * rx - a02 * rz, a02 * ry - a12 * rx)
-    return (anchor, (c0[0], c0[1], c0[2], c1[1], c1[2], c2[2]), lever, body.inverse_mass)
-
-
-def _decay(rate: float, h: float, start: bool) -> float:
-    """Return the factor exp(-rate h); at the start, 1 for damping the step cannot resolve."""
-    if start and rate * abs(h) > STIFF_START:
-        return 1.0
-    return math.exp(-rate * h)
 
 
 def stagger(settings: Settings, state: BodyState, target: Optional[Vector3],

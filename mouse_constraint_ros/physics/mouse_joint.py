@@ -66,9 +66,11 @@ class MouseConstraint:
         a dead joint; +inf for none. It scales with the mass, as Box2D's and Bounce's samples
         scale theirs, so a light and a heavy body are dragged alike.
     :param angular_friction: c >= 0 of the angular friction that acts while a target is held:
-        an angular impulse that stops the body's spin, bounded by the torque
+        an angular impulse that stops the body's spin about the line from the anchor to the
+        COM (the whole spin for an anchor at the COM), bounded by the torque
         c m |g| sqrt(I_mean / m) (N m), I_mean the mean principal moment (Box2D v3.2's samples
-        bound their velocity torque so with c = 0.25); 0 for none.
+        bound their velocity torque so with c = 0.25); 0 for none. The swing about the anchor,
+        a turn across that line, is left alone (``kernel``).
     :param gravity_feed_forward: soft mode: the joint carries the weight's pull on the anchor
         outright, so the spring does not sag by g / omega^2 (rigid mode carries it anyway).
     """

@@ -79,8 +79,9 @@ def fill_felt_wrench(message: WrenchStamped, tick_impulse: Tuple[Vector3, float]
     Write the felt force of ``tick_impulse`` and a zero torque into ``message``.
 
     The torque is zero: the joint holds a point, and a force at a point has no moment about
-    it. The angular friction (``angular_friction``), a torque that stops the body's spin while
-    a target is held, is not a force at the anchor and is not part of the reaction sent.
+    it. The angular friction (``angular_friction``), a torque that stops the body's spin about
+    the anchor's line while a target is held, is not sent; the force the joint carries at the
+    anchor as the friction turns the body about it is part of the reaction.
     """
     fill_force_wrench(message, felt_force(tick_impulse))
 
