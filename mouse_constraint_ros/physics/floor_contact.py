@@ -42,6 +42,12 @@ direction d changes it by K P, K = 1 / m + (r x d) . I_w^-1 (r x d).
   solved like the normal rows (rate ``POSITION_RATE`` per substep) that move the body in this
   substep's position update and are then dropped, so the correction adds no kinetic energy.
 
+The phases, named as Box2D's contact solver names its own: prepare (``_prepare``: the
+contacts within reach, their effective masses and goals, ``contact_row``'s slots), warm start
+(``_warm_start``), solve (``_sweeps``, with ``normal_block`` and ``floor_sticking``, and the
+cold solve where a warm start gained energy), restitution (``floor_energy.bounce``), position
+(``_split_impulses``) and store (the contacts ``solve`` returns keep their impulses).
+
 The arithmetic is written out on floats, as in ``kernel``: a contact costs some thirty
 operations per sweep, and Python calls and tuples would cost more than that.
 """
@@ -51,15 +57,18 @@ from typing import List, Optional, Tuple
 
 from . import floor_energy, floor_sticking, normal_block
 from .algebra import congruence, rotation_matrix, Vector3
+from .contact_row import (BITANGENT_IMPULSE, BITANGENT_TURN_X, BITANGENT_TURN_Y, BITANGENT_TURN_Z,
+                          IMPULSES, LEVER_X, LEVER_Y, LEVER_Z, NORMAL_IMPULSE, NORMAL_MASS,
+                          NORMAL_STIFFNESS, NORMAL_TURN_X, NORMAL_TURN_Y, NORMAL_TURN_Z, POINT,
+                          SEPARATION, TANGENT_IMPULSE, TANGENT_TURN_X, TANGENT_TURN_Y,
+                          TANGENT_TURN_Z)
 from .floor_energy import CONVERGED_SPEED, twice_energy
 
 # Fraction of the penetration beyond the slop that the split impulses remove per substep.
 POSITION_RATE = 0.2
 
-# A contact, as ``solve`` keeps it: contact index, r (x, y, z), separation s, I_w^-1 (r x d) for
-# d = z, x, y (three each), K along z, 1 / K along z, x, y, the normal goal, the accumulated
-# impulses along z, x, y (index 19 to 21; the next substep warm starts from them) and the
-# velocity the contact bounces to (None: it does not bounce).
+# The contacts as ``solve`` keeps them: a list of ``contact_row.SLOTS`` floats each, read and
+# written by their slots' names (``contact_row``).
 Rows = List[list]
 
 
@@ -106,7 +115,6 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
     """
     (height, shape, friction, restitution, iterations, margin, slop,
      threshold) = coefficients
-    pz = position[2]
     # R(q), as algebra.rotation_matrix and kernel.velocities write it out.
     x, y, z, qw = q
     xx, yy, zz = x * x, y * y, z * z
@@ -115,20 +123,64 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
     rotation = (1.0 - 2.0 * (yy + zz), 2.0 * (xy - wz_), 2.0 * (xz + wy_),
                 2.0 * (xy + wz_), 1.0 - 2.0 * (xx + zz), 2.0 * (yz - wx_),
                 2.0 * (xz - wy_), 2.0 * (yz + wx_), 1.0 - 2.0 * (xx + yy))
-    i00, i01, i02, i11, i12, i22 = congruence(rotation, inverse_inertia)
+    world_inverse = congruence(rotation, inverse_inertia)
     im = inverse_mass
-    vx, vy, vz = v
-    wx, wy, wz = w
-    # The speeds of approach are taken before any warm start.
-    vz0, wx0, wy0 = vz, wx, wy
-    previous = {row[0]: row for row in warm}
+    # 1. prepare: the contacts within reach, their effective masses, goals and bounces.
+    rows, bounces = _prepare(shape, rotation, world_inverse, position[2] - height, margin, slop,
+                             h, im, (*v, *w), restitution, threshold)
+    # 2. warm start: each contact from the impulses its point had in the last substep.
+    velocities, warmed = _warm_start(rows, warm, (*v, *w), im)
+    # 3. solve: the sweeps, a block solve of the normal rows, the sticking contacts at once.
+    i00, i01, _, i11, _, _ = world_inverse
+    block = (im, i00, i01, i11) if 1 < len(rows) <= normal_block.MOST_CONTACTS else None
+    velocities, converged = _sweeps(rows, velocities, im, friction, iterations, block)
+    if not converged:
+        # Sweeps that did not settle: the pushing contacts held at once, if they can be.
+        held = floor_sticking.stick(rows, velocities, im, congruence(rotation, inertia),
+                                    friction, CONVERGED_SPEED)
+        if held is not None:
+            velocities, converged = held, True
+    if warmed and not converged and _gained_energy(velocities, (v, w), rotation, inertia, im,
+                                                   gravity, h):
+        # A warm start that the sweeps could not undo may leave an old impulse pushing a
+        # contact that now separates, which adds energy. Then the contacts are solved cold.
+        for row in rows:
+            row[IMPULSES] = (0.0, 0.0, 0.0)
+        velocities, _ = _sweeps(rows, (*v, *w), im, friction, iterations, block)
+    # 4. restitution: the contacts that bounce, driven to their bounce velocity.
+    if bounces:
+        velocities = floor_energy.bounce(
+            rows, (v, w), velocities, rotation=rotation, inverse_mass=inverse_mass,
+            inertia=inertia, gravity=gravity, h=h, iterations=iterations)
+    vx, vy, vz, wx, wy, wz = velocities
+    # 5. position: the split impulses' pseudo-velocities; 6. store: the contacts returned keep
+    # their impulses, the next substep's warm start.
+    mvx, mvy, mvz, mwx, mwy, mwz = _split_impulses(rows, slop, h, im, iterations)
+    return ((vx, vy, vz), (wx, wy, wz),
+            ((vx + mvx, vy + mvy, vz + mvz), (wx + mwx, wy + mwy, wz + mwz)), rows)
+
+
+def _prepare(shape, rotation: Tuple[float, ...], world_inverse: Tuple[float, ...],
+             base: float, margin: float, slop: float, h: float, im: float,
+             velocities: Tuple[float, ...], restitution: float,
+             threshold: float) -> Tuple[Rows, bool]:
+    """
+    Return the contacts within reach of the plane (``contact_row``), and if any bounces.
+
+    Their impulses start at zero (``_warm_start`` gives them the last substep's).
+
+    :param base: the COM's height above the plane (m).
+    :param velocities: (v, w) after the velocity stage: the speeds of approach.
+    """
+    i00, i01, i02, i11, i12, i22 = world_inverse
+    vx, vy, vz, wx, wy, wz = velocities
     rows = []
-    bounces = warmed = False
+    bounces = False
     # What the substep can bring down to the plane: the slop, and twice the fastest a point
     # within the shape's bound moves down in a substep (the warm start and the sweeps change
     # the velocity: twice leaves room).
     band = slop + 2.0 * h * (abs(vz) + math.sqrt(wx * wx + wy * wy + wz * wz) * shape.bound)
-    for index, rx, ry, rz, s in shape.contacts(rotation, pz - height, margin, band):
+    for index, rx, ry, rz, s in shape.contacts(rotation, base, margin, band):
         # I_w^-1 (r x d) and K for d = z, x, y.
         nx, ny, nz = i00 * ry - i01 * rx, i01 * ry - i11 * rx, i02 * ry - i12 * rx
         tx, ty, tz = i01 * rz - i02 * ry, i11 * rz - i12 * ry, i12 * rz - i22 * ry
@@ -136,84 +188,95 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
         kn = im + ry * nx - rx * ny
         kt = im + rz * ty - ry * tz
         kb = im + rx * bz - rz * bx
-        approach = vz0 + wx0 * ry - wy0 * rx
+        approach = vz + wx * ry - wy * rx
         goal = -s / h if s > 0.0 else 0.0
         if restitution > 0.0 and approach < -threshold and approach * h <= -s:
             bounces = True
             bounce = -restitution * approach
         else:
             bounce = None
-        last = previous.get(index)
-        if last is None:
-            pn = pt = pb = 0.0
-        else:
-            pn, pt, pb = last[19], last[20], last[21]
-            warmed = True
-            vx += im * pt
-            vy += im * pb
-            vz += im * pn
-            wx += pn * nx + pt * tx + pb * bx
-            wy += pn * ny + pt * ty + pb * by
-            wz += pn * nz + pt * tz + pb * bz
+        # The slots in ``contact_row`` order.
         rows.append([index, rx, ry, rz, s, nx, ny, nz, tx, ty, tz, bx, by, bz,
-                     kn, 1.0 / kn, 1.0 / kt, 1.0 / kb, goal, pn, pt, pb, bounce])
-    block = (im, i00, i01, i11) if 1 < len(rows) <= normal_block.MOST_CONTACTS else None
-    velocities, converged = _sweeps(rows, (vx, vy, vz, wx, wy, wz), im, friction, iterations,
-                                    block)
-    if not converged:
-        # Sweeps that did not settle: the pushing contacts held at once, if they can be.
-        held = floor_sticking.stick(rows, velocities, im, congruence(rotation, inertia),
-                                    friction, CONVERGED_SPEED)
-        if held is not None:
-            velocities, converged = held, True
-    if warmed and not converged:
-        # A warm start that the sweeps could not undo may leave an old impulse pushing a
-        # contact that now separates, which adds energy. Then the contacts are solved cold.
-        world_inertia = congruence(rotation, inertia)
-        kick = tuple(2.0 * h * c for c in gravity)
-        mass = 1.0 / im
-        allowed = twice_energy((*v, *w), mass, world_inertia, kick) + mass * h * h * (
-            gravity[0] * gravity[0] + gravity[1] * gravity[1] + gravity[2] * gravity[2])
-        if twice_energy(velocities, mass, world_inertia, kick) > allowed:
-            for row in rows:
-                row[19] = row[20] = row[21] = 0.0
-            velocities, _ = _sweeps(rows, (*v, *w), im, friction, iterations, block)
+                     kn, 1.0 / kn, 1.0 / kt, 1.0 / kb, goal, 0.0, 0.0, 0.0, bounce])
+    return rows, bounces
+
+
+def _warm_start(rows: Rows, warm: Rows, velocities: Tuple[float, ...],
+                im: float) -> Tuple[Tuple[float, ...], bool]:
+    """
+    Return the velocities with each contact's last impulses applied, and if any was.
+
+    A contact takes the impulses of the last substep's contact of the same point.
+    """
     vx, vy, vz, wx, wy, wz = velocities
-    if bounces:
-        vx, vy, vz, wx, wy, wz = floor_energy.bounce(
-            rows, (v, w), (vx, vy, vz, wx, wy, wz), rotation=rotation,
-            inverse_mass=inverse_mass, inertia=inertia, gravity=gravity, h=h,
-            iterations=iterations)
-    # Split impulses: pseudo-velocities that remove POSITION_RATE of the penetration beyond
-    # the slop in this substep's position update, and change no velocity.
+    previous = {row[POINT]: row for row in warm}
+    warmed = False
+    for row in rows:
+        last = previous.get(row[POINT])
+        if last is None:
+            continue
+        pn = row[NORMAL_IMPULSE] = last[NORMAL_IMPULSE]
+        pt = row[TANGENT_IMPULSE] = last[TANGENT_IMPULSE]
+        pb = row[BITANGENT_IMPULSE] = last[BITANGENT_IMPULSE]
+        warmed = True
+        vx += im * pt
+        vy += im * pb
+        vz += im * pn
+        wx += pn * row[NORMAL_TURN_X] + pt * row[TANGENT_TURN_X] + pb * row[BITANGENT_TURN_X]
+        wy += pn * row[NORMAL_TURN_Y] + pt * row[TANGENT_TURN_Y] + pb * row[BITANGENT_TURN_Y]
+        wz += pn * row[NORMAL_TURN_Z] + pt * row[TANGENT_TURN_Z] + pb * row[BITANGENT_TURN_Z]
+    return (vx, vy, vz, wx, wy, wz), warmed
+
+
+def _gained_energy(velocities: Tuple[float, ...], before: Tuple[Vector3, Vector3],
+                   rotation: Tuple[float, ...], inertia, im: float, gravity: Vector3,
+                   h: float) -> bool:
+    """Return whether the contacts left the body more energy than it came with."""
+    world_inertia = congruence(rotation, inertia)
+    kick = tuple(2.0 * h * c for c in gravity)
+    mass = 1.0 / im
+    allowed = twice_energy((*before[0], *before[1]), mass, world_inertia, kick) + mass * h * h * (
+        gravity[0] * gravity[0] + gravity[1] * gravity[1] + gravity[2] * gravity[2])
+    return twice_energy(velocities, mass, world_inertia, kick) > allowed
+
+
+def _split_impulses(rows: Rows, slop: float, h: float, im: float,
+                    iterations: int) -> Tuple[float, ...]:
+    """
+    Return the split impulses' pseudo-velocities (v, w): the penetration's correction.
+
+    They remove ``POSITION_RATE`` of each contact's penetration beyond the slop in this
+    substep's position update, and are then dropped: the correction changes no velocity.
+    """
     mvx = mvy = mvz = mwx = mwy = mwz = 0.0
-    deep = [row for row in rows if row[4] < -slop]
-    if deep:
-        pushes = [0.0] * len(deep)
-        for _ in range(iterations):
-            largest = 0.0
-            for k, row in enumerate(deep):
-                rx, ry, s, nx, ny, nz, mn, kn = row[1], row[2], row[4], row[5], row[6], \
-                    row[7], row[15], row[14]
-                goal = POSITION_RATE * (-s - slop) / h
-                un = mvz + mwx * ry - mwy * rx
-                total = pushes[k] + (goal - un) * mn
-                if total < 0.0:
-                    total = 0.0
-                d = total - pushes[k]
-                if d != 0.0:
-                    mvz += im * d
-                    mwx += d * nx
-                    mwy += d * ny
-                    mwz += d * nz
-                    pushes[k] = total
-                    change = abs(d) * kn
-                    if change > largest:
-                        largest = change
-            if largest <= CONVERGED_SPEED:
-                break
-    return ((vx, vy, vz), (wx, wy, wz),
-            ((vx + mvx, vy + mvy, vz + mvz), (wx + mwx, wy + mwy, wz + mwz)), rows)
+    deep = [row for row in rows if row[SEPARATION] < -slop]
+    if not deep:
+        return mvx, mvy, mvz, mwx, mwy, mwz
+    pushes = [0.0] * len(deep)
+    for _ in range(iterations):
+        largest = 0.0
+        for k, row in enumerate(deep):
+            rx, ry, s = row[LEVER_X], row[LEVER_Y], row[SEPARATION]
+            nx, ny, nz = row[NORMAL_TURN_X], row[NORMAL_TURN_Y], row[NORMAL_TURN_Z]
+            mn, kn = row[NORMAL_MASS], row[NORMAL_STIFFNESS]
+            goal = POSITION_RATE * (-s - slop) / h
+            un = mvz + mwx * ry - mwy * rx
+            total = pushes[k] + (goal - un) * mn
+            if total < 0.0:
+                total = 0.0
+            d = total - pushes[k]
+            if d != 0.0:
+                mvz += im * d
+                mwx += d * nx
+                mwy += d * ny
+                mwz += d * nz
+                pushes[k] = total
+                change = abs(d) * kn
+                if change > largest:
+                    largest = change
+        if largest <= CONVERGED_SPEED:
+            break
+    return mvx, mvy, mvz, mwx, mwy, mwz
 
 
 def _sweeps(rows: Rows, velocities: Tuple[float, ...], im: float, friction: float,
@@ -230,6 +293,8 @@ def _sweeps(rows: Rows, velocities: Tuple[float, ...], im: float, friction: floa
     change of the normal velocity (a corner's lever arm couples them) can undo the normal
     impulse, and the sweeps then alternate between two states instead of converging.
     """
+    # The impulses' slots as locals: the loop below stores them for every contact and sweep.
+    normal, tangent, bitangent = NORMAL_IMPULSE, TANGENT_IMPULSE, BITANGENT_IMPULSE
     vx, vy, vz, wx, wy, wz = velocities
     memo = []
     for _ in range(iterations):
@@ -276,7 +341,7 @@ def _sweeps(rows: Rows, velocities: Tuple[float, ...], im: float, friction: floa
                 if change > largest:
                     largest = change
                 pn = total
-            row[19], row[20], row[21] = pn, pt, pb
+            row[normal], row[tangent], row[bitangent] = pn, pt, pb
         if largest <= CONVERGED_SPEED:
             return (vx, vy, vz, wx, wy, wz), True
         if block is not None:
@@ -285,17 +350,18 @@ def _sweeps(rows: Rows, velocities: Tuple[float, ...], im: float, friction: floa
                 block = None
                 continue
             for row, total in zip(rows, impulses):
-                d = total - row[19]
+                d = total - row[NORMAL_IMPULSE]
                 if d != 0.0:
                     vz += im * d
-                    wx += d * row[5]
-                    wy += d * row[6]
-                    wz += d * row[7]
-                    row[19] = total
+                    wx += d * row[NORMAL_TURN_X]
+                    wy += d * row[NORMAL_TURN_Y]
+                    wz += d * row[NORMAL_TURN_Z]
+                    row[NORMAL_IMPULSE] = total
     return (vx, vy, vz, wx, wy, wz), False
 
 
 def contact_points(position: Vector3, rows: Rows) -> Tuple[Tuple[int, Vector3, float], ...]:
     """Return (contact index, world point (m), normal impulse (N s)) of ``solve``'s contacts."""
     px, py, pz = position
-    return tuple((row[0], (px + row[1], py + row[2], pz + row[3]), row[19]) for row in rows)
+    return tuple((row[POINT], (px + row[LEVER_X], py + row[LEVER_Y], pz + row[LEVER_Z]),
+                  row[NORMAL_IMPULSE]) for row in rows)

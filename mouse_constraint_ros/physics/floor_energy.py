@@ -24,6 +24,8 @@ import math
 from typing import List, Tuple
 
 from .algebra import congruence, Vector3
+from .contact_row import (BOUNCE, GOAL, LEVER_X, LEVER_Y, NORMAL_IMPULSE, NORMAL_MASS,
+                          NORMAL_STIFFNESS, NORMAL_TURN_X, NORMAL_TURN_Y, NORMAL_TURN_Z)
 
 # Sweeps stop once no impulse changed a contact's velocity by more than this (m/s).
 CONVERGED_SPEED = 1e-9
@@ -66,15 +68,15 @@ def bounce(rows: List[list], before: Tuple[Vector3, Vector3], after: Tuple[float
     """
     vx, vy, vz, wx, wy, wz = after
     im = inverse_mass
-    if not any(row[22] is not None and row[19] > 0.0 for row in rows):
+    if not any(row[BOUNCE] is not None and row[NORMAL_IMPULSE] > 0.0 for row in rows):
         return after
     # Every contact takes part: a bouncing corner's push turns the box, and its other corners
     # in contact hold their own goal (u_n >= -s / h, or >= 0) against it.
-    bouncing = [row[22] is not None and row[19] > 0.0 for row in rows]
-    goals = [row[22] if bounces else row[18] for row, bounces in zip(rows, bouncing)]
-    start = [row[19] for row in rows]
+    bouncing = [row[BOUNCE] is not None and row[NORMAL_IMPULSE] > 0.0 for row in rows]
+    goals = [row[BOUNCE] if bounces else row[GOAL] for row, bounces in zip(rows, bouncing)]
+    start = [row[NORMAL_IMPULSE] for row in rows]
     vx, vy, vz, wx, wy, wz = _normal_pass(rows, goals, after, inverse_mass, iterations)
-    bounced = [row[19] for row in rows]
+    bounced = [row[NORMAL_IMPULSE] for row in rows]
     mass = 1.0 / im
     i00, i01, i02, i11, i12, i22 = congruence(rotation, inertia)
     world_inertia = (i00, i01, i02, i11, i12, i22)
@@ -92,10 +94,10 @@ def bounce(rows: List[list], before: Tuple[Vector3, Vector3], after: Tuple[float
     # (The solve's own result would do too, but its speculative rows turn the box to land its
     # corners together, and a share of that turn, kept, grows bounce after bounce.)
     for row, impulse in zip(rows, start):
-        row[19] = impulse
+        row[NORMAL_IMPULSE] = impulse
     stopped = [0.0 if bounces else goal for goal, bounces in zip(goals, bouncing)]
     ax, ay, az, bx, by, bz = _normal_pass(rows, stopped, after, inverse_mass, iterations)
-    base = [row[19] for row in rows]
+    base = [row[NORMAL_IMPULSE] for row in rows]
     dvx, dvy, dvz, dwx, dwy, dwz = vx - ax, vy - ay, vz - az, wx - bx, wy - by, wz - bz
     quadratic = (mass * (dvx * dvx + dvy * dvy + dvz * dvz)
                  + dwx * (i00 * dwx + i01 * dwy + i02 * dwz)
@@ -113,7 +115,7 @@ def bounce(rows: List[list], before: Tuple[Vector3, Vector3], after: Tuple[float
     else:
         alpha = 0.0
     for row, low, high in zip(rows, base, bounced):
-        row[19] = low + alpha * (high - low)
+        row[NORMAL_IMPULSE] = low + alpha * (high - low)
     return (ax + alpha * dvx, ay + alpha * dvy, az + alpha * dvz,
             bx + alpha * dwx, by + alpha * dwy, bz + alpha * dwz)
 
@@ -126,8 +128,9 @@ def _normal_pass(rows: List[list], goals: List[float], velocities: Tuple[float, 
     for _ in range(iterations):
         largest = 0.0
         for row, goal in zip(rows, goals):
-            rx, ry, nx, ny, nz, kn, mn, pn = row[1], row[2], row[5], row[6], row[7], \
-                row[14], row[15], row[19]
+            rx, ry = row[LEVER_X], row[LEVER_Y]
+            nx, ny, nz = row[NORMAL_TURN_X], row[NORMAL_TURN_Y], row[NORMAL_TURN_Z]
+            kn, mn, pn = row[NORMAL_STIFFNESS], row[NORMAL_MASS], row[NORMAL_IMPULSE]
             # The normal row of floor_contact._sweeps (its twin), written out in the loop.
             un = vz + wx * ry - wy * rx
             total = pn + (goal - un) * mn
@@ -139,7 +142,7 @@ def _normal_pass(rows: List[list], goals: List[float], velocities: Tuple[float, 
                 wx += d * nx
                 wy += d * ny
                 wz += d * nz
-                row[19] = total
+                row[NORMAL_IMPULSE] = total
                 change = abs(d) * kn
                 if change > largest:
                     largest = change

@@ -36,6 +36,8 @@ from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from .contact_row import GOAL, IMPULSES, LEVER, LEVER_X, LEVER_Y, LEVER_Z, NORMAL_IMPULSE
+
 # How far (m/s) a contact's velocity may be from its goal; the rounding of the impulses'
 # effects, some 1e-16 of them, is added (a heavy body's corners' pushes cancel in its turn).
 ROUNDING = 64.0 * np.finfo(float).eps
@@ -51,21 +53,20 @@ def stick(rows: Sequence[list], velocities: Tuple[float, ...], inverse_mass: flo
     """
     Return the velocities with every pushing contact held, and set the rows' impulses; or None.
 
-    :param rows: ``floor_contact.Rows`` after the sweeps: r at 1 to 3, the goal at 18, the
-        accumulated impulses along z, x, y at 19 to 21. On success their impulses are
-        replaced (the others' set to zero).
+    :param rows: the contacts (``contact_row``) after the sweeps. On success their impulses
+        are replaced (the others' set to zero).
     :param velocities: (vx, vy, vz, wx, wy, wz) with the rows' impulses applied.
     :param inverse_mass: 1 / m.
     :param world_inertia: the world-frame I_w as a symmetric 6-tuple (kg m^2).
     :param friction: mu.
     :param tolerance: how far (m/s) a contact's velocity may be from its goal.
     """
-    active = [row for row in rows if row[19] > 0.0]
+    active = [row for row in rows if row[NORMAL_IMPULSE] > 0.0]
     if len(active) < 3:
         return None
     # Lengths in units of the farthest contact, so that G's columns are alike in scale:
     # y' = (v, L w), G' = G diag(1, 1, 1, 1 / L, 1 / L, 1 / L), M' = diag(m, m, m, I_w / L^2).
-    length = max(math.sqrt(row[1] * row[1] + row[2] * row[2] + row[3] * row[3])
+    length = max(math.sqrt(sum(component * component for component in row[LEVER]))
                  for row in rows) or 1.0
     every = _rows(rows, length)
     geometry = _rows(active, length)
@@ -78,22 +79,22 @@ def stick(rows: Sequence[list], velocities: Tuple[float, ...], inverse_mass: flo
         length * length)
     inverse = np.linalg.inv(mass[3:, 3:])
     vx, vy, vz, wx, wy, wz = velocities
-    pushes = np.array([(row[19], row[20], row[21]) for row in rows]).ravel()
+    pushes = np.array([row[IMPULSES] for row in rows]).ravel()
     # y' without the rows' impulses: y' - M'^-1 G'^T P.
     wrench = every.T @ pushes
     free = np.array([vx, vy, vz, wx * length, wy * length, wz * length])
     free[:3] -= inverse_mass * wrench[:3]
     free[3:] -= inverse @ wrench[3:]
     goals = np.zeros(3 * len(active))
-    goals[0::3] = [row[18] for row in active]
+    goals[0::3] = [row[GOAL] for row in active]
     held = np.linalg.lstsq(geometry, goals, rcond=None)[0]
     impulses = np.linalg.lstsq(geometry.T, mass @ (held - free), rcond=None)[0]
     if not _admissible(impulses, geometry, every, held, rows, active, friction, tolerance):
         return None
     for row in rows:
-        row[19] = row[20] = row[21] = 0.0
-    for row, (pn, pt, pb) in zip(active, impulses.reshape(-1, 3)):
-        row[19], row[20], row[21] = float(pn), float(pt), float(pb)
+        row[IMPULSES] = (0.0, 0.0, 0.0)
+    for row, impulse in zip(active, impulses.reshape(-1, 3)):
+        row[IMPULSES] = impulse.tolist()
     return (float(held[0]), float(held[1]), float(held[2]), float(held[3] / length),
             float(held[4] / length), float(held[5] / length))
 
@@ -102,7 +103,7 @@ def _rows(rows: Sequence[list], length: float) -> np.ndarray:
     """Return G': per contact its normal (z), then x and y rows on y' = (v, L w)."""
     g: List[List[float]] = []
     for row in rows:
-        rx, ry, rz = row[1] / length, row[2] / length, row[3] / length
+        rx, ry, rz = row[LEVER_X] / length, row[LEVER_Y] / length, row[LEVER_Z] / length
         g.append([0.0, 0.0, 1.0, ry, -rx, 0.0])    # u_n = vz + wx ry - wy rx
         g.append([1.0, 0.0, 0.0, 0.0, rz, -ry])    # u_t = vx + wy rz - wz ry
         g.append([0.0, 1.0, 0.0, -rz, 0.0, rx])    # u_b = vy + wz rx - wx rz
@@ -118,10 +119,10 @@ def _admissible(impulses: np.ndarray, geometry: np.ndarray, every: np.ndarray,
             np.hypot(pushes[:, 1], pushes[:, 2]) > friction * pushes[:, 0]):
         return False
     slack = tolerance + ROUNDING * np.abs(geometry) @ np.abs(held)
-    goals = np.array([(row[18], 0.0, 0.0) for row in active]).ravel()
+    goals = np.array([(row[GOAL], 0.0, 0.0) for row in active]).ravel()
     if np.any(np.abs(geometry @ held - goals) > slack):
         return False
     # The other contacts separate: their normal velocities reach their goals or beyond.
     normal = every[0::3] @ held
-    return all(normal[i] >= row[18] - tolerance - ROUNDING * np.abs(every[3 * i]) @ np.abs(held)
-               for i, row in enumerate(rows) if row[19] <= 0.0)
+    return all(normal[i] >= row[GOAL] - tolerance - ROUNDING * np.abs(every[3 * i]) @ np.abs(held)
+               for i, row in enumerate(rows) if row[NORMAL_IMPULSE] <= 0.0)

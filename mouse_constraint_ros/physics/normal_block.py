@@ -57,6 +57,8 @@ from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from .contact_row import GOAL, LEVER_X, LEVER_Y, NORMAL_IMPULSE
+
 # The most contacts solved as a block: their active sets, 2^n of them, are tried in turn.
 MOST_CONTACTS = 4
 # Contacts' rows G_i (lengths in units of the farthest contact) whose singular value is below
@@ -76,8 +78,7 @@ def impulses(rows: Sequence[list], vz: float, wx: float, wy: float,
     When the rows' impulses already solve it within ``tolerance`` (a body at rest, warm
     started), they are returned as they are, and nothing is factored.
 
-    :param rows: ``floor_contact.Rows``: r at 1 and 2, the goal at 18, the accumulated normal
-        impulse at 19.
+    :param rows: the contacts (``contact_row``): their levers, goals and normal impulses.
     :param vz: the body's velocity along z (m/s), the rows' impulses applied.
     :param wx: its angular velocity about x (rad/s).
     :param wy: about y.
@@ -85,8 +86,8 @@ def impulses(rows: Sequence[list], vz: float, wx: float, wy: float,
     :param tolerance: how far (m/s) a contact's velocity may be from its goal.
     :param memo: an empty list, kept over a substep's sweeps: the geometry is kept in it.
     """
-    residual = [vz + wx * row[2] - wy * row[1] - row[18] for row in rows]
-    current = [row[19] for row in rows]
+    residual = [vz + wx * row[LEVER_Y] - wy * row[LEVER_X] - row[GOAL] for row in rows]
+    current = [row[NORMAL_IMPULSE] for row in rows]
     if all(-tolerance <= u and (u <= tolerance or p == 0.0)
            for u, p in zip(residual, current)):
         return current
@@ -94,8 +95,8 @@ def impulses(rows: Sequence[list], vz: float, wx: float, wy: float,
     if not memo:
         # Lengths in units of the farthest contact, so that G's columns are alike in scale:
         # y' = (v_z, L w_x, L w_y), G' = (1, r_y / L, -r_x / L), W' = diag(1 / m, L^2 I^-1).
-        length = max(math.hypot(row[1], row[2]) for row in rows) or 1.0
-        geometry = np.array([[1.0, row[2] / length, -row[1] / length] for row in rows])
+        length = max(math.hypot(row[LEVER_X], row[LEVER_Y]) for row in rows) or 1.0
+        geometry = np.array([[1.0, row[LEVER_Y] / length, -row[LEVER_X] / length] for row in rows])
         scale = length * length
         weight = np.array([[im, 0.0, 0.0], [0.0, i00 * scale, i01 * scale],
                            [0.0, i01 * scale, i11 * scale]])
@@ -104,7 +105,7 @@ def impulses(rows: Sequence[list], vz: float, wx: float, wy: float,
         root[1:, 1:] = np.linalg.cholesky(weight[1:, 1:])
         memo.extend((geometry, weight, root, length))
     geometry, weight, root, length = memo
-    goals = np.array([row[18] for row in rows])
+    goals = np.array([row[GOAL] for row in rows])
     # y' without the rows' impulses, and the velocities the rows would have without them.
     free = np.array([vz, wx * length, wy * length]) - weight @ (geometry.T @ np.array(current))
     b = geometry @ free - goals
