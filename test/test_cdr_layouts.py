@@ -221,6 +221,14 @@ def test_joint_state_bytes_are_rclpy_bytes(names, stamp_ns, data):
         assert same_doubles(list(got), expected)
 
 
+def test_a_joint_state_of_no_joints_is_rclpys_own_bytes():
+    layout = JointStateLayout([])
+    packed = layout.pack(5 * NS + 7, (), (), ())
+    message = JointState()
+    set_header(message.header, 5 * NS + 7, '')
+    assert packed == serialize_message(message)
+
+
 def test_joint_state_values_not_one_per_name_are_a_value_error():
     layout = JointStateLayout(['shoulder', 'elbow'])
     with pytest.raises(ValueError, match='JointState'):

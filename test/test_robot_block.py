@@ -22,11 +22,17 @@ import pytest
 from mouse_constraint_ros.description.robot_description import load_robot
 from mouse_constraint_ros.physics import robot_rows
 from mouse_constraint_ros.physics.robot_block import free_impulses, solve_block
-from mouse_constraint_ros.physics.robot_rows import (FRICTION, joint_arrays, LimitSettings,
-                                                     LOWER_LIMIT, MOUSE, MOUSE_ROWS,
-                                                     prepare_rows, Rows, RowTable, solve_rows,
-                                                     UPPER_LIMIT)
-from test_support.robots import double_pendulum
+from mouse_constraint_ros.physics.robot_rows import (FRICTION, HeldSets, joint_arrays,
+                                                     LimitSettings, LOWER_LIMIT, MOUSE,
+                                                     MOUSE_ROWS, prepare_rows, Rows, RowTable,
+                                                     solve_rows, UPPER_LIMIT)
+from test_support.robots import collection_urdf, double_pendulum
+
+
+@pytest.fixture(scope='module')
+def panda():
+    """Return the Panda of the public collection: seven limited joints and a mimic pair."""
+    return load_robot(collection_urdf('panda_description/urdf/panda.urdf').read_text())
 
 
 def random_problem(seed: int):
@@ -63,7 +69,7 @@ def random_problem(seed: int):
                 np.array(kind), np.array(joint), np.arange(count),
                 np.where(np.array(kind) == LOWER_LIMIT, -1,
                          np.where(np.array(kind) == UPPER_LIMIT, 1, 0)),
-                slice(3, 3), MOUSE_ROWS, a, math.inf)
+                MOUSE_ROWS, a, math.inf)
     return inverse, v, rows
 
 
@@ -151,7 +157,97 @@ def test_a_substep_picks_each_stop_near_friction_and_the_brakes_as_a_loop_over_j
     expected = sorted(expected)
     assert [row[:2] for row in picked] == [row[:2] for row in expected]
     assert [row[2:] for row in picked] == [pytest.approx(row[2:], rel=1e-12) for row in expected]
-    stops = rows.kind[rows.limit_rows]
-    assert sorted(stops.tolist()) == [LOWER_LIMIT, UPPER_LIMIT]
     for row in range(rows.count):
         assert rows.jacobian[row].tolist() == np.eye(model.nv)[rows.joint[row]].tolist()
+
+
+def rows_one_by_one(model, q, v, h, limits):
+    """Return (kind, joint, target, lower, upper) of each row, picked by a loop over joints."""
+    rows = []
+    positions = {}
+    for joint in model.joints:
+        index, speed = joint.v_index, abs(float(v[joint.v_index]))
+        position = math.atan2(q[joint.q_index + 1], q[joint.q_index]) \
+            if joint.kind == 'continuous' else float(q[joint.q_index])
+        positions[joint.name] = position
+        if joint.limited:
+            reach = limits.slop * 4.0 + 4.0 * h * speed
+            for bound, upper_side in ((joint.lower, False), (joint.upper, True)):
+                distance = bound - position if upper_side else position - bound
+                if distance <= reach:
+                    allowed = distance / h if distance >= 0.0 else \
+                        limits.baumgarte * min(distance + limits.slop, 0.0) / h
+                    rows.append((UPPER_LIMIT, index, allowed, -math.inf, 0.0) if upper_side
+                                else (LOWER_LIMIT, index, -allowed, 0.0, math.inf))
+        if joint.friction > 0.0:
+            rows.append((FRICTION, index, 0.0, -h * joint.friction, h * joint.friction))
+        if math.isfinite(joint.velocity) and speed > 0.8 * joint.velocity:
+            brake = h * joint.effort
+            rows.append((robot_rows.SPEED_FORWARD, index, joint.velocity, -brake, 0.0)
+                        if v[index] > 0.0 else
+                        (robot_rows.SPEED_BACKWARD, index, -joint.velocity, 0.0, brake))
+    for mimic in model.mimics:
+        error = positions[mimic.follower.name] - (
+            mimic.multiplier * positions[mimic.leader.name] + mimic.offset)
+        rows.append((robot_rows.MIMIC, mimic.follower.v_index, -limits.baumgarte * error / h,
+                     -math.inf, math.inf))
+    return rows
+
+
+@pytest.mark.parametrize('seed', range(30))
+def test_the_table_picks_the_rows_a_loop_over_the_joints_picks(seed, panda):
+    rng = np.random.default_rng(seed)
+    model = panda.model
+    arrays = joint_arrays(model)
+    h, limits = 1e-3, LimitSettings(0.005, 0.2)
+    table = RowTable(arrays, model.nv, h, limits)
+    # Each joint anywhere from 0.05 rad (or m) beyond a stop to the middle, moving up to
+    # twice its speed limit either way.
+    q, v = np.zeros(model.nq), np.zeros(model.nv)
+    for joint in model.joints:
+        low, high = joint.lower, joint.upper
+        q[joint.q_index] = rng.choice([rng.uniform(low - 0.01, low + 0.03),
+                                       rng.uniform(high - 0.03, high + 0.01),
+                                       rng.uniform(low, high)])
+        v[joint.v_index] = rng.uniform(-2.0, 2.0) * min(joint.velocity, 10.0)
+    rows = prepare_rows(table, q, v)
+    picked = sorted(zip(rows.kind.tolist(), rows.joint.tolist(), rows.target.tolist(),
+                        rows.lower.tolist(), rows.upper.tolist()))
+    expected = sorted(rows_one_by_one(model, q, v, h, limits))
+    assert [row[:2] for row in picked] == [row[:2] for row in expected]
+    assert [row[2:] for row in picked] == [pytest.approx(row[2:], rel=1e-12, abs=1e-12)
+                                           for row in expected]
+    for row in range(rows.count):
+        reference = np.zeros(model.nv)
+        if rows.kind[row] == robot_rows.MIMIC:
+            mimic = model.mimics[0]
+            reference[mimic.follower.v_index] += 1.0
+            reference[mimic.leader.v_index] -= mimic.multiplier
+        else:
+            reference[rows.joint[row]] = 1.0
+        assert rows.jacobian[row].tolist() == reference.tolist()
+
+
+def test_the_tables_stop_and_brake_parts_are_views_into_its_rows():
+    model, arrays = limited_pendulum()
+    table = RowTable(arrays, model.nv, 1e-3, LimitSettings(0.005, 0.2))
+    assert np.shares_memory(table.stop_mask, table.mask)
+    assert np.shares_memory(table.brake_mask, table.mask)
+    assert np.shares_memory(table.stop_target, table.target)
+
+
+def test_a_substeps_held_set_is_the_next_ones_first_and_a_new_state_forgets_it():
+    model, arrays = limited_pendulum()
+    table = RowTable(arrays, model.nv, 1e-3, LimitSettings(0.005, 0.2))
+    q, v = np.array([0.499, -0.52]), np.array([0.3, -0.1])
+    rows = prepare_rows(table, q, v)
+    held_sets = HeldSets(table.count)
+    assert held_sets.first(rows).tolist() == rows.first_guess.tolist()
+    held = np.array([(-1, 1, 0)[k % 3] for k in range(rows.count)])
+    held_sets.remember(rows, held)
+    assert held_sets.first(rows).tolist() == held.tolist()
+    held_sets.clear()
+    assert held_sets.first(rows).tolist() == rows.first_guess.tolist()
+    # A stop is first tried at its zero bound; friction, two-sided, free.
+    guesses = dict(zip(rows.kind.tolist(), rows.first_guess.tolist()))
+    assert guesses[LOWER_LIMIT] == -1 and guesses[UPPER_LIMIT] == 1 and guesses[FRICTION] == 0

@@ -20,7 +20,7 @@ from its COM. A link's collision pieces at uniform density give theirs; a body's
 (a hollow shell, a weighted base), but not by a factor of ``FAR`` either way unless a unit
 slipped: a URDF written in grams (the mass read as 1000 times the inertia's, r / 31.6), an
 inertia for centimetres or millimetres (r / 100, r / 1000), or a placeholder inertia of 1 on a
-small body (pybullet's cube_small, duck and teddy: r = 3.2 m on a 5 cm body). The physics
+small body (pybullet's cube_small, duck and teddy: r = 3.9 m on a 5 cm body). The physics
 simulates it all the same; the warning says why a body sinks, creeps or rocks as its stated
 inertia makes it.
 """

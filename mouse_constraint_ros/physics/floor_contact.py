@@ -246,7 +246,9 @@ def _split_impulses(rows: Rows, slop: float, h: float, im: float,
     Return the split impulses' pseudo-velocities (v, w): the penetration's correction.
 
     They remove ``POSITION_RATE`` of each contact's penetration beyond the slop in this
-    substep's position update, and are then dropped: the correction changes no velocity.
+    substep's position update, and are then dropped: the correction changes no velocity. The
+    loop is ``_sweeps``' normal row on the pseudo-velocities, written out as it is there (the
+    hot loop's cost).
     """
     mvx = mvy = mvz = mwx = mwy = mwz = 0.0
     deep = [row for row in rows if row[SEPARATION] < -slop]

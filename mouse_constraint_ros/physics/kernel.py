@@ -24,7 +24,7 @@ held, on the coefficients ``step_plan.coefficients`` computes once per settings 
 The angular friction acts on the spin about the line from the anchor to the COM alone: the
 velocity row w . n = 0, its torque bounded by ``settings.friction_torque_bound``, solved after
 the joint with the effective mass of the body turning about its anchor, the joint carrying the
-reaction (``step_plan.spin_axis``). The joint's rows and this one are then solved as together:
+reaction (``step_plan.spin_axis``). The joint's rows and this one together are then solved:
 a hung body's spin about its hanging line dies down, and its swing, a turn about an axis across
 that line, is the compound pendulum's, its energy kept. Friction on the whole spin (as Box2D's
 2D mouse joint damps its one angular velocity, the swing's too) holds a small swing still: at

@@ -25,9 +25,9 @@ box. They couple strongly in two cases, and sweeps then leave the body sinking a
   with a small inertia: a URDF written in grams, 500 kg with 0.00083 kg m^2). Each row's
   effective mass is then that of turning the body about its COM, I / r^2, far below the m its
   weight asks the contacts together to carry: a sweep mostly rocks the body from corner to
-  corner and lifts it by a fraction I / (m r^2) of what it needs, so that ten sweeps leave a
-  0.1 m box of 500 kg 4.5 mm in the floor and drifting, of 1e4 kg 9 mm, of 1e6 kg 0.2 m, and
-  let one of 1e12 kg fall through (the reverse, I / (m r^2) large, rocks the body slowly).
+  corner and lifts it by a fraction I / (m r^2) of what it needs, so that ten sweeps leave such
+  a body sinking and drifting, and let a heavy enough one fall through (the reverse,
+  I / (m r^2) large, rocks the body slowly).
   Box2D's contact solver meets the first with two points and solves them as a block.
 
 With accumulated normal impulses P >= 0, the rows ask for the linear complementarity problem

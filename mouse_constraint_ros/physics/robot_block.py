@@ -129,7 +129,10 @@ def free_impulses(matrix: np.ndarray, right: np.ndarray) -> np.ndarray:
         work, iwork, _ = lapack.dgelsd_lwork(size, size, 1, RANK_TOLERANCE)
         _WORKSPACE[size] = (int(work), int(iwork))
     work, iwork = _WORKSPACE[size]
-    return lapack.dgelsd(matrix, right, work, iwork, RANK_TOLERANCE)[0]
+    solution, _, _, info = lapack.dgelsd(matrix, right, work, iwork, RANK_TOLERANCE)
+    if info != 0:  # the SVD did not converge: NumPy's least squares says why, or answers
+        return np.linalg.lstsq(matrix, right, rcond=RANK_TOLERANCE)[0]
+    return solution
 
 
 def most_violated(impulse: np.ndarray, residual: np.ndarray, held: np.ndarray,

@@ -118,15 +118,10 @@ class RobotModel(NamedTuple):
         """Return whether the base is free (its pose and twist lead q and v)."""
         return self.base == FLOATING_BASE
 
-    def joint_positions(self, q: np.ndarray) -> Tuple[float, ...]:
-        """Return each moving joint's position (rad or m), a continuous joint's as its angle."""
-        return tuple(math.atan2(q[j.q_index + 1], q[j.q_index]) if j.kind == 'continuous'
-                     else float(q[j.q_index]) for j in self.joints)
-
     def configuration(self, positions: Sequence[float], *,
                       base: Optional[Tuple[Vector3, Quaternion]] = None) -> np.ndarray:
         """
-        Return q of each moving joint's position, as ``joint_positions`` gives them.
+        Return q of each moving joint's position, as ``robot_rows.joint_positions`` reads them.
 
         Unlike a starting state, a position is taken as it is (not brought within its limits):
         it is what was published.

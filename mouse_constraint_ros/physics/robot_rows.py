@@ -25,7 +25,7 @@ Box2D's solvers name theirs:
 2. solve (``solve_rows``): all rows together, exactly (``robot_block``), the last substep's
    held set tried first (``HeldSets``); if no set settles, sequential impulses
    (``robot_sweeps``);
-3. store (``RowSolution``): the impulses as joint torques, the mouse's force, the stops' share.
+3. store (``RowSolution``): the impulses as joint torques and the mouse's force.
 
 The mouse rows are the note's constraint with the robot's Jacobian: C = x_anchor(q) - x_mouse,
 J the anchor's point Jacobian (3 x nv) and K = J M^-1 J^T (the single body's eq. 1.10 is the
@@ -51,7 +51,8 @@ import numpy as np
 
 from .robot_block import solve_block
 from .robot_model import RobotModel
-from .robot_sweeps import sweep_rows, SweptRows
+from .robot_row_arrays import Rows
+from .robot_sweeps import sweep_rows
 
 # A joint's speed limit gets its row from this fraction of the limit on: the rows can push a
 # joint faster within the substep, but not from far below its limit.
@@ -197,7 +198,7 @@ class RowTable:
         self.count = MOUSE_ROWS + len(JOINT_KINDS) * joints + mimics
         kind_start = {kind: MOUSE_ROWS + number * joints
                       for number, kind in enumerate(JOINT_KINDS)}
-        self.stops = slice(kind_start[LOWER_LIMIT], kind_start[UPPER_LIMIT] + joints)
+        stops = slice(kind_start[LOWER_LIMIT], kind_start[UPPER_LIMIT] + joints)
         brakes = slice(kind_start[SPEED_FORWARD], kind_start[SPEED_BACKWARD] + joints)
         self.mimics = slice(self.count - mimics, self.count)
         inf, zeros, ones = math.inf, np.zeros(joints), np.ones(joints)
@@ -223,15 +224,16 @@ class RowTable:
                                     np.full(mimics, MIMIC)))
         self.joint = np.concatenate((np.full(MOUSE_ROWS, -1),
                                      np.tile(arrays.v_index, len(JOINT_KINDS)), follower))
-        # A stop is first tried held at its zero bound (not pushing), any other row free.
-        self.first_guess = np.where(self.kind == LOWER_LIMIT, -1,
-                                    np.where(self.kind == UPPER_LIMIT, 1, 0))
+        # A one-sided row (a stop, a brake of unbounded effort) is first tried held at its zero
+        # bound (not pushing), any other row free.
+        self.first_guess = np.where((self.lower == 0.0) & np.isinf(self.upper), -1,
+                                    np.where((self.upper == 0.0) & np.isinf(self.lower), 1, 0))
         self.mask = np.zeros(self.count, dtype=bool)
         self.mask[kind_start[FRICTION]:kind_start[FRICTION] + joints] = arrays.friction > 0.0
         self.mask[self.mimics] = True
         # Views by (side, joint) of the stops' and the brakes' parts.
-        self.stop_mask = self.mask[self.stops].reshape(2, joints)
-        self.stop_target = self.target[self.stops].reshape(2, joints)
+        self.stop_mask = self.mask[stops].reshape(2, joints)
+        self.stop_target = self.target[stops].reshape(2, joints)
         self.brake_mask = self.mask[brakes].reshape(2, joints)
         # distance to each stop = side * position + offset: position - lower, upper - position.
         self.side = np.array(((1.0,), (-1.0,)))
@@ -241,46 +243,6 @@ class RowTable:
         self.reach = limits.slop * LIMIT_REACH_SLOPS
         self.reach_per_speed = LIMIT_REACH_SUBSTEPS * h
         self.speed_from = SPEED_ROW_FROM * arrays.velocity
-
-
-class Rows(NamedTuple):
-    """
-    One substep's rows, picked from the ``RowTable``.
-
-    The mouse's come first (when it holds), then the stops', then the others'.
-
-    :param jacobian: A (m x nv).
-    :param target: each row's target velocity A v (the mouse's: -(b / a) C).
-    :param lower: each row's least accumulated impulse (-inf for none).
-    :param upper: each row's largest.
-    :param kind: each row's kind (``MOUSE``, ``LOWER_LIMIT`` ... ``MIMIC``).
-    :param joint: the coordinate in v each joint row acts on (its follower's for a mimic
-        row); -1 for the mouse's.
-    :param picked: each row's number in the table: what names it from one substep to the next.
-    :param first_guess: the hold each row is tried at when the last substep did not have it.
-    :param limit_rows: the stops' rows.
-    :param mouse_rows: ``MOUSE_ROWS`` when the mouse's rows lead, else 0.
-    :param mass_scale: the mouse's a (its block of the system is K / a).
-    :param bound: the mouse impulse's largest norm h F_max (N s); inf without the mouse.
-    """
-
-    jacobian: np.ndarray
-    target: np.ndarray
-    lower: np.ndarray
-    upper: np.ndarray
-    kind: np.ndarray
-    joint: np.ndarray
-    picked: np.ndarray
-    first_guess: np.ndarray
-    limit_rows: slice
-    mouse_rows: int = 0
-    mass_scale: float = 1.0
-    bound: float = math.inf
-
-    @property
-    def count(self) -> int:
-        """Return the number of rows."""
-        return self.target.shape[0]
 
 
 def prepare_rows(table: RowTable, q: np.ndarray, v: np.ndarray,
@@ -316,17 +278,14 @@ def prepare_rows(table: RowTable, q: np.ndarray, v: np.ndarray,
         error = positions[arrays.mimic_follower] - (
             arrays.mimic_multiplier * positions[arrays.mimic_leader] + arrays.mimic_offset)
         table.target[table.mimics] = (-limits.baumgarte / h) * error
-    lead = 0
     if mouse is not None:
-        lead = MOUSE_ROWS
         table.jacobian[:MOUSE_ROWS] = mouse.jacobian
         table.target[:MOUSE_ROWS] = (-mouse.bias_factor / mouse.mass_scale) * mouse.error
     table.mask[:MOUSE_ROWS] = mouse is not None
     picked = np.flatnonzero(table.mask)
     rows = Rows(table.jacobian[picked], table.target[picked], table.lower[picked],
                 table.upper[picked], table.kind[picked], table.joint[picked], picked,
-                table.first_guess[picked],
-                slice(lead, int(np.searchsorted(picked, table.stops.stop))))
+                table.first_guess[picked])
     if mouse is None:
         return rows
     return rows._replace(mouse_rows=MOUSE_ROWS, mass_scale=mouse.mass_scale, bound=mouse.bound)
@@ -367,12 +326,10 @@ class RowSolution(NamedTuple):
 
     :param joint_impulse: A^T x, the impulses on each coordinate of v (N m s or N s).
     :param mouse_impulse: the mouse's impulse P (N s), world frame.
-    :param limit_impulse: the stops' share of ``joint_impulse``.
     """
 
     joint_impulse: np.ndarray
     mouse_impulse: np.ndarray
-    limit_impulse: np.ndarray
 
 
 def solve_rows(v: np.ndarray, rows: Rows, inverse_mass: np.ndarray, iterations: int,
@@ -389,7 +346,7 @@ def solve_rows(v: np.ndarray, rows: Rows, inverse_mass: np.ndarray, iterations: 
     if rows.count == 0:
         if held_sets is not None:
             held_sets.clear()
-        return RowSolution(np.zeros(nv), np.zeros(MOUSE_ROWS), np.zeros(nv))
+        return RowSolution(np.zeros(nv), np.zeros(MOUSE_ROWS))
     jacobian = rows.jacobian
     mobility = inverse_mass @ jacobian.T
     warm = held_sets.first(rows) if held_sets is not None else rows.first_guess
@@ -398,14 +355,11 @@ def solve_rows(v: np.ndarray, rows: Rows, inverse_mass: np.ndarray, iterations: 
     if solved is not None:
         impulse, held = solved
         v += mobility @ impulse
+        if held_sets is not None:
+            held_sets.remember(rows, held)
     else:
-        impulse = sweep_rows(v, SweptRows(jacobian, rows.target, rows.lower, rows.upper,
-                                          rows.mouse_rows, rows.mass_scale, rows.bound),
-                             mobility, iterations)
-        held = np.zeros(rows.count, dtype=int)
-    if held_sets is not None:
-        held_sets.remember(rows, held)
-    stops = rows.limit_rows
+        impulse = sweep_rows(v, rows, mobility, iterations)
+        if held_sets is not None:  # no set settled: the next substep starts from its guesses
+            held_sets.clear()
     return RowSolution(jacobian.T @ impulse,
-                       impulse[:MOUSE_ROWS].copy() if rows.mouse_rows else np.zeros(MOUSE_ROWS),
-                       np.bincount(rows.joint[stops], weights=impulse[stops], minlength=nv))
+                       impulse[:MOUSE_ROWS].copy() if rows.mouse_rows else np.zeros(MOUSE_ROWS))

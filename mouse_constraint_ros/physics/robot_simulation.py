@@ -22,7 +22,8 @@ symplectic Euler on Hamilton's equations, the momentum first:
    fixed-point passes from v* = M(q)^-1 p (D: the joints' ``<dynamics damping>``, implicit);
    then the ``linear_damping`` and ``angular_damping`` rates, exp(-c h);
 2. the rows (``robot_rows``): the mouse on its link, the position limits near their stops,
-   joint friction and the speed limits, by sequential impulses on v* with M(q);
+   joint friction, the speed limits and the mimic joints, on v* with M(q), solved together by
+   active sets (``robot_block``; sequential impulses where no set settles);
 3. positions: q' = q (+) h v* (Pinocchio's ``integrate``), and p' = M(q) v* kept.
 
 The velocity-dependent term is the one that makes this conserve energy: d(M v)/dt =
@@ -146,7 +147,6 @@ class RobotSimulation:
         self._mouse_impulse = (np.zeros(3), 1.0)
         self._tick_mouse_impulse = ((0.0, 0.0, 0.0), 0.0)
         self._tick_torque = np.zeros(self.model.nv)
-        self._limit_torque = np.zeros(self.model.nv)
 
     # --- inputs -------------------------------------------------------------------------------
     def grab(self, link: str, point: Sequence[float]) -> None:
@@ -207,7 +207,7 @@ class RobotSimulation:
         return tuple(self._v[self._joints.v_index].tolist())
 
     def joint_efforts(self) -> Tuple[float, ...]:
-        """Return each joint's torque (N m or N) from the mouse and the limits, the last step's."""
+        """Return each joint's torque (N m or N) from the constraint rows, the last step's."""
         return tuple(self._tick_torque[self._joints.v_index].tolist())
 
     @property
@@ -291,16 +291,13 @@ class RobotSimulation:
             self._p = self._p - 0.5 * h * rate
             self._staggered = True
         torque_sum = np.zeros(self.model.nv)
-        limit_sum = np.zeros(self.model.nv)
         mouse_sum = np.zeros(3)
         for _ in range(settings.substeps):
             solution = self._substep(h)
             torque_sum += solution.joint_impulse
-            limit_sum += solution.limit_impulse
             mouse_sum += solution.mouse_impulse
         self._tick_mouse_impulse = (tuple(mouse_sum.tolist()), dt)
         self._tick_torque = torque_sum / dt
-        self._limit_torque = limit_sum / dt
         self._time += dt
         return self.state
 

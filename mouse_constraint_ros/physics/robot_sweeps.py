@@ -23,9 +23,9 @@ applied to v at once. A last pass over the joint rows alone gives the stops the 
 the mouse pulls against them.
 """
 
-from typing import NamedTuple
-
 import numpy as np
+
+from .robot_row_arrays import Rows
 
 # Eigenvalues of K below this fraction of its largest are directions the anchor cannot move.
 RANK_TOLERANCE = 1e-9
@@ -33,34 +33,7 @@ RANK_TOLERANCE = 1e-9
 SETTLED = 1e-12
 
 
-class SweptRows(NamedTuple):
-    """
-    The rows as the sweeps read them (``robot_rows.Rows`` has these fields and more).
-
-    :param jacobian: A (m x nv), the mouse's rows first.
-    :param target: each row's target velocity.
-    :param lower: each row's least accumulated impulse.
-    :param upper: each row's largest.
-    :param mouse_rows: 3 when the mouse's rows lead, else 0.
-    :param mass_scale: the mouse's a.
-    :param bound: the mouse impulse's largest norm h F_max (N s).
-    """
-
-    jacobian: np.ndarray
-    target: np.ndarray
-    lower: np.ndarray
-    upper: np.ndarray
-    mouse_rows: int
-    mass_scale: float
-    bound: float
-
-    @property
-    def count(self) -> int:
-        """Return the number of rows."""
-        return self.target.shape[0]
-
-
-def sweep_rows(v: np.ndarray, rows: SweptRows, mobility: np.ndarray,
+def sweep_rows(v: np.ndarray, rows: Rows, mobility: np.ndarray,
                iterations: int) -> np.ndarray:
     """
     Solve ``rows`` by ``iterations`` sweeps, changing ``v``; return their impulses x.
@@ -88,7 +61,7 @@ def sweep_rows(v: np.ndarray, rows: SweptRows, mobility: np.ndarray,
     return impulse
 
 
-def _mouse_sweep(v: np.ndarray, rows: SweptRows, mobility: np.ndarray, inverse: np.ndarray,
+def _mouse_sweep(v: np.ndarray, rows: Rows, mobility: np.ndarray, inverse: np.ndarray,
                  impulse: np.ndarray) -> None:
     """Visit the mouse's block once (``inverse``: its K^-1), with Box2D's soft step."""
     a = rows.mass_scale
@@ -102,7 +75,7 @@ def _mouse_sweep(v: np.ndarray, rows: SweptRows, mobility: np.ndarray, inverse: 
     impulse[:3] = new
 
 
-def _joint_sweep(v: np.ndarray, rows: SweptRows, mobility: np.ndarray, diagonal: np.ndarray,
+def _joint_sweep(v: np.ndarray, rows: Rows, mobility: np.ndarray, diagonal: np.ndarray,
                  impulse: np.ndarray) -> bool:
     """Visit each joint row once, clamping its impulse to its bounds; return if any changed."""
     changed = False

@@ -17,9 +17,9 @@ What a robot publishes beside the tracked link's pose and twist: joint_states an
 
 ``joint_states`` (sensor_msgs/JointState, as CDR bytes: ``cdr.joint_state``) carries each moving
 joint's position, velocity and effort, the torque (N m, or N for a prismatic joint) that the
-mouse constraint and the position limits applied in the tick, stamped as the tick's pose. TF
-carries ``frame_id`` -> each link (the tracked link's own transform is the state publishers'),
-when a broadcaster is there.
+constraint rows applied in the tick (the mouse, the position limits, joint friction, the speed
+limits, the mimic joints), stamped as the tick's pose. TF carries ``frame_id`` -> each link (the
+tracked link's own transform is the state publishers'), when a broadcaster is there.
 """
 
 from typing import Callable, Dict, Optional, Sequence, Tuple
