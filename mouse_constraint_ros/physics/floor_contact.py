@@ -66,6 +66,9 @@ from .floor_energy import CONVERGED_SPEED, twice_energy
 
 # Fraction of the penetration beyond the slop that the split impulses remove per substep.
 POSITION_RATE = 0.2
+# m r^2 / I beyond which a box's normal rows are solved as a block (``_strongly_coupled``): a
+# URDF written in grams gives thousands; a box's own inertia, 3 to 15.
+COUPLED_RATIO = 100.0
 
 # The contacts as ``solve`` keeps them: a list of ``contact_row.SLOTS`` floats each, read and
 # written by their slots' names (``contact_row``).
@@ -132,7 +135,8 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
     velocities, warmed = _warm_start(rows, warm, (*v, *w), im)
     # 3. solve: the sweeps, a block solve of the normal rows, the sticking contacts at once.
     i00, i01, _, i11, _, _ = world_inverse
-    block = (im, i00, i01, i11) if 1 < len(rows) <= normal_block.MOST_CONTACTS else None
+    block = (im, i00, i01, i11) if 1 < len(rows) <= normal_block.MOST_CONTACTS and (
+        shape.hull is not None or _strongly_coupled(shape.bound, im, inverse_inertia)) else None
     velocities, converged = _sweeps(rows, velocities, im, friction, iterations, block)
     if not converged:
         # Sweeps that did not settle: the pushing contacts held at once, if they can be.
@@ -158,6 +162,23 @@ def solve(coefficients: Tuple, position: Vector3, q, v: Vector3, w: Vector3, h: 
     mvx, mvy, mvz, mwx, mwy, mwz = _split_impulses(rows, slop, h, im, iterations)
     return ((vx, vy, vz), (wx, wy, wz),
             ((vx + mvx, vy + mvy, vz + mvz), (wx + mwx, wy + mwy, wz + mwz)), rows)
+
+
+def _strongly_coupled(bound: float, im: float, inverse_inertia) -> bool:
+    """
+    Return whether the body's inertia is so far below m r^2 that sweeps alone cannot lift it.
+
+    A contact row's effective mass is then that of turning the body, a fraction I / (m r^2) of
+    its mass, and the normal rows are solved as a block after a sweep that did not converge.
+    For a body whose inertia suits its size (a box's m r^2 / I is some 3 to 15) the sweeps
+    settle within their iterations, and the block's factorizations would cost a body dragged
+    across the floor ten times the sweeps.
+
+    :param bound: the shape's bounding radius r (m).
+    :param inverse_inertia: I_b^-1 as a symmetric 6-tuple: its diagonal bounds 1 / I.
+    """
+    largest = max(inverse_inertia[0], inverse_inertia[3], inverse_inertia[5])
+    return bound * bound * largest > COUPLED_RATIO * im
 
 
 def _prepare(shape, rotation: Tuple[float, ...], world_inverse: Tuple[float, ...],
