@@ -101,6 +101,13 @@ def pytest_collection_modifyitems(items) -> None:
             item.add_marker(pytest.mark.alone)
 
 
+def pytest_sessionfinish(session) -> None:
+    """Close the browser the browser tier's pages shared (test_support/browser_page.py)."""
+    browser_page = sys.modules.get('test_support.browser_page')
+    if browser_page is not None:
+        browser_page.close_browser()
+
+
 def pytest_collection_finish(session) -> None:
     """Freeze what collection made: the cyclic collector's full passes never scan it again."""
     gc.freeze()

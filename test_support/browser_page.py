@@ -16,14 +16,15 @@
 The browser tier's page and camera: Debian's chromium, headless, driven by Playwright.
 
 ``chromium_page`` opens a 1280x720 page (skipped where ``/usr/bin/chromium`` or Playwright is
-missing); ``spinning`` spins an in-process harness on a thread while Playwright drives the
-browser; ``PinholeCamera`` turns the camera a page reports into pixels and rays, so that the
-mouse is aimed at a point of the body; ``newest_client`` is the page's connection to aim with;
-``CameraReports`` keeps each camera the pages report, and turns a page to the body and waits
-until it reports that camera; ``press_until_grabbed`` presses on the body until the page's drag
-holds it (``held``; the page's first frame comes late in software rendering), letting a try go
-until the view and the node are done with it (``let_go``); ``drag_and_follow`` drags it to a
-pixel and waits for the target and the anchor to reach the pointer's plane point.
+missing) in the session's one browser, which ``close_browser`` closes; ``spinning`` spins an
+in-process harness on a thread while Playwright drives the browser; ``PinholeCamera`` turns the
+camera a page reports into pixels and rays, so that the mouse is aimed at a point of the body;
+``newest_client`` is the page's connection to aim with; ``CameraReports`` keeps each camera the
+pages report, and turns a page to the body and waits until it reports that camera;
+``press_until_grabbed`` presses on the body until the page's drag holds it (``held``; the page's
+first frame comes late in software rendering), letting a try go until the view and the node are
+done with it (``let_go``); ``drag_and_follow`` drags it to a pixel and waits for the target and the
+anchor to reach the pointer's plane point.
 """
 
 import contextlib
@@ -54,18 +55,47 @@ SCALE = 1.0 if 'MOUSE_VIEW_SCREENSHOT' in os.environ else 0.25
 TRY_TIMEOUT = 60.0
 
 
+# The session's browser, launched by the first page and closed by ``close_browser`` (the
+# conftest's session end): a launch of chromium and Playwright's driver costs a second or more
+# of a test's setup. Each page has a browser context of its own (cookies, storage, cache),
+# closed with it; a browser that is no longer connected is launched again.
+_SESSION = {}
+
+
+def _browser():
+    """Return the session's chromium, launched now if none is connected."""
+    browser = _SESSION.get('browser')
+    if browser is not None and browser.is_connected():
+        return browser
+    close_browser()
+    sync_api = pytest.importorskip('playwright.sync_api')
+    _SESSION['playwright'] = sync_api.sync_playwright().start()
+    _SESSION['browser'] = _SESSION['playwright'].chromium.launch(
+        executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+    return _SESSION['browser']
+
+
+def close_browser() -> None:
+    """Close the session's chromium and Playwright, if a page started them."""
+    browser, playwright = _SESSION.pop('browser', None), _SESSION.pop('playwright', None)
+    try:
+        if browser is not None:
+            browser.close()
+    finally:
+        if playwright is not None:
+            playwright.stop()
+
+
 @contextlib.contextmanager
 def chromium_page() -> Iterator:
-    """Yield a 1280x720 page of Debian's chromium, headless; closed afterwards (or skip)."""
+    """Yield a 1280x720 page of Debian's chromium, headless, in a browser context of its own."""
     if not os.access(CHROMIUM, os.X_OK):
         pytest.skip(f'no {CHROMIUM} (apt-get install chromium)')
-    sync_api = pytest.importorskip('playwright.sync_api')
-    with sync_api.sync_playwright() as playwright:
-        browser = playwright.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
-        try:
-            yield browser.new_page(viewport=VIEWPORT, device_scale_factor=SCALE)
-        finally:
-            browser.close()
+    context = _browser().new_context(viewport=VIEWPORT, device_scale_factor=SCALE)
+    try:
+        yield context.new_page()
+    finally:
+        context.close()
 
 
 @contextlib.contextmanager
