@@ -83,6 +83,9 @@ CLEARANCE = 20.0
 # The points of a face the body's pixel is chosen from: on the line through its middle along
 # its longer edge, in fractions of that edge from the middle.
 FACE_LINE = (-0.3, -0.15, 0.15, 0.3)
+# A body pixel's hue leans from the background's toward BODY_COLOR's by at least this share of
+# BODY_COLOR's own lean (a lit face washes the colour out to some half of it; grey and white: 0).
+BODY_LEAN = 0.25
 
 
 @pytest.fixture
@@ -213,13 +216,15 @@ def _looks_like_the_body(rgb) -> bool:
     """
     Return whether a pixel's colour is the body's rather than the background's.
 
-    Shading scales a colour and the body's translucency mixes in what lies behind it, so the
-    hue decides: the chromaticity nearer BODY_COLOR's than the background's, which is neutral
-    (the page's white, the floor's FLOOR_COLOR, the grid's grey).
+    Shading scales a colour, light on a face washes it out and the body's translucency mixes in
+    what lies behind it, so the hue decides: the pixel's chromaticity leans away from the
+    background's, which is neutral (the page's white, the floor's FLOOR_COLOR, the grid's grey),
+    toward BODY_COLOR's by at least ``BODY_LEAN`` of BODY_COLOR's own lean.
     """
-    colour = _chromaticity(rgb)
-    return bool(np.linalg.norm(colour - _chromaticity(BODY_COLOR))
-                < np.linalg.norm(colour - _chromaticity(FLOOR_COLOR)))
+    neutral = _chromaticity(FLOOR_COLOR)
+    body = _chromaticity(BODY_COLOR) - neutral
+    lean = float(np.dot(_chromaticity(rgb) - neutral, body) / np.dot(body, body))
+    return lean >= BODY_LEAN
 
 
 def _distance_to_path(pixel, path) -> float:
