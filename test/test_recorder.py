@@ -939,8 +939,11 @@ def test_recording_follows_a_grab(tmp_path):
     assert all(row['target_x'] is None for row in rows[:changed])
     assert {(row['target_x'], row['target_y'], row['target_z'])
             for row in rows[changed:]} == {tuple(point)}
-    # The node placed the grabbed point where it was: no jump, and a rigid joint holds it.
-    assert rows[changed]['anchor_error'] < 1e-3
+    # The node placed the grabbed point where it was: no jump, and a rigid joint holds it. The
+    # body swings on its anchor (the angular friction stops only its spin) and goes on some
+    # millimetres while the grab is on its way; a jump would be the centimetres between the
+    # two anchors.
+    assert rows[changed]['anchor_error'] < 5e-3
     assert max(row['anchor_error'] for row in rows[changed:]) < 0.01
     for row, anchor in zip(rows, body):
         q = [row['qx'], row['qy'], row['qz'], row['qw']]
