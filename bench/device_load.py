@@ -43,8 +43,9 @@ TRIALS = 8000
 QUICK_TRIALS = 1000
 ROUNDS = 2
 QUICK_ROUNDS = 1
-# Seconds the hogs spin before the first round, so that the load average has risen.
-WARMUP = 30.0
+# Seconds the hogs spin before the first round, so that the 1-minute load average has risen
+# to some 4 (1 - e^-2 of the five processes' 4.5 on two cores).
+WARMUP = 120.0
 QUICK_WARMUP = 5.0
 
 
