@@ -90,7 +90,7 @@ def test_a_big_mesh_loads_while_the_ticks_run_and_comes_in_whole(simulated_body_
 
 
 def test_a_bad_body_is_refused_in_one_line_and_the_parameters_go_back(simulated_body_factory):
-    """The issue's first input: refused naming link and element; the box stays, and ticks."""
+    """A collision with an empty geometry: refused naming link and element; the box ticks on."""
     body = simulated_body_factory()
     body.step(5)
     box = body.node.simulation.settings
