@@ -44,7 +44,7 @@ def random_problem(seed: int):
     v = rng.normal(size=nv)
     a, b, h = float(rng.uniform(0.2, 1.0)), 50.0, 1e-3
     jacobian, target = [rng.normal(size=(3, nv))], list(-(b / a) * rng.normal(size=3) * 0.01)
-    lower, upper, kind, joint = [-math.inf] * 3, [math.inf] * 3, [MOUSE] * 3, [-1] * 3
+    lower, upper, kind = [-math.inf] * 3, [math.inf] * 3, [MOUSE] * 3
     for index in range(nv):
         row_kind = int(rng.integers(0, 3))
         if row_kind == 2:
@@ -63,10 +63,9 @@ def random_problem(seed: int):
             lower.append(-bound)
             upper.append(bound)
             kind.append(FRICTION)
-        joint.append(index)
     count = len(target)
     rows = Rows(np.vstack(jacobian), np.array(target), np.array(lower), np.array(upper),
-                np.array(kind), np.array(joint), np.arange(count),
+                np.arange(count),
                 np.where(np.array(kind) == LOWER_LIMIT, -1,
                          np.where(np.array(kind) == UPPER_LIMIT, 1, 0)),
                 MOUSE_ROWS, a, math.inf)
@@ -152,13 +151,14 @@ def test_a_substep_picks_each_stop_near_friction_and_the_brakes_as_a_loop_over_j
     for joint in range(2):
         expected.append((FRICTION, joint, 0.0, -h * 0.2, h * 0.2))
     expected.append((robot_rows.SPEED_FORWARD, 0, 2.0, -h * 10.0, 0.0))
-    picked = sorted(zip(rows.kind.tolist(), rows.joint.tolist(), rows.target.tolist(),
+    kinds, joints = table.kind[rows.picked], table.joint[rows.picked]
+    picked = sorted(zip(kinds.tolist(), joints.tolist(), rows.target.tolist(),
                         rows.lower.tolist(), rows.upper.tolist()))
     expected = sorted(expected)
     assert [row[:2] for row in picked] == [row[:2] for row in expected]
     assert [row[2:] for row in picked] == [pytest.approx(row[2:], rel=1e-12) for row in expected]
     for row in range(rows.count):
-        assert rows.jacobian[row].tolist() == np.eye(model.nv)[rows.joint[row]].tolist()
+        assert rows.jacobian[row].tolist() == np.eye(model.nv)[joints[row]].tolist()
 
 
 def rows_one_by_one(model, q, v, h, limits):
@@ -211,7 +211,8 @@ def test_the_table_picks_the_rows_a_loop_over_the_joints_picks(seed, panda):
                                        rng.uniform(low, high)])
         v[joint.v_index] = rng.uniform(-2.0, 2.0) * min(joint.velocity, 10.0)
     rows = prepare_rows(table, q, v)
-    picked = sorted(zip(rows.kind.tolist(), rows.joint.tolist(), rows.target.tolist(),
+    kinds, joints = table.kind[rows.picked], table.joint[rows.picked]
+    picked = sorted(zip(kinds.tolist(), joints.tolist(), rows.target.tolist(),
                         rows.lower.tolist(), rows.upper.tolist()))
     expected = sorted(rows_one_by_one(model, q, v, h, limits))
     assert [row[:2] for row in picked] == [row[:2] for row in expected]
@@ -219,12 +220,12 @@ def test_the_table_picks_the_rows_a_loop_over_the_joints_picks(seed, panda):
                                            for row in expected]
     for row in range(rows.count):
         reference = np.zeros(model.nv)
-        if rows.kind[row] == robot_rows.MIMIC:
+        if kinds[row] == robot_rows.MIMIC:
             mimic = model.mimics[0]
             reference[mimic.follower.v_index] += 1.0
             reference[mimic.leader.v_index] -= mimic.multiplier
         else:
-            reference[rows.joint[row]] = 1.0
+            reference[joints[row]] = 1.0
         assert rows.jacobian[row].tolist() == reference.tolist()
 
 
@@ -241,7 +242,7 @@ def test_a_substeps_held_set_is_the_next_ones_first_and_a_new_state_forgets_it()
     table = RowTable(arrays, model.nv, 1e-3, LimitSettings(0.005, 0.2))
     q, v = np.array([0.499, -0.52]), np.array([0.3, -0.1])
     rows = prepare_rows(table, q, v)
-    held_sets = HeldSets(table.count)
+    held_sets = HeldSets(table.first_guess)
     assert held_sets.first(rows).tolist() == rows.first_guess.tolist()
     held = np.array([(-1, 1, 0)[k % 3] for k in range(rows.count)])
     held_sets.remember(rows, held)
@@ -249,5 +250,5 @@ def test_a_substeps_held_set_is_the_next_ones_first_and_a_new_state_forgets_it()
     held_sets.clear()
     assert held_sets.first(rows).tolist() == rows.first_guess.tolist()
     # A stop is first tried at its zero bound; friction, two-sided, free.
-    guesses = dict(zip(rows.kind.tolist(), rows.first_guess.tolist()))
+    guesses = dict(zip(table.kind[rows.picked].tolist(), rows.first_guess.tolist()))
     assert guesses[LOWER_LIMIT] == -1 and guesses[UPPER_LIMIT] == 1 and guesses[FRICTION] == 0

@@ -34,6 +34,7 @@ F_max, when it binds, scales P onto the bound and holds it there. A set that doe
 within ``MAX_TRIES`` returns None, and sequential impulses take the substep.
 """
 
+import math
 from typing import Dict, Optional, Tuple
 
 import numpy as np
@@ -69,39 +70,40 @@ def solve_block(jacobian: np.ndarray, mobility: np.ndarray, v: np.ndarray,
     :param warm: the set to try first: -1 held at lo, 0 free, +1 held at hi, per row
         (``robot_rows.HeldSets``).
     """
-    delassus = jacobian @ mobility
-    if mouse_rows:
+    delassus = jacobian.dot(mobility)
+    if mouse_rows and mass_scale != 1.0:
         delassus[:mouse_rows, :mouse_rows] /= mass_scale
-    rhs = target - jacobian @ v
+    rhs = target - jacobian.dot(v)
     held = warm.copy()
     held[:mouse_rows] = 0
+    tolerance = TOLERANCE * max(1.0, max(map(abs, rhs.tolist())),
+                                max(delassus.diagonal().tolist()))
+    # Each held row's impulse at its bound; the free rows' are solved for.
+    impulse = np.where(held < 0, lower, upper)
     mouse_held = False
-    mouse_impulse = np.zeros(3)
-    tolerance = TOLERANCE * max(1.0, float(np.abs(rhs).max()), float(delassus.diagonal().max()))
     for _ in range(MAX_TRIES):
-        impulse = np.where(held < 0, lower, upper)
-        free = held == 0
-        if mouse_held:
-            free[:3] = False
-        impulse[free] = 0.0
-        if mouse_held:
-            impulse[:3] = mouse_impulse
-        if free.any():
-            rows_free = delassus[free]
-            right = rhs[free] - rows_free @ impulse
-            impulse[free] = free_impulses(rows_free[:, free], right)
+        free = (held == 0).nonzero()[0]
+        if mouse_held:  # the mouse's rows lead the free rows; their impulse stays on its bound
+            free = free[mouse_rows:]
+        if free.shape[0]:
+            impulse.put(free, 0.0)
+            rows_free = delassus.take(free, 0)
+            right = rhs.take(free) - rows_free.dot(impulse)
+            impulse.put(free, free_impulses(rows_free.take(free, 1), right))
         if mouse_rows and not mouse_held:
-            size = float(np.linalg.norm(impulse[:3]))
+            size = math.hypot(*impulse[:mouse_rows].tolist())
             if size > bound:
-                mouse_impulse = impulse[:3] * (bound / size)
+                impulse[:mouse_rows] *= bound / size
                 mouse_held = True
                 continue
-        change = most_violated(impulse, delassus @ impulse - rhs, held, lower, upper,
+        change = most_violated(impulse, delassus.dot(impulse) - rhs, held, lower, upper,
                                mouse_rows, tolerance)
         if change is None:
             return impulse, held
         row, side = change
         held[row] = side
+        if side:
+            impulse[row] = lower[row] if side < 0 else upper[row]
     return None
 
 
@@ -121,10 +123,9 @@ def free_impulses(matrix: np.ndarray, right: np.ndarray) -> np.ndarray:
         diagonal = matrix[0, 0]
         return right / diagonal if diagonal > 0.0 else np.zeros(1)
     factor, solution, info = lapack.dposv(matrix, right)
-    if info == 0:
-        pivots = np.diagonal(factor)
-        if (pivots * pivots >= PIVOT_TOLERANCE * np.diagonal(matrix)).all():
-            return solution
+    if info == 0 and all(pivot * pivot >= PIVOT_TOLERANCE * diagonal for pivot, diagonal
+                         in zip(factor.diagonal().tolist(), matrix.diagonal().tolist())):
+        return solution
     if size not in _WORKSPACE:
         work, iwork, _ = lapack.dgelsd_lwork(size, size, 1, RANK_TOLERANCE)
         _WORKSPACE[size] = (int(work), int(iwork))
@@ -150,7 +151,7 @@ def most_violated(impulse: np.ndarray, residual: np.ndarray, held: np.ndarray,
     outside = np.maximum(lower - impulse, impulse - upper)
     violation = np.where(free, outside, held * residual)
     violation[:mouse_rows] = -np.inf
-    row = int(np.argmax(violation))
+    row = int(violation.argmax())
     if not violation[row] > tolerance:
         return None
     if held[row] != 0:

@@ -34,10 +34,8 @@ class Rows(NamedTuple):
     :param target: each row's target velocity A v (the mouse's: -(b / a) C).
     :param lower: each row's least accumulated impulse (-inf for none).
     :param upper: each row's largest.
-    :param kind: each row's kind (``MOUSE``, ``LOWER_LIMIT`` ... ``MIMIC``).
-    :param joint: the coordinate in v each joint row acts on (its follower's for a mimic
-        row); -1 for the mouse's.
-    :param picked: each row's number in the table: what names it from one substep to the next.
+    :param picked: each row's number in the table: what names it from one substep to the next
+        (the table's ``kind`` and ``joint`` say what it is and on which joint it acts).
     :param first_guess: the hold each row is tried at when the last substep did not have it.
     :param mouse_rows: ``MOUSE_ROWS`` when the mouse's rows lead, else 0.
     :param mass_scale: the mouse's a (its block of the system is K / a).
@@ -48,8 +46,6 @@ class Rows(NamedTuple):
     target: np.ndarray
     lower: np.ndarray
     upper: np.ndarray
-    kind: np.ndarray
-    joint: np.ndarray
     picked: np.ndarray
     first_guess: np.ndarray
     mouse_rows: int = 0

@@ -74,8 +74,6 @@ SPEED_BACKWARD = 4  # brakes a joint moving backward at its speed limit
 MIMIC = 5
 # The joint rows' kinds, in the order ``RowTable`` stacks them after the mouse's.
 JOINT_KINDS = (LOWER_LIMIT, UPPER_LIMIT, FRICTION, SPEED_FORWARD, SPEED_BACKWARD)
-# A row the last substep did not have (``HeldSets``).
-UNKNOWN = 2
 
 
 class JointArrays(NamedTuple):
@@ -235,14 +233,19 @@ class RowTable:
         self.stop_mask = self.mask[stops].reshape(2, joints)
         self.stop_target = self.target[stops].reshape(2, joints)
         self.brake_mask = self.mask[brakes].reshape(2, joints)
-        # distance to each stop = side * position + offset: position - lower, upper - position.
+        self.mimic_target = self.target[self.mimics]
+        # distance to each stop = side * position + offset: position - lower, upper - position;
+        # inf for a side without a stop, which never comes near.
         self.side = np.array(((1.0,), (-1.0,)))
         self.offset = np.stack((-arrays.lower, arrays.upper))
-        # the lower stop's row aims at -(the speed allowed toward it), the upper's at +.
-        self.stop_sign = -self.side
+        # the lower stop's row aims at -(the speed allowed toward it), the upper's at +: the
+        # speed is divided by these (exactly -h and h).
+        self.stop_divisor = -self.side * h
         self.reach = limits.slop * LIMIT_REACH_SLOPS
         self.reach_per_speed = LIMIT_REACH_SUBSTEPS * h
+        # a joint gets its forward brake above this speed, its backward brake below its negative.
         self.speed_from = SPEED_ROW_FROM * arrays.velocity
+        self.negative_speed_from = -self.speed_from
 
 
 def prepare_rows(table: RowTable, q: np.ndarray, v: np.ndarray,
@@ -259,65 +262,62 @@ def prepare_rows(table: RowTable, q: np.ndarray, v: np.ndarray,
     :param mouse: the mouse's rows, or None when it holds nothing.
     """
     arrays, h, limits = table.arrays, table.h, table.limits
-    joint_v = v[arrays.v_index]
-    speed = np.abs(joint_v)
+    joint_v = v.take(arrays.v_index)
     positions = joint_positions(arrays, q)
     distance = table.side * positions + table.offset
-    np.less_equal(distance, table.reach + table.reach_per_speed * speed, out=table.stop_mask)
-    table.stop_mask &= arrays.limited
+    np.less_equal(distance, table.reach_per_speed * np.abs(joint_v) + table.reach,
+                  out=table.stop_mask)
     # toward a stop: arrive at it in the substep; past it by more than the slop, back out by
-    # ``baumgarte`` of the rest.
-    allowed = np.where(distance >= 0.0, distance,
-                       limits.baumgarte * np.minimum(distance + limits.slop, 0.0)) / h
-    np.multiply(allowed, table.stop_sign, out=table.stop_target)
-    braking = speed > table.speed_from
-    forward = joint_v > 0.0
-    np.logical_and(braking, forward, out=table.brake_mask[0])
-    np.logical_and(braking, ~forward, out=table.brake_mask[1])
+    # ``baumgarte`` of the rest (one of the two terms is zero).
+    past = np.minimum(distance + limits.slop, 0.0)
+    allowed = np.maximum(distance, 0.0) + limits.baumgarte * past
+    np.divide(allowed, table.stop_divisor, out=table.stop_target)
+    np.greater(joint_v, table.speed_from, out=table.brake_mask[0])
+    np.less(joint_v, table.negative_speed_from, out=table.brake_mask[1])
     if table.mimics.start != table.count:
-        error = positions[arrays.mimic_follower] - (
-            arrays.mimic_multiplier * positions[arrays.mimic_leader] + arrays.mimic_offset)
-        table.target[table.mimics] = (-limits.baumgarte / h) * error
+        error = positions.take(arrays.mimic_follower) - (
+            arrays.mimic_multiplier * positions.take(arrays.mimic_leader) + arrays.mimic_offset)
+        np.multiply(error, -limits.baumgarte / h, out=table.mimic_target)
     if mouse is not None:
         table.jacobian[:MOUSE_ROWS] = mouse.jacobian
-        table.target[:MOUSE_ROWS] = (-mouse.bias_factor / mouse.mass_scale) * mouse.error
+        np.multiply(mouse.error, -mouse.bias_factor / mouse.mass_scale,
+                    out=table.target[:MOUSE_ROWS])
     table.mask[:MOUSE_ROWS] = mouse is not None
-    picked = np.flatnonzero(table.mask)
-    rows = Rows(table.jacobian[picked], table.target[picked], table.lower[picked],
-                table.upper[picked], table.kind[picked], table.joint[picked], picked,
-                table.first_guess[picked])
+    picked = table.mask.nonzero()[0]
+    rows = (table.jacobian.take(picked, 0), table.target.take(picked), table.lower.take(picked),
+            table.upper.take(picked), picked, table.first_guess.take(picked))
     if mouse is None:
-        return rows
-    return rows._replace(mouse_rows=MOUSE_ROWS, mass_scale=mouse.mass_scale, bound=mouse.bound)
+        return Rows(*rows)
+    return Rows(*rows, MOUSE_ROWS, mouse.mass_scale, mouse.bound)
 
 
 class HeldSets:
     """
     Which bound each row of the table held at the last substep's end: the next solve's first set.
 
-    -1: held at its least impulse, 0: free, +1: held at its largest; ``UNKNOWN`` for a row the
-    last substep did not have, which is tried at its ``first_guess``.
+    -1: held at its least impulse, 0: free, +1: held at its largest. A row the last substep did
+    not have is tried at its ``first_guess``.
 
-    :param count: the table's rows.
+    :param first_guess: each row's hold when nothing is known of it (``RowTable.first_guess``).
     """
 
-    def __init__(self, count: int) -> None:
+    def __init__(self, first_guess: np.ndarray) -> None:
         """Start knowing nothing."""
-        self._held = np.full(count, UNKNOWN, dtype=int)
+        self._first_guess = first_guess
+        self._held = first_guess.copy()
 
     def clear(self) -> None:
         """Forget every row's hold (a new state)."""
-        self._held.fill(UNKNOWN)
+        np.copyto(self._held, self._first_guess)
 
     def first(self, rows: Rows) -> np.ndarray:
         """Return the set to try first for ``rows``: each row's last hold, else its guess."""
-        last = self._held[rows.picked]
-        return np.where(last == UNKNOWN, rows.first_guess, last)
+        return self._held.take(rows.picked)
 
     def remember(self, rows: Rows, held: np.ndarray) -> None:
         """Keep ``held``, each row's hold, for the next substep; forget the rest."""
-        self._held.fill(UNKNOWN)
-        self._held[rows.picked] = held
+        np.copyto(self._held, self._first_guess)
+        self._held.put(rows.picked, held)
 
 
 class RowSolution(NamedTuple):
@@ -348,18 +348,18 @@ def solve_rows(v: np.ndarray, rows: Rows, inverse_mass: np.ndarray, iterations: 
             held_sets.clear()
         return RowSolution(np.zeros(nv), np.zeros(MOUSE_ROWS))
     jacobian = rows.jacobian
-    mobility = inverse_mass @ jacobian.T
+    mobility = inverse_mass.dot(jacobian.T)
     warm = held_sets.first(rows) if held_sets is not None else rows.first_guess
     solved = solve_block(jacobian, mobility, v, rows.target, rows.lower, rows.upper,
                          rows.mouse_rows, rows.mass_scale, rows.bound, warm)
     if solved is not None:
         impulse, held = solved
-        v += mobility @ impulse
+        v += mobility.dot(impulse)
         if held_sets is not None:
             held_sets.remember(rows, held)
     else:
         impulse = sweep_rows(v, rows, mobility, iterations)
         if held_sets is not None:  # no set settled: the next substep starts from its guesses
             held_sets.clear()
-    return RowSolution(jacobian.T @ impulse,
+    return RowSolution(impulse.dot(jacobian),
                        impulse[:MOUSE_ROWS].copy() if rows.mouse_rows else np.zeros(MOUSE_ROWS))

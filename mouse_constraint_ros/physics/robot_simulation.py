@@ -57,7 +57,8 @@ FIXED_POINT_PASSES = 2
 
 def skew(r: np.ndarray) -> np.ndarray:
     """Return [r]x, the cross product's matrix."""
-    return np.array(((0.0, -r[2], r[1]), (r[2], 0.0, -r[0]), (-r[1], r[0], 0.0)))
+    x, y, z = r.tolist()
+    return np.array(((0.0, -z, y), (z, 0.0, -x), (-y, x, 0.0)))
 
 
 class RobotSimulation:
@@ -74,7 +75,7 @@ class RobotSimulation:
         """Start at ``initial_state``, nothing grabbed."""
         self.model = model
         self._data = model.model.createData()
-        self._lower = np.tril_indices(model.nv, -1)
+        self._lower = np.tri(model.nv, k=-1, dtype=bool)
         self._joints = joint_arrays(model)
         self._damping = np.zeros(model.nv)
         self._damping[self._joints.v_index] = [joint.damping for joint in model.joints]
@@ -109,6 +110,8 @@ class RobotSimulation:
         self._decaying = bool(self._rates.any())
         self._limits = LimitSettings(self._settings.limit_slop, self._settings.limit_baumgarte)
         self._table: Optional[RowTable] = None
+        self._gains: Optional[Tuple[float, Tuple[float, float, float]]] = None
+        self._damping_matrix: Optional[Tuple[float, np.ndarray]] = None
         self.model.model.gravity.linear = np.array(self._settings.gravity, dtype=float)
 
     def _checked(self, state: RobotState) -> RobotState:
@@ -226,11 +229,11 @@ class RobotSimulation:
         frame = self.model.link_frames[link]
         model, data = self.model.model, self._data
         pinocchio.forwardKinematics(model, data, self._q, self._v)
-        placement = pinocchio.updateFramePlacement(model, data, frame)
-        twist = pinocchio.getFrameVelocity(model, data, frame, WORLD_ALIGNED)
-        return BodyState(tuple(placement.translation.tolist()),
-                         tuple(pinocchio.Quaternion(placement.rotation).coeffs().tolist()),
-                         tuple(twist.linear.tolist()), tuple(twist.angular.tolist()))
+        pose = pinocchio.SE3ToXYZQUAT(pinocchio.updateFramePlacement(model, data, frame))
+        twist = pinocchio.getFrameVelocity(model, data, frame, WORLD_ALIGNED).vector
+        x, y, z, qx, qy, qz, qw = pose.tolist()
+        vx, vy, vz, wx, wy, wz = twist.tolist()
+        return BodyState((x, y, z), (qx, qy, qz, qw), (vx, vy, vz), (wx, wy, wz))
 
     def link_placements(self) -> dict:
         """Return every link's (position, rotation matrix) in the world."""
@@ -262,12 +265,12 @@ class RobotSimulation:
     def _crba(self, q: np.ndarray) -> np.ndarray:
         """Return M(q), whole: Pinocchio's CRBA fills its upper triangle."""
         mass = pinocchio.crba(self.model.model, self._data, q).copy()
-        mass[self._lower] = mass.T[self._lower]
+        np.copyto(mass, mass.T, where=self._lower)
         return mass
 
     def _coriolis_rate(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """Return C(q, v)^T v, the velocity-dependent part of dp/dt."""
-        return pinocchio.computeCoriolisMatrix(self.model.model, self._data, q, v).T @ v
+        return v.dot(pinocchio.computeCoriolisMatrix(self.model.model, self._data, q, v))
 
     def _applied(self, q: np.ndarray) -> np.ndarray:
         """Return dp/dt's part that depends on q alone: -g(q) + the wrench's torques."""
@@ -289,13 +292,14 @@ class RobotSimulation:
             q, v = self._q, self._v
             rate = self._coriolis_rate(q, v) + self._applied(q) - self._damping * v
             self._p = self._p - 0.5 * h * rate
+            self._v = self._inverse_mass.dot(self._p)
             self._staggered = True
-        torque_sum = np.zeros(self.model.nv)
-        mouse_sum = np.zeros(3)
-        for _ in range(settings.substeps):
+        solution = self._substep(h)
+        torque_sum, mouse_sum = solution.joint_impulse, solution.mouse_impulse
+        for _ in range(settings.substeps - 1):
             solution = self._substep(h)
-            torque_sum += solution.joint_impulse
-            mouse_sum += solution.mouse_impulse
+            torque_sum = torque_sum + solution.joint_impulse
+            mouse_sum = mouse_sum + solution.mouse_impulse
         self._tick_mouse_impulse = (tuple(mouse_sum.tolist()), dt)
         self._tick_torque = torque_sum / dt
         self._time += dt
@@ -320,27 +324,31 @@ class RobotSimulation:
         # Pinocchio's M^-1 (its upper triangle, by the articulated-body recursion): exactly
         # symmetric once mirrored, and one call instead of factoring M.
         inverse = pinocchio.computeMinverse(self.model.model, self._data, q).copy()
-        inverse[self._lower] = inverse.T[self._lower]
+        np.copyto(inverse, inverse.T, where=self._lower)
         self._inverse_mass = inverse
+
+    def _substep_damping(self, h: float) -> np.ndarray:
+        """Return h D, the joints' damping over a substep, as a diagonal matrix."""
+        if self._damping_matrix is None or self._damping_matrix[0] != h:
+            self._damping_matrix = (h, np.diag(h * self._damping))
+        return self._damping_matrix[1]
 
     def _free_velocity(self, h: float) -> np.ndarray:
         """
         Return v* of the free motion: p + h (C(q, v*)^T v* - g - D v*) = M v*, by fixed point.
 
-        With joint damping D the system M + h D is solved (Cholesky, LAPACK through SciPy), else
-        M^-1 applies.
+        The passes start from v = M^-1 p. With joint damping D the system M + h D is solved
+        (Cholesky, LAPACK through SciPy), else M^-1 applies.
         """
-        q, p = self._q, self._p
-        applied = self._applied(q)
-        v = self._inverse_mass @ p
+        q, v = self._q, self._v
+        pushed = self._p + h * self._applied(q)
         damped = self._damped
         if damped:
-            damped_mass = self._mass_matrix.copy()
-            damped_mass.flat[::self.model.nv + 1] += h * self._damping
+            damped_mass = self._mass_matrix + self._substep_damping(h)
         for _ in range(FIXED_POINT_PASSES):
-            momentum = p + h * (self._coriolis_rate(q, v) + applied)
+            momentum = pushed + h * self._coriolis_rate(q, v)
             if not damped:
-                v = self._inverse_mass @ momentum
+                v = self._inverse_mass.dot(momentum)
                 continue
             _, v, info = lapack.dposv(damped_mass, momentum)
             if info != 0:  # M + h D is positive definite: only a broken M gets here
@@ -357,15 +365,15 @@ class RobotSimulation:
         table = self._table
         if table is None or table.h != h:
             table = self._table = RowTable(self._joints, self.model.nv, h, self._limits)
-            self._held = HeldSets(table.count)
+            self._held = HeldSets(table.first_guess)
         rows = prepare_rows(table, q, v, self._mouse_rows(q, h))
         solution = solve_rows(v, rows, self._inverse_mass, self._settings.iterations,
                               self._held)
         self._mouse_impulse = (solution.mouse_impulse, h)
         # 3. positions, and the momentum carried at the new configuration.
-        self._p = self._mass_matrix @ v
+        self._p = self._mass_matrix.dot(v)
         self._set_configuration(pinocchio.integrate(self.model.model, q, h * v))
-        self._v = self._inverse_mass @ self._p
+        self._v = self._inverse_mass.dot(self._p)
         return solution
 
     def _mouse_rows(self, q: np.ndarray, h: float) -> Optional[MouseRows]:
@@ -376,12 +384,18 @@ class RobotSimulation:
         frame, point = self._anchor
         pinocchio.computeJointJacobians(model, data, q)
         placement = pinocchio.updateFramePlacement(model, data, frame)
-        lever = placement.rotation @ point
+        lever = placement.rotation.dot(point)
         jacobian6 = pinocchio.getFrameJacobian(model, data, frame, WORLD_ALIGNED)
-        jacobian = jacobian6[:3] - skew(lever) @ jacobian6[3:]
+        jacobian = jacobian6[:3] - skew(lever).dot(jacobian6[3:])
         error = placement.translation + lever - self._target
-        a, b = self._settings.constraint.gains(h)
-        return MouseRows(jacobian, error, a, b, h * self.force_bound())
+        return MouseRows(jacobian, error, *self._mouse_gains(h))
+
+    def _mouse_gains(self, h: float) -> Tuple[float, float, float]:
+        """Return the mouse's a, b (``MouseConstraint.gains``) and h F_max for substeps of h."""
+        if self._gains is None or self._gains[0] != h:
+            a, b = self._settings.constraint.gains(h)
+            self._gains = (h, (a, b, h * self.force_bound()))
+        return self._gains[1]
 
     def force_bound(self) -> float:
         """Return the bound on the constraint force (N): max_force and max_force_per_weight."""
