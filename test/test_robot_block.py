@@ -229,14 +229,6 @@ def test_the_table_picks_the_rows_a_loop_over_the_joints_picks(seed, panda):
         assert rows.jacobian[row].tolist() == reference.tolist()
 
 
-def test_the_tables_stop_and_brake_parts_are_views_into_its_rows():
-    model, arrays = limited_pendulum()
-    table = RowTable(arrays, model.nv, 1e-3, LimitSettings(0.005, 0.2))
-    assert np.shares_memory(table.stop_mask, table.mask)
-    assert np.shares_memory(table.brake_mask, table.mask)
-    assert np.shares_memory(table.stop_target, table.target)
-
-
 def test_a_substeps_held_set_is_the_next_ones_first_and_a_new_state_forgets_it():
     model, arrays = limited_pendulum()
     table = RowTable(arrays, model.nv, 1e-3, LimitSettings(0.005, 0.2))

@@ -35,7 +35,7 @@ within ``MAX_TRIES`` returns None, and sequential impulses take the substep.
 """
 
 import math
-from typing import Dict, Optional, Tuple
+from typing import Dict, List, Optional, Tuple
 
 import numpy as np
 from scipy.linalg import lapack
@@ -74,36 +74,38 @@ def solve_block(jacobian: np.ndarray, mobility: np.ndarray, v: np.ndarray,
     if mouse_rows and mass_scale != 1.0:
         delassus[:mouse_rows, :mouse_rows] /= mass_scale
     rhs = target - jacobian.dot(v)
-    held = warm.copy()
-    held[:mouse_rows] = 0
+    # The set's bookkeeping is in Python numbers: a substep has a handful of rows, and a
+    # NumPy call on one costs more than a Python loop over them.
+    count, lows, highs = rhs.shape[0], lower.tolist(), upper.tolist()
+    held = warm.tolist()
+    held[:mouse_rows] = [0] * mouse_rows
     tolerance = TOLERANCE * max(1.0, max(map(abs, rhs.tolist())),
                                 max(delassus.diagonal().tolist()))
     # Each held row's impulse at its bound; the free rows' are solved for.
-    impulse = np.where(held < 0, lower, upper)
-    mouse_held = False
+    impulse = np.array([lows[row] if hold < 0 else highs[row] if hold > 0 else 0.0
+                        for row, hold in enumerate(held)])
+    first_free = 0  # the mouse's rows, once on their norm bound, are no longer solved for
     for _ in range(MAX_TRIES):
-        free = (held == 0).nonzero()[0]
-        if mouse_held:  # the mouse's rows lead the free rows; their impulse stays on its bound
-            free = free[mouse_rows:]
-        if free.shape[0]:
+        free = [row for row in range(first_free, count) if held[row] == 0]
+        if free:
             impulse.put(free, 0.0)
             rows_free = delassus.take(free, 0)
             right = rhs.take(free) - rows_free.dot(impulse)
             impulse.put(free, free_impulses(rows_free.take(free, 1), right))
-        if mouse_rows and not mouse_held:
+        if mouse_rows and not first_free:
             size = math.hypot(*impulse[:mouse_rows].tolist())
             if size > bound:
                 impulse[:mouse_rows] *= bound / size
-                mouse_held = True
+                first_free = mouse_rows
                 continue
-        change = most_violated(impulse, delassus.dot(impulse) - rhs, held, lower, upper,
-                               mouse_rows, tolerance)
+        change = most_violated(impulse.tolist(), (delassus.dot(impulse) - rhs).tolist(), held,
+                               lows, highs, mouse_rows, tolerance)
         if change is None:
-            return impulse, held
+            return impulse, np.array(held)
         row, side = change
         held[row] = side
         if side:
-            impulse[row] = lower[row] if side < 0 else upper[row]
+            impulse[row] = lows[row] if side < 0 else highs[row]
     return None
 
 
@@ -136,24 +138,27 @@ def free_impulses(matrix: np.ndarray, right: np.ndarray) -> np.ndarray:
     return solution
 
 
-def most_violated(impulse: np.ndarray, residual: np.ndarray, held: np.ndarray,
-                  lower: np.ndarray, upper: np.ndarray, mouse_rows: int,
+def most_violated(impulse: List[float], residual: List[float], held: List[int],
+                  lower: List[float], upper: List[float], mouse_rows: int,
                   tolerance: float) -> Optional[Tuple[int, int]]:
     """
     Return (row, its new hold) of the joint row that breaks its condition most, or None.
 
     A free row breaks it by leaving its bounds (it is then held at the bound it passed); a held
-    row by pulling the wrong way, its residual w = D x - r of the wrong sign (it is then freed).
+    row by pulling the wrong way, its residual w = D x - r of the wrong sign (w < 0 at its least
+    impulse, w > 0 at its largest: held * w > 0; it is then freed). Of rows that break it
+    equally, the first.
     """
-    free = held == 0
-    # A free row's distance outside its bounds; a held row's pull the wrong way (w < 0 at its
-    # least impulse, w > 0 at its largest): held * w.
-    outside = np.maximum(lower - impulse, impulse - upper)
-    violation = np.where(free, outside, held * residual)
-    violation[:mouse_rows] = -np.inf
-    row = int(violation.argmax())
-    if not violation[row] > tolerance:
-        return None
-    if held[row] != 0:
-        return row, 0
-    return row, (-1 if impulse[row] < lower[row] else 1)
+    worst, change = tolerance, None
+    for row in range(mouse_rows, len(held)):
+        hold = held[row]
+        if hold:
+            if hold * residual[row] > worst:
+                worst, change = hold * residual[row], (row, 0)
+            continue
+        below, above = lower[row] - impulse[row], impulse[row] - upper[row]
+        if below > worst and below >= above:
+            worst, change = below, (row, -1)
+        elif above > worst:
+            worst, change = above, (row, 1)
+    return change

@@ -178,9 +178,8 @@ class RowTable:
     The candidates, in order: the mouse's three, then each joint's lower stop, upper stop,
     friction, forward brake and backward brake (one block of joints per kind, in
     ``JOINT_KINDS`` order), then each mimic joint's. What does not change from one substep to
-    the next is filled once: each row's J but the mouse's, its bounds, kind and joint, the
-    brakes' targets and the hold a new row is first tried at; ``prepare_rows`` fills the rest
-    and picks.
+    the next is filled once: each row's J but the mouse's, its bounds, kind and joint, and the
+    hold a new row is first tried at; ``prepare_rows`` picks the rows and finds their targets.
 
     :param arrays: the joints' constants.
     :param nv: the robot's degrees of freedom.
@@ -196,8 +195,6 @@ class RowTable:
         self.count = MOUSE_ROWS + len(JOINT_KINDS) * joints + mimics
         kind_start = {kind: MOUSE_ROWS + number * joints
                       for number, kind in enumerate(JOINT_KINDS)}
-        stops = slice(kind_start[LOWER_LIMIT], kind_start[UPPER_LIMIT] + joints)
-        brakes = slice(kind_start[SPEED_FORWARD], kind_start[SPEED_BACKWARD] + joints)
         self.mimics = slice(self.count - mimics, self.count)
         inf, zeros, ones = math.inf, np.zeros(joints), np.ones(joints)
         brake, rub = h * arrays.effort, h * arrays.friction
@@ -215,8 +212,6 @@ class RowTable:
                                      np.full(mimics, -inf)))
         self.upper = np.concatenate((unbounded, inf * ones, zeros, rub, zeros, brake,
                                      np.full(mimics, inf)))
-        self.target = np.concatenate((np.zeros(MOUSE_ROWS + 3 * joints), arrays.velocity,
-                                      -arrays.velocity, np.zeros(mimics)))
         self.kind = np.concatenate((np.full(MOUSE_ROWS, MOUSE),
                                     np.repeat(JOINT_KINDS, joints).astype(int),
                                     np.full(mimics, MIMIC)))
@@ -226,26 +221,37 @@ class RowTable:
         # bound (not pushing), any other row free.
         self.first_guess = np.where((self.lower == 0.0) & np.isinf(self.upper), -1,
                                     np.where((self.upper == 0.0) & np.isinf(self.lower), 1, 0))
-        self.mask = np.zeros(self.count, dtype=bool)
-        self.mask[kind_start[FRICTION]:kind_start[FRICTION] + joints] = arrays.friction > 0.0
-        self.mask[self.mimics] = True
-        # Views by (side, joint) of the stops' and the brakes' parts.
-        self.stop_mask = self.mask[stops].reshape(2, joints)
-        self.stop_target = self.target[stops].reshape(2, joints)
-        self.brake_mask = self.mask[brakes].reshape(2, joints)
-        self.mimic_target = self.target[self.mimics]
-        # distance to each stop = side * position + offset: position - lower, upper - position;
-        # inf for a side without a stop, which never comes near.
-        self.side = np.array(((1.0,), (-1.0,)))
-        self.offset = np.stack((-arrays.lower, arrays.upper))
-        # the lower stop's row aims at -(the speed allowed toward it), the upper's at +: the
-        # speed is divided by these (exactly -h and h).
-        self.stop_divisor = -self.side * h
+        # What a substep reads to pick its rows, as Python numbers: a joint's checks cost less
+        # so than as array operations (a robot has tens of joints, not thousands).
+        number = range(joints)
+        self.stops = [(joint, kind_start[LOWER_LIMIT] + joint, kind_start[UPPER_LIMIT] + joint,
+                       float(arrays.lower[joint]), float(arrays.upper[joint]))
+                      for joint in number if arrays.limited[joint]]
+        self.friction_rows = [kind_start[FRICTION] + joint for joint in number
+                              if arrays.friction[joint] > 0.0]
+        self.brakes = [(joint, kind_start[SPEED_FORWARD] + joint,
+                        kind_start[SPEED_BACKWARD] + joint, float(arrays.velocity[joint]),
+                        SPEED_ROW_FROM * float(arrays.velocity[joint]))
+                       for joint in number if math.isfinite(arrays.velocity[joint])]
+        self.mimic_rows = [(row, int(follower), int(leader), float(multiplier), float(offset))
+                           for row, follower, leader, multiplier, offset in zip(
+                               range(self.mimics.start, self.count), arrays.mimic_follower,
+                               arrays.mimic_leader, arrays.mimic_multiplier,
+                               arrays.mimic_offset)]
         self.reach = limits.slop * LIMIT_REACH_SLOPS
         self.reach_per_speed = LIMIT_REACH_SUBSTEPS * h
-        # a joint gets its forward brake above this speed, its backward brake below its negative.
-        self.speed_from = SPEED_ROW_FROM * arrays.velocity
-        self.negative_speed_from = -self.speed_from
+
+
+def stop_speed(distance: float, limits: LimitSettings, h: float) -> float:
+    """
+    Return the speed a stop's row allows toward it, ``distance`` from it (negative: past it).
+
+    Ahead of the stop: arrive at it in the substep; past it by more than the slop: back out by
+    ``baumgarte`` of the rest per substep.
+    """
+    if distance >= 0.0:
+        return distance / h
+    return limits.baumgarte * min(distance + limits.slop, 0.0) / h
 
 
 def prepare_rows(table: RowTable, q: np.ndarray, v: np.ndarray,
@@ -262,33 +268,53 @@ def prepare_rows(table: RowTable, q: np.ndarray, v: np.ndarray,
     :param mouse: the mouse's rows, or None when it holds nothing.
     """
     arrays, h, limits = table.arrays, table.h, table.limits
-    joint_v = v.take(arrays.v_index)
-    positions = joint_positions(arrays, q)
-    distance = table.side * positions + table.offset
-    np.less_equal(distance, table.reach_per_speed * np.abs(joint_v) + table.reach,
-                  out=table.stop_mask)
-    # toward a stop: arrive at it in the substep; past it by more than the slop, back out by
-    # ``baumgarte`` of the rest (one of the two terms is zero).
-    past = np.minimum(distance + limits.slop, 0.0)
-    allowed = np.maximum(distance, 0.0) + limits.baumgarte * past
-    np.divide(allowed, table.stop_divisor, out=table.stop_target)
-    np.greater(joint_v, table.speed_from, out=table.brake_mask[0])
-    np.less(joint_v, table.negative_speed_from, out=table.brake_mask[1])
-    if table.mimics.start != table.count:
-        error = positions.take(arrays.mimic_follower) - (
-            arrays.mimic_multiplier * positions.take(arrays.mimic_leader) + arrays.mimic_offset)
-        np.multiply(error, -limits.baumgarte / h, out=table.mimic_target)
+    positions = joint_positions(arrays, q).tolist()
+    velocities = v.take(arrays.v_index).tolist()
+    picked, targets = [], []
     if mouse is not None:
         table.jacobian[:MOUSE_ROWS] = mouse.jacobian
-        np.multiply(mouse.error, -mouse.bias_factor / mouse.mass_scale,
-                    out=table.target[:MOUSE_ROWS])
-    table.mask[:MOUSE_ROWS] = mouse is not None
-    picked = table.mask.nonzero()[0]
-    rows = (table.jacobian.take(picked, 0), table.target.take(picked), table.lower.take(picked),
-            table.upper.take(picked), picked, table.first_guess.take(picked))
+        picked.extend(range(MOUSE_ROWS))
+        targets.extend((mouse.error * (-mouse.bias_factor / mouse.mass_scale)).tolist())
+    # the stops near (the upper ones' rows after every lower one's, as the table holds them)
+    upper_rows, upper_targets = [], []
+    reach, reach_per_speed = table.reach, table.reach_per_speed
+    for joint, lower_row, upper_row, lower, upper in table.stops:
+        position = positions[joint]
+        near = reach_per_speed * abs(velocities[joint]) + reach
+        if position - lower <= near:
+            picked.append(lower_row)
+            targets.append(-stop_speed(position - lower, limits, h))
+        if upper - position <= near:
+            upper_rows.append(upper_row)
+            upper_targets.append(stop_speed(upper - position, limits, h))
+    picked += upper_rows
+    targets += upper_targets
+    picked += table.friction_rows
+    targets += [0.0] * len(table.friction_rows)
+    # the brakes: forward ones' rows, then backward ones'
+    backward_rows, backward_targets = [], []
+    for joint, forward_row, backward_row, limit, speed_from in table.brakes:
+        speed = velocities[joint]
+        if speed > speed_from:
+            picked.append(forward_row)
+            targets.append(limit)
+        elif speed < -speed_from:
+            backward_rows.append(backward_row)
+            backward_targets.append(-limit)
+    picked += backward_rows
+    targets += backward_targets
+    correction = -limits.baumgarte / h
+    for row, follower, leader, multiplier, offset in table.mimic_rows:
+        picked.append(row)
+        targets.append(
+            (positions[follower] - (multiplier * positions[leader] + offset)) * correction)
+    rows = np.array(picked, dtype=np.intp)
+    picked_rows = (table.jacobian.take(rows, 0), np.array(targets, dtype=float),
+                   table.lower.take(rows), table.upper.take(rows), rows,
+                   table.first_guess.take(rows))
     if mouse is None:
-        return Rows(*rows)
-    return Rows(*rows, MOUSE_ROWS, mouse.mass_scale, mouse.bound)
+        return Rows(*picked_rows)
+    return Rows(*picked_rows, MOUSE_ROWS, mouse.mass_scale, mouse.bound)
 
 
 class HeldSets:
