@@ -77,7 +77,7 @@ def test_the_block_solve_meets_every_rows_condition(seed):
     inverse, v, rows = random_problem(seed)
     mobility = inverse @ rows.jacobian.T
     solved = solve_block(rows.jacobian, mobility, v, rows.target, rows.lower, rows.upper, 3,
-                         rows.mass_scale, rows.bound, rows.first_guess)
+                         rows.mass_scale, rows.bound, rows.first_guess.tolist())
     assert solved is not None
     impulse, _held = solved
     after = v + mobility @ impulse
@@ -235,12 +235,12 @@ def test_a_substeps_held_set_is_the_next_ones_first_and_a_new_state_forgets_it()
     q, v = np.array([0.499, -0.52]), np.array([0.3, -0.1])
     rows = prepare_rows(table, q, v)
     held_sets = HeldSets(table.first_guess)
-    assert held_sets.first(rows).tolist() == rows.first_guess.tolist()
-    held = np.array([(-1, 1, 0)[k % 3] for k in range(rows.count)])
+    assert held_sets.first(rows) == rows.first_guess.tolist()
+    held = [(-1, 1, 0)[k % 3] for k in range(rows.count)]
     held_sets.remember(rows, held)
-    assert held_sets.first(rows).tolist() == held.tolist()
+    assert held_sets.first(rows) == held
     held_sets.clear()
-    assert held_sets.first(rows).tolist() == rows.first_guess.tolist()
+    assert held_sets.first(rows) == rows.first_guess.tolist()
     # A stop is first tried at its zero bound; friction, two-sided, free.
     guesses = dict(zip(table.kind[rows.picked].tolist(), rows.first_guess.tolist()))
     assert guesses[LOWER_LIMIT] == -1 and guesses[UPPER_LIMIT] == 1 and guesses[FRICTION] == 0

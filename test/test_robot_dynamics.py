@@ -283,3 +283,22 @@ def test_the_speed_limit_caps_the_joint_with_at_most_its_effort():
     for _tick in range(500):
         simulation.step(DT)
     assert abs(simulation.joint_velocities()[0]) > 0.6
+
+
+def test_a_pinocchio_that_fills_the_upper_triangle_only_steps_the_same(panda, monkeypatch):
+    # Pinocchio before 4 returns M and M^-1 with their upper triangle only: the simulation
+    # mirrors them, and steps exactly as with this Pinocchio's whole matrices.
+    model = panda.model
+    whole = RobotSimulation(model, RobotSettings(), initial_state(model))
+    for _tick in range(50):
+        whole.step(DT)
+    for name in ('crba', 'computeMinverse'):
+        compute = getattr(pinocchio, name)
+        monkeypatch.setattr(pinocchio, name,
+                            lambda *arguments, compute=compute: np.triu(compute(*arguments)))
+    upper = RobotSimulation(model, RobotSettings(), initial_state(model))
+    assert upper._mirrored and not whole._mirrored
+    for _tick in range(50):
+        upper.step(DT)
+    assert upper.state.q.tolist() == whole.state.q.tolist()
+    assert upper.state.v.tolist() == whole.state.v.tolist()

@@ -53,8 +53,8 @@ PIVOT_TOLERANCE = 1e-9
 
 def solve_block(jacobian: np.ndarray, mobility: np.ndarray, v: np.ndarray,
                 target: np.ndarray, lower: np.ndarray, upper: np.ndarray, mouse_rows: int,
-                mass_scale: float, bound: float, warm: np.ndarray
-                ) -> Optional[Tuple[np.ndarray, np.ndarray]]:
+                mass_scale: float, bound: float, warm: List[int]
+                ) -> Optional[Tuple[np.ndarray, List[int]]]:
     """
     Return the rows' impulses x and the set they settled on, or None if no set settled.
 
@@ -77,7 +77,7 @@ def solve_block(jacobian: np.ndarray, mobility: np.ndarray, v: np.ndarray,
     # The set's bookkeeping is in Python numbers: a substep has a handful of rows, and a
     # NumPy call on one costs more than a Python loop over them.
     count, lows, highs = rhs.shape[0], lower.tolist(), upper.tolist()
-    held = warm.tolist()
+    held = list(warm)
     held[:mouse_rows] = [0] * mouse_rows
     tolerance = TOLERANCE * max(1.0, max(map(abs, rhs.tolist())),
                                 max(delassus.diagonal().tolist()))
@@ -101,7 +101,7 @@ def solve_block(jacobian: np.ndarray, mobility: np.ndarray, v: np.ndarray,
         change = most_violated(impulse.tolist(), (delassus.dot(impulse) - rhs).tolist(), held,
                                lows, highs, mouse_rows, tolerance)
         if change is None:
-            return impulse, np.array(held)
+            return impulse, held
         row, side = change
         held[row] = side
         if side:

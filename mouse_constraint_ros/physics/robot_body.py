@@ -196,7 +196,7 @@ class RobotBody:
 
     def step(self, dt: float) -> BodyState:
         """Advance ``dt``; return the tracked link's state."""
-        self.robot.step(dt)
+        self.robot.advance(dt)
         return self.state
 
     def reset(self) -> None:

@@ -45,7 +45,7 @@ few dozen array operations whatever its number of joints.
 """
 
 import math
-from typing import NamedTuple, Optional
+from typing import List, NamedTuple, Optional, Sequence
 
 import numpy as np
 
@@ -322,28 +322,31 @@ class HeldSets:
     Which bound each row of the table held at the last substep's end: the next solve's first set.
 
     -1: held at its least impulse, 0: free, +1: held at its largest. A row the last substep did
-    not have is tried at its ``first_guess``.
+    not have is tried at its ``first_guess``. Python numbers, as the block solve reads them.
 
     :param first_guess: each row's hold when nothing is known of it (``RowTable.first_guess``).
     """
 
     def __init__(self, first_guess: np.ndarray) -> None:
         """Start knowing nothing."""
-        self._first_guess = first_guess
-        self._held = first_guess.copy()
+        self._first_guess: List[int] = first_guess.tolist()
+        self._held = list(self._first_guess)
 
     def clear(self) -> None:
         """Forget every row's hold (a new state)."""
-        np.copyto(self._held, self._first_guess)
+        self._held[:] = self._first_guess
 
-    def first(self, rows: Rows) -> np.ndarray:
+    def first(self, rows: Rows) -> List[int]:
         """Return the set to try first for ``rows``: each row's last hold, else its guess."""
-        return self._held.take(rows.picked)
+        held = self._held
+        return [held[row] for row in rows.picked.tolist()]
 
-    def remember(self, rows: Rows, held: np.ndarray) -> None:
+    def remember(self, rows: Rows, held: Sequence[int]) -> None:
         """Keep ``held``, each row's hold, for the next substep; forget the rest."""
-        np.copyto(self._held, self._first_guess)
-        self._held.put(rows.picked, held)
+        table_held = self._held
+        table_held[:] = self._first_guess
+        for row, hold in zip(rows.picked.tolist(), held):
+            table_held[row] = hold
 
 
 class RowSolution(NamedTuple):
@@ -375,7 +378,7 @@ def solve_rows(v: np.ndarray, rows: Rows, inverse_mass: np.ndarray, iterations: 
         return RowSolution(np.zeros(nv), np.zeros(MOUSE_ROWS))
     jacobian = rows.jacobian
     mobility = inverse_mass.dot(jacobian.T)
-    warm = held_sets.first(rows) if held_sets is not None else rows.first_guess
+    warm = held_sets.first(rows) if held_sets is not None else rows.first_guess.tolist()
     solved = solve_block(jacobian, mobility, v, rows.target, rows.lower, rows.upper,
                          rows.mouse_rows, rows.mass_scale, rows.bound, warm)
     if solved is not None:

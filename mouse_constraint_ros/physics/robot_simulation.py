@@ -61,6 +61,21 @@ def skew(r: np.ndarray) -> np.ndarray:
     return np.array(((0.0, -z, y), (z, 0.0, -x), (-y, x, 0.0)))
 
 
+def returns_whole(model: pinocchio.Model, data: pinocchio.Data) -> bool:
+    """
+    Return whether this Pinocchio's CRBA and M^-1 come back whole, or their upper triangle only.
+
+    Pinocchio 4 returns both triangles; earlier releases fill the upper one. Read once, at a
+    configuration away from the neutral one (where a symmetric M there is symmetric everywhere:
+    M(q) is analytic in q).
+    """
+    q = pinocchio.integrate(model, pinocchio.neutral(model),
+                            np.random.default_rng(0).uniform(-1.0, 1.0, model.nv))
+    mass = pinocchio.crba(model, data, q)
+    inverse = pinocchio.computeMinverse(model, data, q)
+    return bool(np.array_equal(mass, mass.T) and np.array_equal(inverse, inverse.T))
+
+
 class RobotSimulation:
     """
     The robot, its settings, its grab and its target, advanced by ``step``.
@@ -76,6 +91,7 @@ class RobotSimulation:
         self.model = model
         self._data = model.model.createData()
         self._lower = np.tri(model.nv, k=-1, dtype=bool)
+        self._mirrored = not returns_whole(model.model, self._data)
         self._joints = joint_arrays(model)
         self._damping = np.zeros(model.nv)
         self._damping[self._joints.v_index] = [joint.damping for joint in model.joints]
@@ -265,7 +281,8 @@ class RobotSimulation:
     def _crba(self, q: np.ndarray) -> np.ndarray:
         """Return M(q), whole: Pinocchio's CRBA fills its upper triangle."""
         mass = pinocchio.crba(self.model.model, self._data, q).copy()
-        np.copyto(mass, mass.T, where=self._lower)
+        if self._mirrored:
+            np.copyto(mass, mass.T, where=self._lower)
         return mass
 
     def _coriolis_rate(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -285,6 +302,11 @@ class RobotSimulation:
 
     def step(self, dt: float) -> RobotState:
         """Advance ``dt`` seconds in ``settings.substeps`` substeps; return the new state."""
+        self.advance(dt)
+        return self.state
+
+    def advance(self, dt: float) -> None:
+        """Advance ``dt`` seconds in ``settings.substeps`` substeps."""
         dt = scalar('dt', dt, above=0.0, at_most=1.0)
         settings = self._settings
         h = dt / settings.substeps
@@ -303,7 +325,6 @@ class RobotSimulation:
         self._tick_mouse_impulse = (tuple(mouse_sum.tolist()), dt)
         self._tick_torque = torque_sum / dt
         self._time += dt
-        return self.state
 
     def _decay(self) -> np.ndarray:
         """Return the body damping's rate per coordinate of v (1/s)."""
@@ -321,10 +342,11 @@ class RobotSimulation:
         """Move to ``q``: M(q) and its inverse (symmetrized) with it."""
         self._q = q
         self._mass_matrix = self._crba(q)
-        # Pinocchio's M^-1 (its upper triangle, by the articulated-body recursion): exactly
-        # symmetric once mirrored, and one call instead of factoring M.
+        # Pinocchio's M^-1 (by the articulated-body recursion): exactly symmetric (mirrored
+        # where Pinocchio fills the upper triangle only), and one call instead of factoring M.
         inverse = pinocchio.computeMinverse(self.model.model, self._data, q).copy()
-        np.copyto(inverse, inverse.T, where=self._lower)
+        if self._mirrored:
+            np.copyto(inverse, inverse.T, where=self._lower)
         self._inverse_mass = inverse
 
     def _substep_damping(self, h: float) -> np.ndarray:
