@@ -20,8 +20,9 @@ and impulses x change v by M^-1 A^T x, and the joint torques by A^T x / h. The p
 Box2D's solvers name theirs:
 
 1. prepare (``prepare_rows``): the substep's rows as arrays (``Rows``): A, each row's target
-   velocity and impulse bounds, what kind of row it is and on which joint, from the substep's
-   q and v and the joints' constants (``JointArrays``, once per model);
+   velocity and impulse bounds and its number in the table (``RowTable``: what kind of row it
+   is and on which joint), from the substep's q and v and the joints' constants
+   (``JointArrays``, once per model);
 2. solve (``solve_rows``): all rows together, exactly (``robot_block``), the last substep's
    held set tried first (``HeldSets``); if no set settles, sequential impulses
    (``robot_sweeps``);
@@ -40,8 +41,10 @@ joint's ``velocity`` with at most its ``effort`` (a brake, as ODE's joint motor 
 mimic joint is a two-sided row J = e_i - k e_j holding q_i = k q_j + offset, its error
 corrected as a limit's is.
 
-The rows are arrays, not a Python object per row: a robot's substep builds and solves them in a
-few dozen array operations whatever its number of joints.
+The rows are arrays, not a Python object per row, and no array operation runs on one row: one
+pass over the joints in Python numbers picks them (a robot has tens of joints, and a NumPy call
+on a handful of numbers costs more than a loop over them), a few array operations gather and
+solve them.
 """
 
 import math
