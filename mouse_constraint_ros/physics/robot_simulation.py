@@ -36,7 +36,7 @@ momentum is moved back half a substep first, which makes the positions second-or
 """
 
 import math
-from typing import Optional, Sequence, Tuple
+from typing import Dict, Optional, Sequence, Tuple
 
 import numpy as np
 import pinocchio
@@ -126,8 +126,9 @@ class RobotSimulation:
         self._decaying = bool(self._rates.any())
         self._limits = LimitSettings(self._settings.limit_slop, self._settings.limit_baumgarte)
         self._table: Optional[RowTable] = None
-        self._gains: Optional[Tuple[float, Tuple[float, float, float]]] = None
-        self._damping_matrix: Optional[Tuple[float, np.ndarray]] = None
+        # By substep length h: the mouse's gains and force bound, and h D.
+        self._gains: Dict[float, Tuple[float, float, float]] = {}
+        self._damping_matrices: Dict[float, np.ndarray] = {}
         self.model.model.gravity.linear = np.array(self._settings.gravity, dtype=float)
 
     def _checked(self, state: RobotState) -> RobotState:
@@ -279,7 +280,7 @@ class RobotSimulation:
 
     # --- the step -----------------------------------------------------------------------------
     def _crba(self, q: np.ndarray) -> np.ndarray:
-        """Return M(q), whole: Pinocchio's CRBA fills its upper triangle."""
+        """Return M(q), whole (mirrored where Pinocchio's CRBA fills its upper triangle only)."""
         mass = pinocchio.crba(self.model.model, self._data, q).copy()
         if self._mirrored:
             np.copyto(mass, mass.T, where=self._lower)
@@ -351,9 +352,10 @@ class RobotSimulation:
 
     def _substep_damping(self, h: float) -> np.ndarray:
         """Return h D, the joints' damping over a substep, as a diagonal matrix."""
-        if self._damping_matrix is None or self._damping_matrix[0] != h:
-            self._damping_matrix = (h, np.diag(h * self._damping))
-        return self._damping_matrix[1]
+        matrix = self._damping_matrices.get(h)
+        if matrix is None:
+            matrix = self._damping_matrices[h] = np.diag(h * self._damping)
+        return matrix
 
     def _free_velocity(self, h: float) -> np.ndarray:
         """
@@ -414,10 +416,11 @@ class RobotSimulation:
 
     def _mouse_gains(self, h: float) -> Tuple[float, float, float]:
         """Return the mouse's a, b (``MouseConstraint.gains``) and h F_max for substeps of h."""
-        if self._gains is None or self._gains[0] != h:
+        gains = self._gains.get(h)
+        if gains is None:
             a, b = self._settings.constraint.gains(h)
-            self._gains = (h, (a, b, h * self.force_bound()))
-        return self._gains[1]
+            gains = self._gains[h] = (a, b, h * self.force_bound())
+        return gains
 
     def force_bound(self) -> float:
         """Return the bound on the constraint force (N): max_force and max_force_per_weight."""
