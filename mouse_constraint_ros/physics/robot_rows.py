@@ -225,7 +225,11 @@ class RowTable:
         self.first_guess = np.where((self.lower == 0.0) & np.isinf(self.upper), -1,
                                     np.where((self.upper == 0.0) & np.isinf(self.lower), 1, 0))
         # What a substep reads to pick its rows, as Python numbers: a joint's checks cost less
-        # so than as array operations (a robot has tens of joints, not thousands).
+        # so than as array operations (a robot has tens of joints, not thousands). Plain tuples
+        # (a named tuple unpacks slower), each named where the loop of ``prepare_rows`` unpacks
+        # it: stops (joint, lower_row, upper_row, lower, upper), brakes (joint, forward_row,
+        # backward_row, limit, speed_from), mimic rows (row, follower, leader, multiplier,
+        # offset); joints by their number, rows by theirs in the table.
         number = range(joints)
         self.stops = [(joint, kind_start[LOWER_LIMIT] + joint, kind_start[UPPER_LIMIT] + joint,
                        float(arrays.lower[joint]), float(arrays.upper[joint]))
