@@ -53,15 +53,16 @@ operations per sweep, and Python calls and tuples would cost more than that.
 """
 
 import math
+import sys
 from typing import List, Optional, Tuple
 
 from . import floor_energy, floor_sticking, normal_block
 from .algebra import congruence, rotation_matrix, Vector3
-from .contact_row import (BITANGENT_IMPULSE, BITANGENT_TURN_X, BITANGENT_TURN_Y, BITANGENT_TURN_Z,
-                          IMPULSES, LEVER_X, LEVER_Y, LEVER_Z, NORMAL_IMPULSE, NORMAL_MASS,
-                          NORMAL_STIFFNESS, NORMAL_TURN_X, NORMAL_TURN_Y, NORMAL_TURN_Z, POINT,
-                          SEPARATION, TANGENT_IMPULSE, TANGENT_TURN_X, TANGENT_TURN_Y,
-                          TANGENT_TURN_Z)
+from .contact_row import (BITANGENT_IMPULSE, BITANGENT_MASS, BITANGENT_TURN_X, BITANGENT_TURN_Y,
+                          BITANGENT_TURN_Z, IMPULSES, LEVER_X, LEVER_Y, LEVER_Z, NORMAL_IMPULSE,
+                          NORMAL_MASS, NORMAL_STIFFNESS, NORMAL_TURN_X, NORMAL_TURN_Y,
+                          NORMAL_TURN_Z, POINT, SEPARATION, TANGENT_IMPULSE, TANGENT_MASS,
+                          TANGENT_TURN_X, TANGENT_TURN_Y, TANGENT_TURN_Z)
 from .floor_energy import CONVERGED_SPEED, twice_energy
 
 # Fraction of the penetration beyond the slop that the split impulses remove per substep.
@@ -69,6 +70,10 @@ POSITION_RATE = 0.2
 # m r^2 / I beyond which a box's normal rows are solved as a block (``_strongly_coupled``): a
 # URDF written in grams gives thousands; a box's own inertia, 3 to 15.
 COUPLED_RATIO = 100.0
+
+# The share of a contact's normal impulse within which its impulses' changes in a sweep are
+# their rounding (16 units in the last place; a resting body's chatter is within 2 or 3).
+IMPULSE_ROUNDING = 16.0 * sys.float_info.epsilon
 
 # The contacts as ``solve`` keeps them: a list of ``contact_row.SLOTS`` floats each, read and
 # written by their slots' names (``contact_row``).
@@ -308,7 +313,8 @@ def _sweeps(rows: Rows, velocities: Tuple[float, ...], im: float, friction: floa
     """
     Return the velocities after the sequential-impulse sweeps over ``rows``, and if converged.
 
-    Converged: the last sweep changed no contact's velocity by more than ``CONVERGED_SPEED``.
+    Converged: the last sweep changed no contact's velocity by more than ``CONVERGED_SPEED``,
+    or by more than the rounding of the contacts' impulses moves it (``_rounding``).
     With ``block``, a sweep that has not converged is followed by ``normal_block``'s exact
     solve of the normal rows, which the next sweep then confirms or refines.
     Each sweep solves a contact's friction, then its normal row, so that the sweep ends with
@@ -365,7 +371,7 @@ def _sweeps(rows: Rows, velocities: Tuple[float, ...], im: float, friction: floa
                     largest = change
                 pn = total
             row[normal], row[tangent], row[bitangent] = pn, pt, pb
-        if largest <= CONVERGED_SPEED:
+        if largest <= CONVERGED_SPEED or largest <= _rounding(rows):
             return (vx, vy, vz, wx, wy, wz), True
         if block is not None:
             impulses = normal_block.impulses(rows, vz, wx, wy, block, CONVERGED_SPEED, memo)
@@ -381,6 +387,25 @@ def _sweeps(rows: Rows, velocities: Tuple[float, ...], im: float, friction: floa
                     wz += d * row[NORMAL_TURN_Z]
                     row[NORMAL_IMPULSE] = total
     return (vx, vy, vz, wx, wy, wz), False
+
+
+def _rounding(rows: Rows) -> float:
+    """
+    Return the most a contact's velocity changes in a sweep by the rounding of the impulses (m/s).
+
+    An accumulated impulse P is rounded to some 1e-16 of itself at each update, and a change of
+    the impulses by that moves a contact's velocity by that times its stiffness: for a body whose
+    impulses are large and whose contacts are stiff (1e12 kg on a small inertia, m r^2 / I some
+    1e12) more than ``CONVERGED_SPEED``, and the sweeps would never settle on the rounding's
+    chatter. A contact's friction impulses stay within mu P_n, so its normal impulse P_n bounds
+    their rounding too. For any body whose m r^2 / I is below some 1e8 this is below
+    ``CONVERGED_SPEED``, and the sweeps stop where they always did.
+    """
+    largest = 0.0
+    for row in rows:
+        stiffness = max(row[NORMAL_STIFFNESS], 1.0 / row[TANGENT_MASS] + 1.0 / row[BITANGENT_MASS])
+        largest = max(largest, row[NORMAL_IMPULSE] * stiffness)
+    return IMPULSE_ROUNDING * largest
 
 
 def contact_points(position: Vector3, rows: Rows) -> Tuple[Tuple[int, Vector3, float], ...]:
