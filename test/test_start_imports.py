@@ -37,10 +37,12 @@ from typing import Dict, Set
 
 from geometry_msgs.msg import PoseStamped
 import pytest
-from visualization_msgs.msg import InteractiveMarkerUpdate, Marker
+from visualization_msgs.msg import Marker
+from visualization_msgs.srv import GetInteractiveMarkers
 
 from mouse_constraint_ros.cli.urdf_params import params_text
-from mouse_constraint_ros.wire.interface import MARKER_QOS, MARKER_UPDATE_TOPIC
+from mouse_constraint_ros.timing.spin import call_until_answered, StopRequest
+from mouse_constraint_ros.wire.interface import MARKER_SERVICE
 from test_support import processes
 from test_support.ros_harness import RosHarness
 
@@ -158,11 +160,18 @@ def test_the_marker_loads_only_what_the_body_needs(node):
     """Once it serves the body: the box's CUBE, or the tool's pieces (its handle a CYLINDER)."""
     body, _, ros = node
     drawn = Marker.CYLINDER if body == 'urdf' else Marker.CUBE
-    updates = ros.collect(InteractiveMarkerUpdate, MARKER_UPDATE_TOPIC, depth=MARKER_QOS.depth)
+    client = ros.probe.create_client(GetInteractiveMarkers, MARKER_SERVICE)
 
     def served() -> bool:
-        return any(piece.type == drawn for update in updates for marker in update.markers
-                   for control in marker.controls for piece in control.markers)
+        # The marker as it stands, asked again until it holds the body: the one update that
+        # brings the body may go before this process's reader matched the marker's writer.
+        if not client.service_is_ready():
+            return False
+        response = call_until_answered(client, GetInteractiveMarkers.Request(), ros.executor,
+                                       StopRequest(), deadline=time.monotonic() + TIMEOUT)
+        return response is not None and any(
+            piece.type == drawn for marker in response.markers for control in marker.controls
+            for piece in control.markers)
     marker = processes.ChildProcess([str(BIN / 'mouse_marker')], environment=_environment())
     try:
         _wait(ros, served, marker, 'the body served')
