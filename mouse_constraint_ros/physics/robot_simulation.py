@@ -53,6 +53,7 @@ from .state import BodyState
 from .validation import finite_vector, scalar
 
 WORLD_ALIGNED = pinocchio.ReferenceFrame.LOCAL_WORLD_ALIGNED
+# The free motion's fixed-point passes from M^-1 p where there is no last change to start from.
 FIXED_POINT_PASSES = 2
 
 
