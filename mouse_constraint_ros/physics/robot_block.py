@@ -88,9 +88,14 @@ def solve_block(jacobian: np.ndarray, mobility: np.ndarray, v: np.ndarray,
     for _ in range(MAX_TRIES):
         free = [row for row in range(first_free, count) if held[row] == 0]
         if free:
-            impulse.put(free, 0.0)
             rows_free = delassus.take(free, 0)
-            right = rhs.take(free) - rows_free.dot(impulse)
+            right = rhs.take(free)
+            # The held rows' impulses push the free rows too, unless all are zero (a stop held
+            # at its bound pushes nothing).
+            if first_free or any(held[row] and (lows[row] if held[row] < 0 else highs[row])
+                                 for row in range(count)):
+                impulse.put(free, 0.0)
+                right = right - rows_free.dot(impulse)
             impulse.put(free, free_impulses(rows_free.take(free, 1), right))
         if mouse_rows and not first_free:
             size = math.hypot(*impulse[:mouse_rows].tolist())

@@ -300,16 +300,16 @@ class RobotSimulation:
         """Return C(q, v)^T v, the velocity-dependent part of dp/dt."""
         return v.dot(pinocchio.computeCoriolisMatrix(self.model.model, self._data, q, v))
 
-    def _applied(self, q: np.ndarray) -> np.ndarray:
-        """Return dp/dt's part that depends on q alone: -g(q) + the wrench's torques."""
+    def _load(self, q: np.ndarray) -> np.ndarray:
+        """Return -dp/dt's part that depends on q alone: g(q) - the wrench's torques."""
         model, data = self.model.model, self._data
-        rate = -pinocchio.computeGeneralizedGravity(model, data, q)
+        load = pinocchio.computeGeneralizedGravity(model, data, q)
         if self._wrenched:
             force, torque = self._wrench
             pinocchio.computeJointJacobians(model, data, q)
             jacobian = pinocchio.getFrameJacobian(model, data, self._wrench_frame, WORLD_ALIGNED)
-            rate += jacobian.T @ np.concatenate((force, torque))
-        return rate
+            load = load - jacobian.T @ np.concatenate((force, torque))
+        return load
 
     def step(self, dt: float) -> RobotState:
         """Advance ``dt`` seconds in ``settings.substeps`` substeps; return the new state."""
@@ -323,7 +323,7 @@ class RobotSimulation:
         h = dt / settings.substeps
         if not self._staggered:
             q, v = self._q, self._v
-            rate = self._coriolis_rate(q, v) + self._applied(q) - self._damping * v
+            rate = self._coriolis_rate(q, v) - self._load(q) - self._damping * v
             self._p = self._p - 0.5 * h * rate
             self._v = self._inverse_mass.dot(self._p)
             self._staggered = True
@@ -384,7 +384,7 @@ class RobotSimulation:
             v, passes = start + last.change, 1
         else:
             v, passes = start, FIXED_POINT_PASSES
-        pushed = self._p + h * self._applied(q)
+        pushed = self._p - h * self._load(q)
         damped = self._damped
         if damped:
             damped_mass = self._mass_matrix + self._substep_damping(h)
