@@ -22,6 +22,7 @@ import pytest
 
 from mouse_constraint_ros.description.robot_description import load_robot
 from mouse_constraint_ros.physics.mouse_joint import MouseConstraint
+from mouse_constraint_ros.physics.robot_rows import MAX_JOINT_TRAVEL, travel_bound
 from mouse_constraint_ros.physics.robot_simulation import RobotSimulation
 from mouse_constraint_ros.physics.robot_state import initial_state, RobotSettings
 from test_support.robots import (collection_urdf, double_pendulum, double_pendulum_tip, G)
@@ -332,3 +333,71 @@ def test_a_pinocchio_that_fills_the_upper_triangle_only_steps_the_same(panda, mo
         upper.step(DT)
     assert upper.state.q.tolist() == whole.state.q.tolist()
     assert upper.state.v.tolist() == whole.state.v.tolist()
+
+
+def test_a_robot_of_vector_space_joints_moves_by_the_sum_pinocchio_integrates(panda):
+    # Revolute and prismatic joints only (nq = nv): q + h v is Pinocchio's integrate, bit for
+    # bit, while the arm falls onto its stops and the mouse drags it.
+    model = panda.model
+    runs = []
+    for additive in (True, False):
+        settings = RobotSettings(constraint=MouseConstraint(max_force_per_weight=20.0),
+                                 substeps=2)
+        simulation = RobotSimulation(model, settings, initial_state(model))
+        assert simulation._additive
+        simulation._additive = additive
+        simulation.grab('panda_hand', (0.0, 0.0, 0.1))
+        states = []
+        for tick in range(100):
+            simulation.target = (0.4, 0.1 * math.sin(0.05 * tick), 0.5) if tick >= 50 else None
+            states.append(simulation.step(DT))
+        runs.append(states)
+    for summed, integrated in zip(*runs):
+        assert summed.q.tolist() == integrated.q.tolist()
+        assert summed.v.tolist() == integrated.v.tolist()
+
+
+def test_a_continuous_joint_is_integrated_on_its_circle():
+    simulation = pendulum(double_pendulum(kind='continuous'))
+    assert not simulation._additive
+    for _tick in range(100):
+        simulation.step(DT)
+    cos, sin = simulation.state.q[:2].tolist()
+    assert math.hypot(cos, sin) == pytest.approx(1.0, abs=1e-15)
+
+
+@pytest.mark.parametrize('goal', [(3.0, 0.0, 0.5), (0.0, -3.0, 0.5), (0.5, 0.3, 0.4)])
+def test_an_unbounded_rigid_mouse_moves_no_joint_more_than_the_travel_a_substep(panda, goal):
+    # From the Panda's stretched, singular zero pose, toward a target out of reach or within
+    # it, with no force bound: without the bounds the joints reach thousands of rad/s and the
+    # step runs away to NaN within a few hundred ticks.
+    model = panda.model
+    simulation = RobotSimulation(model, RobotSettings(substeps=2), initial_state(model))
+    simulation.grab('panda_hand', (0.0, 0.0, 0.0))
+    guide = np.array(simulation.anchor_position())
+    q = simulation.state.q
+    largest_move = 0.0
+    for _tick in range(1500):
+        away = np.array(goal) - guide
+        distance = float(np.linalg.norm(away))
+        guide = guide + away * min(1.0, 0.002 / distance) if distance > 0.0 else guide
+        simulation.target = tuple(guide)
+        state = simulation.step(DT)
+        assert np.all(np.isfinite(state.q)) and np.all(np.isfinite(state.v))
+        assert np.all(np.isfinite(simulation.tick_impulse[0]))
+        largest_move = max(largest_move, float(np.abs(state.q - q).max()))
+        q = state.q
+    # Two substeps a tick, each moving every joint by at most the travel.
+    assert largest_move <= 2 * MAX_JOINT_TRAVEL * (1.0 + 1e-12)
+
+
+def test_the_travel_bound_keeps_the_mouse_impulse_alone_within_the_travel():
+    rng = np.random.default_rng(3)
+    mobility = rng.normal(size=(7, 3))
+    h = 5e-4
+    bound = travel_bound(mobility, h)
+    for _ in range(100):
+        direction = rng.normal(size=3)
+        impulse = bound * direction / np.linalg.norm(direction)
+        assert np.abs(h * mobility @ impulse).max() <= MAX_JOINT_TRAVEL * (1.0 + 1e-12)
+    assert travel_bound(np.zeros((7, 3)), h) == math.inf

@@ -52,7 +52,7 @@ PIVOT_TOLERANCE = 1e-9
 
 
 def solve_block(jacobian: np.ndarray, mobility: np.ndarray, v: np.ndarray,
-                target: np.ndarray, lower: np.ndarray, upper: np.ndarray, mouse_rows: int,
+                target: np.ndarray, lower: List[float], upper: List[float], mouse_rows: int,
                 mass_scale: float, bound: float, warm: List[int]
                 ) -> Optional[Tuple[np.ndarray, List[int]]]:
     """
@@ -76,62 +76,73 @@ def solve_block(jacobian: np.ndarray, mobility: np.ndarray, v: np.ndarray,
     rhs = target - jacobian.dot(v)
     # The set's bookkeeping is in Python numbers: a substep has a handful of rows, and a
     # NumPy call on one costs more than a Python loop over them.
-    count, lows, highs = rhs.shape[0], lower.tolist(), upper.tolist()
+    count, diagonal = len(lower), delassus.diagonal().tolist()
     held = list(warm)
     held[:mouse_rows] = [0] * mouse_rows
-    tolerance = TOLERANCE * max(1.0, max(map(abs, rhs.tolist())),
-                                max(delassus.diagonal().tolist()))
-    # Each held row's impulse at its bound; the free rows' are solved for.
-    impulse = np.array([lows[row] if hold < 0 else highs[row] if hold > 0 else 0.0
-                        for row, hold in enumerate(held)])
+    tolerance = TOLERANCE * max(1.0, max(map(abs, rhs.tolist())), max(diagonal))
+    # Each held row's impulse at its bound; the free rows' are solved for (with no row held,
+    # the first solve gives them all).
+    if any(held):
+        impulse = np.array([lower[row] if hold < 0 else upper[row] if hold > 0 else 0.0
+                            for row, hold in enumerate(held)])
     first_free = 0  # the mouse's rows, once on their norm bound, are no longer solved for
     for _ in range(MAX_TRIES):
         free = [row for row in range(first_free, count) if held[row] == 0]
-        if free:
+        if len(free) == count:  # no row held: the whole system
+            impulse = free_impulses(delassus, rhs, diagonal)
+        elif free:
             rows_free = delassus.take(free, 0)
             right = rhs.take(free)
             # The held rows' impulses push the free rows too, unless all are zero (a stop held
             # at its bound pushes nothing).
-            if first_free or any(held[row] and (lows[row] if held[row] < 0 else highs[row])
+            if first_free or any(held[row] and (lower[row] if held[row] < 0 else upper[row])
                                  for row in range(count)):
                 impulse.put(free, 0.0)
                 right = right - rows_free.dot(impulse)
-            impulse.put(free, free_impulses(rows_free.take(free, 1), right))
+            impulse.put(free, free_impulses(rows_free.take(free, 1), right,
+                                            [diagonal[row] for row in free]))
         if mouse_rows and not first_free:
             size = math.hypot(*impulse[:mouse_rows].tolist())
             if size > bound:
                 impulse[:mouse_rows] *= bound / size
                 first_free = mouse_rows
                 continue
-        change = most_violated(impulse.tolist(), (delassus.dot(impulse) - rhs).tolist(), held,
-                               lows, highs, mouse_rows, tolerance)
+        # A free row's residual is zero by its solve: with no row held, only the bounds count.
+        residual = None if len(free) == count else (delassus.dot(impulse) - rhs).tolist()
+        change = most_violated(impulse.tolist(), residual, held, lower, upper, mouse_rows,
+                               tolerance)
         if change is None:
             return impulse, held
         row, side = change
         held[row] = side
         if side:
-            impulse[row] = lows[row] if side < 0 else highs[row]
+            impulse[row] = lower[row] if side < 0 else upper[row]
     return None
 
 
 _WORKSPACE: Dict[int, Tuple[int, int]] = {}
 
 
-def free_impulses(matrix: np.ndarray, right: np.ndarray) -> np.ndarray:
+def free_impulses(matrix: np.ndarray, right: np.ndarray,
+                  diagonal: Optional[List[float]] = None) -> np.ndarray:
     """
-    Return x with matrix x = right: the free rows' impulses.
+    Return x with matrix x = right: the free rows' impulses, a new array.
 
     ``matrix`` is symmetric positive semi-definite (a block of A M^-1 A^T, the mouse's scaled).
     Cholesky answers where no row nearly repeats the others; least squares, its minimum-norm
     answer, where one does.
+
+    :param diagonal: ``matrix``'s diagonal as Python numbers, where the caller has it.
     """
     size = right.shape[0]
     if size == 1:
-        diagonal = matrix[0, 0]
-        return right / diagonal if diagonal > 0.0 else np.zeros(1)
+        pivot = matrix[0, 0]
+        return right / pivot if pivot > 0.0 else np.zeros(1)
     factor, solution, info = lapack.dposv(matrix, right)
-    if info == 0 and all(pivot * pivot >= PIVOT_TOLERANCE * diagonal for pivot, diagonal
-                         in zip(factor.diagonal().tolist(), matrix.diagonal().tolist())):
+    if diagonal is None:
+        diagonal = matrix.diagonal().tolist()
+    if info == 0 and all(pivot * pivot >= PIVOT_TOLERANCE * entry for pivot, entry
+                         in zip(factor.diagonal().tolist(), diagonal)):
         return solution
     if size not in _WORKSPACE:
         work, iwork, _ = lapack.dgelsd_lwork(size, size, 1, RANK_TOLERANCE)
@@ -143,7 +154,7 @@ def free_impulses(matrix: np.ndarray, right: np.ndarray) -> np.ndarray:
     return solution
 
 
-def most_violated(impulse: List[float], residual: List[float], held: List[int],
+def most_violated(impulse: List[float], residual: Optional[List[float]], held: List[int],
                   lower: List[float], upper: List[float], mouse_rows: int,
                   tolerance: float) -> Optional[Tuple[int, int]]:
     """
@@ -152,7 +163,7 @@ def most_violated(impulse: List[float], residual: List[float], held: List[int],
     A free row breaks it by leaving its bounds (it is then held at the bound it passed); a held
     row by pulling the wrong way, its residual w = D x - r of the wrong sign (w < 0 at its least
     impulse, w > 0 at its largest: held * w > 0; it is then freed). Of rows that break it
-    equally, the first.
+    equally, the first. ``residual`` is read for held rows only (None: no row is held).
     """
     worst, change = tolerance, None
     for row in range(mouse_rows, len(held)):

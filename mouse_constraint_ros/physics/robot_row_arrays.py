@@ -19,7 +19,7 @@ One substep's constraint rows of a robot, as arrays: the record the row solvers 
 """
 
 import math
-from typing import NamedTuple
+from typing import List, NamedTuple
 
 import numpy as np
 
@@ -28,7 +28,9 @@ class Rows(NamedTuple):
     """
     One substep's rows, picked from the ``RowTable``.
 
-    The mouse's come first (when it holds), then the stops', then the others'.
+    The mouse's come first (when it holds), then the stops', then the others'. What the solvers
+    read one row at a time (bounds, table numbers, guesses) is in Python numbers: a substep has
+    a handful of rows, and indexing a NumPy array for each costs more than a list.
 
     :param jacobian: A (m x nv).
     :param target: each row's target velocity A v (the mouse's: -(b / a) C).
@@ -44,10 +46,10 @@ class Rows(NamedTuple):
 
     jacobian: np.ndarray
     target: np.ndarray
-    lower: np.ndarray
-    upper: np.ndarray
-    picked: np.ndarray
-    first_guess: np.ndarray
+    lower: List[float]
+    upper: List[float]
+    picked: List[int]
+    first_guess: List[int]
     mouse_rows: int = 0
     mass_scale: float = 1.0
     bound: float = math.inf

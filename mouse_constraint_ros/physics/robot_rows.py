@@ -66,6 +66,16 @@ LIMIT_REACH_SLOPS = 4.0
 LIMIT_REACH_SUBSTEPS = 4.0
 # The mouse's rows lead A when it holds something.
 MOUSE_ROWS = 3
+# The most a joint may move in a substep while the mouse pulls (rad, or m for a prismatic
+# joint), as the single body's ``kernel.MAX_CORRECTION_TURN`` bounds its turn: the mouse's
+# impulse is bounded so that it alone moves no joint further (``travel_bound``), and the
+# speeds it leaves are scaled down to it. The rows are solved for the substep's linearized
+# constraint, which holds while the joints move little in it; near a singular pose (an arm at
+# full stretch) or toward a target out of reach, a rigid mouse of unbounded force would ask for
+# joint speeds of thousands of rad/s, and the free motion's Coriolis term (it grows as v^2)
+# would run away. Only such pulls meet the bound: at 1 kHz and two substeps it is 100 rad/s,
+# PhysX's default cap on an articulation joint's speed.
+MAX_JOINT_TRAVEL = 0.05
 
 # What a row holds: its kind.
 MOUSE = -1
@@ -211,10 +221,10 @@ class RowTable:
         self.jacobian[mimic_rows, follower] += 1.0
         self.jacobian[mimic_rows, leader] -= arrays.mimic_multiplier
         unbounded = np.full(MOUSE_ROWS, inf)
-        self.lower = np.concatenate((-unbounded, zeros, -inf * ones, -rub, -brake, zeros,
-                                     np.full(mimics, -inf)))
-        self.upper = np.concatenate((unbounded, inf * ones, zeros, rub, zeros, brake,
-                                     np.full(mimics, inf)))
+        lower = np.concatenate((-unbounded, zeros, -inf * ones, -rub, -brake, zeros,
+                                np.full(mimics, -inf)))
+        upper = np.concatenate((unbounded, inf * ones, zeros, rub, zeros, brake,
+                                np.full(mimics, inf)))
         self.kind = np.concatenate((np.full(MOUSE_ROWS, MOUSE),
                                     np.repeat(JOINT_KINDS, joints).astype(int),
                                     np.full(mimics, MIMIC)))
@@ -222,8 +232,13 @@ class RowTable:
                                      np.tile(arrays.v_index, len(JOINT_KINDS)), follower))
         # A one-sided row (a stop, a brake of unbounded effort) is first tried held at its zero
         # bound (not pushing), any other row free.
-        self.first_guess = np.where((self.lower == 0.0) & np.isinf(self.upper), -1,
-                                    np.where((self.upper == 0.0) & np.isinf(self.lower), 1, 0))
+        first_guess = np.where((lower == 0.0) & np.isinf(upper), -1,
+                               np.where((upper == 0.0) & np.isinf(lower), 1, 0))
+        # Each row's bounds and first hold, as Python numbers: the picked rows' are gathered,
+        # and the solvers read them, one at a time.
+        self.lower: List[float] = lower.tolist()
+        self.upper: List[float] = upper.tolist()
+        self.first_guess: List[int] = first_guess.tolist()
         # What a substep reads to pick its rows, as Python numbers: a joint's checks cost less
         # so than as array operations (a robot has tens of joints, not thousands). Plain tuples
         # (a named tuple unpacks slower), each named where the loop of ``prepare_rows`` unpacks
@@ -315,10 +330,10 @@ def prepare_rows(table: RowTable, q: np.ndarray, v: np.ndarray,
         picked.append(row)
         targets.append(
             (positions[follower] - (multiplier * positions[leader] + offset)) * correction)
-    rows = np.array(picked, dtype=np.intp)
-    picked_rows = (table.jacobian.take(rows, 0), np.array(targets, dtype=float),
-                   table.lower.take(rows), table.upper.take(rows), rows,
-                   table.first_guess.take(rows))
+    lower, upper, first_guess = table.lower, table.upper, table.first_guess
+    picked_rows = (table.jacobian.take(picked, 0), np.array(targets, dtype=float),
+                   [lower[row] for row in picked], [upper[row] for row in picked], picked,
+                   [first_guess[row] for row in picked])
     if mouse is None:
         return Rows(*picked_rows)
     return Rows(*picked_rows, MOUSE_ROWS, mouse.mass_scale, mouse.bound)
@@ -334,9 +349,9 @@ class HeldSets:
     :param first_guess: each row's hold when nothing is known of it (``RowTable.first_guess``).
     """
 
-    def __init__(self, first_guess: np.ndarray) -> None:
+    def __init__(self, first_guess: Sequence[int]) -> None:
         """Start knowing nothing."""
-        self._first_guess: List[int] = first_guess.tolist()
+        self._first_guess: List[int] = list(first_guess)
         self._held = list(self._first_guess)
 
     def clear(self) -> None:
@@ -346,14 +361,26 @@ class HeldSets:
     def first(self, rows: Rows) -> List[int]:
         """Return the set to try first for ``rows``: each row's last hold, else its guess."""
         held = self._held
-        return [held[row] for row in rows.picked.tolist()]
+        return [held[row] for row in rows.picked]
 
     def remember(self, rows: Rows, held: Sequence[int]) -> None:
         """Keep ``held``, each row's hold, for the next substep; forget the rest."""
         table_held = self._held
         table_held[:] = self._first_guess
-        for row, hold in zip(rows.picked.tolist(), held):
+        for row, hold in zip(rows.picked, held):
             table_held[row] = hold
+
+
+def travel_bound(mouse_mobility: np.ndarray, h: float) -> float:
+    """
+    Return the largest mouse impulse norm (N s) that moves no joint by more than the travel.
+
+    A mouse impulse P changes v by W P (W = M^-1 J^T, ``mouse_mobility``), each joint's speed
+    by at most |W|_F |P|: |P| <= MAX_JOINT_TRAVEL / (h |W|_F) keeps each joint's move in the
+    substep within ``MAX_JOINT_TRAVEL``.
+    """
+    size = math.sqrt(float(np.square(mouse_mobility).sum()))
+    return MAX_JOINT_TRAVEL / (h * size) if size > 0.0 else math.inf
 
 
 class RowSolution(NamedTuple):
@@ -368,7 +395,7 @@ class RowSolution(NamedTuple):
     mouse_impulse: np.ndarray
 
 
-def solve_rows(v: np.ndarray, rows: Rows, inverse_mass: np.ndarray, iterations: int,
+def solve_rows(v: np.ndarray, rows: Rows, inverse_mass: np.ndarray, iterations: int, h: float,
                held_sets: Optional[HeldSets] = None) -> RowSolution:
     """
     Solve the rows, changing ``v`` in place; return their impulses.
@@ -376,7 +403,10 @@ def solve_rows(v: np.ndarray, rows: Rows, inverse_mass: np.ndarray, iterations: 
     The rows are solved together, exactly (``robot_block``), the last substep's held set tried
     first; if no set settles, by sequential impulses (``robot_sweeps``): ``iterations`` sweeps,
     each visiting the mouse's block, then each joint row, and a last pass of the joint rows
-    alone that gives the stops the last word where the mouse pulls against them.
+    alone that gives the stops the last word where the mouse pulls against them. The mouse's
+    impulse is bounded by its force bound and by ``travel_bound``.
+
+    :param h: the substep (s).
     """
     nv = v.shape[0]
     if rows.count == 0:
@@ -385,16 +415,19 @@ def solve_rows(v: np.ndarray, rows: Rows, inverse_mass: np.ndarray, iterations: 
         return RowSolution(np.zeros(nv), np.zeros(MOUSE_ROWS))
     jacobian = rows.jacobian
     mobility = inverse_mass.dot(jacobian.T)
-    warm = held_sets.first(rows) if held_sets is not None else rows.first_guess.tolist()
+    warm = held_sets.first(rows) if held_sets is not None else rows.first_guess
+    bound = rows.bound
+    if rows.mouse_rows:
+        bound = min(bound, travel_bound(mobility[:, :MOUSE_ROWS], h))
     solved = solve_block(jacobian, mobility, v, rows.target, rows.lower, rows.upper,
-                         rows.mouse_rows, rows.mass_scale, rows.bound, warm)
+                         rows.mouse_rows, rows.mass_scale, bound, warm)
     if solved is not None:
         impulse, held = solved
         v += mobility.dot(impulse)
         if held_sets is not None:
             held_sets.remember(rows, held)
     else:
-        impulse = sweep_rows(v, rows, mobility, iterations)
+        impulse = sweep_rows(v, rows._replace(bound=bound), mobility, iterations)
         if held_sets is not None:  # no set settled: the next substep starts from its guesses
             held_sets.clear()
     return RowSolution(impulse.dot(jacobian),

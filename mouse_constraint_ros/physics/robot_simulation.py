@@ -46,8 +46,9 @@ from scipy.linalg import lapack
 
 from .mouse_joint import MouseConstraint
 from .robot_model import RobotModel
-from .robot_rows import (HeldSets, joint_arrays, joint_positions, LimitSettings, MouseRows,
-                         prepare_rows, RowSolution, RowTable, solve_rows)
+from .robot_rows import (HeldSets, joint_arrays, joint_positions, LimitSettings,
+                         MAX_JOINT_TRAVEL, MouseRows, prepare_rows, RowSolution, RowTable,
+                         solve_rows)
 from .robot_state import RobotSettings, RobotState
 from .state import BodyState
 from .validation import finite_vector, scalar
@@ -101,6 +102,10 @@ class RobotSimulation:
         self._data = model.model.createData()
         self._lower = np.tri(model.nv, k=-1, dtype=bool)
         self._mirrored = not returns_whole(model.model, self._data)
+        # Every joint's q a vector space (no continuous joint, no floating base): Pinocchio's
+        # integrate is then q + dq, the same sum in the same floating point, and the sum skips a
+        # call into it a substep.
+        self._additive = model.nq == model.nv
         self._joints = joint_arrays(model)
         self._damping = np.zeros(model.nv)
         self._damping[self._joints.v_index] = [joint.damping for joint in model.joints]
@@ -411,12 +416,19 @@ class RobotSimulation:
             table = self._table = RowTable(self._joints, self.model.nv, h, self._limits)
             self._held = HeldSets(table.first_guess)
         rows = prepare_rows(table, q, v, self._mouse_rows(q, h))
-        solution = solve_rows(v, rows, self._inverse_mass, self._settings.iterations,
+        solution = solve_rows(v, rows, self._inverse_mass, self._settings.iterations, h,
                               self._held)
         self._mouse_impulse = (solution.mouse_impulse, h)
+        if rows.mouse_rows:
+            # The mouse pulls on: no coordinate of v may move more than the travel a substep.
+            travel = h * float(np.abs(v).max())
+            if travel > MAX_JOINT_TRAVEL:
+                v *= MAX_JOINT_TRAVEL / travel
         # 3. positions, and the momentum carried at the new configuration.
         self._p = self._mass_matrix.dot(v)
-        self._set_configuration(pinocchio.integrate(self.model.model, q, h * v))
+        step = h * v
+        self._set_configuration(q + step if self._additive
+                                else pinocchio.integrate(self.model.model, q, step))
         self._v = self._inverse_mass.dot(self._p)
         return solution
 
