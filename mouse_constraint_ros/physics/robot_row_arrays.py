@@ -13,7 +13,7 @@
 # limitations under the License.
 
 """
-One substep's constraint rows of a robot, as arrays: the record the row solvers read.
+One substep's constraint rows of a robot, arrays and lists: the record the row solvers read.
 
 ``robot_rows`` picks them from its table; ``robot_block`` and ``robot_sweeps`` solve them.
 """
