@@ -66,19 +66,23 @@ ALLOWED: Dict[Tuple[str, str, str], str] = {
 }
 
 
-def _is_sleep(call: ast.Call, sleep_names: set) -> bool:
+def _is_sleep(call: ast.Call, time_names: set, sleep_names: set) -> bool:
     function = call.func
     if isinstance(function, ast.Attribute):
         if function.attr == 'wait_for_timeout':  # Playwright's sleep
             return True
         return (function.attr == 'sleep' and isinstance(function.value, ast.Name)
-                and function.value.id == 'time')
+                and function.value.id in time_names)
     return isinstance(function, ast.Name) and function.id in sleep_names
 
 
 def sleeps(source: str) -> Iterator[Tuple[str, str, int]]:
     """Yield (innermost function, the argument as written, line) of each sleep in ``source``."""
     tree = ast.parse(source)
+    # The names time goes by (``import time``, ``import time as clock``), and its sleep's.
+    time_names = {'time'} | {alias.asname or alias.name for node in ast.walk(tree)
+                             if isinstance(node, ast.Import)
+                             for alias in node.names if alias.name == 'time'}
     sleep_names = {alias.asname or alias.name for node in ast.walk(tree)
                    if isinstance(node, ast.ImportFrom) and node.module == 'time'
                    for alias in node.names if alias.name == 'sleep'}
@@ -88,7 +92,7 @@ def sleeps(source: str) -> Iterator[Tuple[str, str, int]]:
             if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef)):
                 yield from visit(child, child.name)
                 continue
-            if isinstance(child, ast.Call) and _is_sleep(child, sleep_names):
+            if isinstance(child, ast.Call) and _is_sleep(child, time_names, sleep_names):
                 argument = ', '.join(ast.unparse(a) for a in [*child.args, *child.keywords])
                 yield function, argument, child.lineno
             yield from visit(child, function)
@@ -132,3 +136,10 @@ def test_the_finder_sees_each_way_of_sleeping():
               'def c(clock):\n    clock.sleep(1)\n    time.monotonic()\n')
     assert sorted(sleeps(source)) == [('<module>', '2', 9), ('a', '1', 4), ('b', '500', 8),
                                       ('inner', '1', 7)]
+
+
+def test_the_finder_sees_time_imported_under_another_name():
+    """``import time as clock``: ``clock.sleep`` is a sleep; another object's ``sleep`` is not."""
+    source = ('import time as clock\n'
+              'def a(timer):\n    clock.sleep(0.5)\n    timer.sleep(1)\n')
+    assert list(sleeps(source)) == [('a', '0.5', 3)]
