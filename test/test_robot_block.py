@@ -242,3 +242,18 @@ def test_a_substeps_held_set_is_the_next_ones_first_and_a_new_state_forgets_it()
     # A stop is first tried at its zero bound; friction, two-sided, free.
     guesses = dict(zip(table.kind[rows.picked].tolist(), rows.first_guess))
     assert guesses[LOWER_LIMIT] == -1 and guesses[UPPER_LIMIT] == 1 and guesses[FRICTION] == 0
+
+
+def test_the_rows_read_q_and_v_as_they_are_only_where_they_are_the_joints_coordinates(panda):
+    # A fixed arm of revolute and prismatic joints: q and v are its joints' coordinates. A
+    # continuous joint (q holds its cos and sin) or a floating base (q and v lead with the base's)
+    # has them elsewhere: the rows gather them by the joints' indices.
+    assert joint_arrays(panda.model).coordinates
+    assert not joint_arrays(load_robot(double_pendulum(kind='continuous')).model).coordinates
+    limited = double_pendulum(kind='revolute', limit=(
+        '<limit lower="-0.5" upper="0.5" effort="10" velocity="2"/>'))
+    assert joint_arrays(load_robot(limited).model).coordinates
+    massive_base = limited.replace('<link name="base"/>', '<link name="base">' + (
+        '<inertial><mass value="0.5"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" '
+        'ixz="0" iyz="0"/></inertial></link>'))
+    assert not joint_arrays(load_robot(massive_base, base='floating').model).coordinates

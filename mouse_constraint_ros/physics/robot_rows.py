@@ -103,6 +103,8 @@ class JointArrays(NamedTuple):
     :param effort: ``<limit effort>`` (N m or N).
     :param continuous: whether it is a continuous joint (q holds its cos and sin).
     :param any_continuous: whether any joint is continuous.
+    :param coordinates: whether q and v are the joints' positions and velocities, in the joints'
+        order (a fixed base and no continuous joint): the rows then read q and v as they are.
     :param mimic_follower: each mimic joint's follower, as a number in the joints' order.
     :param mimic_leader: its leader, likewise.
     :param mimic_multiplier: q_follower = multiplier q_leader + offset.
@@ -119,6 +121,7 @@ class JointArrays(NamedTuple):
     effort: np.ndarray
     continuous: np.ndarray
     any_continuous: bool
+    coordinates: bool
     mimic_follower: np.ndarray
     mimic_leader: np.ndarray
     mimic_multiplier: np.ndarray
@@ -144,6 +147,8 @@ def joint_arrays(model: RobotModel) -> JointArrays:
         effort=column(j.effort for j in joints),
         continuous=column((j.kind == 'continuous' for j in joints), bool),
         any_continuous=any(j.kind == 'continuous' for j in joints),
+        coordinates=([j.q_index for j in joints] == list(range(model.nq))
+                     and [j.v_index for j in joints] == list(range(model.nv))),
         mimic_follower=column((number[m.follower.name] for m in model.mimics), int),
         mimic_leader=column((number[m.leader.name] for m in model.mimics), int),
         mimic_multiplier=column(m.multiplier for m in model.mimics),
@@ -290,8 +295,11 @@ def prepare_rows(table: RowTable, q: np.ndarray, v: np.ndarray,
     :param mouse: the mouse's rows, or None when it holds nothing.
     """
     arrays, h, limits = table.arrays, table.h, table.limits
-    positions = joint_positions(arrays, q).tolist()
-    velocities = v.take(arrays.v_index).tolist()
+    if arrays.coordinates:
+        positions, velocities = q.tolist(), v.tolist()
+    else:
+        positions = joint_positions(arrays, q).tolist()
+        velocities = v.take(arrays.v_index).tolist()
     picked, targets = [], []
     if mouse is not None:
         table.jacobian[:MOUSE_ROWS] = mouse.jacobian
@@ -408,11 +416,10 @@ def solve_rows(v: np.ndarray, rows: Rows, inverse_mass: np.ndarray, iterations: 
 
     :param h: the substep (s).
     """
-    nv = v.shape[0]
-    if rows.count == 0:
+    if not rows.picked:
         if held_sets is not None:
             held_sets.clear()
-        return RowSolution(np.zeros(nv), np.zeros(MOUSE_ROWS))
+        return RowSolution(np.zeros(v.shape[0]), np.zeros(MOUSE_ROWS))
     jacobian = rows.jacobian
     mobility = inverse_mass.dot(jacobian.T)
     warm = held_sets.first(rows) if held_sets is not None else rows.first_guess

@@ -415,7 +415,8 @@ class RobotSimulation:
         if table is None or table.h != h:
             table = self._table = RowTable(self._joints, self.model.nv, h, self._limits)
             self._held = HeldSets(table.first_guess)
-        rows = prepare_rows(table, q, v, self._mouse_rows(q, h))
+        mouse = None if self._target is None else self._mouse_rows(q, h)
+        rows = prepare_rows(table, q, v, mouse)
         solution = solve_rows(v, rows, self._inverse_mass, self._settings.iterations, h,
                               self._held)
         self._mouse_impulse = (solution.mouse_impulse, h)
