@@ -294,13 +294,6 @@ class RobotSimulation:
                      + pinocchio.computePotentialEnergy(model, data, self._q))
 
     # --- the step -----------------------------------------------------------------------------
-    def _crba(self, q: np.ndarray) -> np.ndarray:
-        """Return M(q), whole (mirrored where Pinocchio's CRBA fills its upper triangle only)."""
-        mass = pinocchio.crba(self.model.model, self._data, q).copy()
-        if self._mirrored:
-            np.copyto(mass, mass.T, where=self._lower)
-        return mass
-
     def _coriolis_rate(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """Return C(q, v)^T v, the velocity-dependent part of dp/dt."""
         return v.dot(pinocchio.computeCoriolisMatrix(self.model.model, self._data, q, v))
@@ -323,7 +316,8 @@ class RobotSimulation:
 
     def advance(self, dt: float) -> None:
         """Advance ``dt`` seconds in ``settings.substeps`` substeps."""
-        dt = scalar('dt', dt, above=0.0, at_most=1.0)
+        if type(dt) is not float or not 0.0 < dt <= 1.0:  # a float within (0, 1] is checked
+            dt = scalar('dt', dt, above=0.0, at_most=1.0)
         settings = self._settings
         h = dt / settings.substeps
         if not self._staggered:
@@ -355,15 +349,17 @@ class RobotSimulation:
         return rates
 
     def _set_configuration(self, q: np.ndarray) -> None:
-        """Move to ``q``: M(q) and its inverse (symmetrized) with it."""
+        """Move to ``q``: M(q) and its inverse with it, whole."""
         self._q = q
-        self._mass_matrix = self._crba(q)
-        # Pinocchio's M^-1 (by the articulated-body recursion): exactly symmetric (mirrored
-        # where Pinocchio fills the upper triangle only), and one call instead of factoring M.
-        inverse = pinocchio.computeMinverse(self.model.model, self._data, q).copy()
+        model, data = self.model.model, self._data
+        # M by the CRBA, and M^-1 by Pinocchio's articulated-body recursion: one call instead of
+        # factoring M. Where Pinocchio fills their upper triangle only, it is mirrored.
+        mass = pinocchio.crba(model, data, q).copy()
+        inverse = pinocchio.computeMinverse(model, data, q).copy()
         if self._mirrored:
+            np.copyto(mass, mass.T, where=self._lower)
             np.copyto(inverse, inverse.T, where=self._lower)
-        self._inverse_mass = inverse
+        self._mass_matrix, self._inverse_mass = mass, inverse
 
     def _substep_damping(self, h: float) -> np.ndarray:
         """Return h D, the joints' damping over a substep, as a diagonal matrix."""
@@ -389,7 +385,9 @@ class RobotSimulation:
             v, passes = start + last.change, 1
         else:
             v, passes = start, FIXED_POINT_PASSES
-        pushed = self._p - h * self._load(q)
+        load = self._load(q) if self._wrenched else pinocchio.computeGeneralizedGravity(
+            self.model.model, self._data, q)
+        pushed = self._p - h * load
         damped = self._damped
         if damped:
             damped_mass = self._mass_matrix + self._substep_damping(h)
