@@ -24,8 +24,10 @@ symplectic Euler on Hamilton's equations, the momentum first:
    then the ``linear_damping`` and ``angular_damping`` rates, exp(-c h);
 2. the rows (``robot_rows``): the mouse on its link, the position limits near their stops,
    joint friction, the speed limits and the mimic joints, on v* with M(q), solved together by
-   active sets (``robot_block``; sequential impulses where no set settles);
-3. positions: q' = q (+) h v* (Pinocchio's ``integrate``), and p' = M(q) v* kept.
+   active sets (``robot_block``; sequential impulses where no set settles); while the mouse
+   pulls, no coordinate of v* moves more than ``robot_rows.MAX_JOINT_TRAVEL`` in the substep;
+3. positions: q' = q (+) h v* (Pinocchio's ``integrate``; the sum where every joint's q is a
+   vector space), and p' = M(q) v* kept.
 
 The velocity-dependent term is the one that makes this conserve energy: d(M v)/dt =
 tau - C v - g + dM/dt v, and dM/dt = C + C^T (Pinocchio's C), so dp/dt = tau + C^T v - g. Taken
